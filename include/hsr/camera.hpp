@@ -1,0 +1,39 @@
+#pragma once
+// Camera as gluLookAt + gluPerspective (vertical fov, aspect = width/height) or glOrtho.
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "hsr/scene.hpp"
+
+namespace hsr {
+
+struct Camera {
+  glm::vec3 eye{0.0f, 0.0f, 5.0f};
+  glm::vec3 target{0.0f, 0.0f, 0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fov_deg = 45.0f;           // vertical, as gluPerspective
+  bool ortho = false;
+  float ortho_half_height = 1.0f;  // glOrtho(-h*aspect, h*aspect, -h, h, near, far)
+  float near = 0.1f;
+  float far = 100.0f;
+  int width = 800;
+  int height = 600;
+
+  glm::mat4 view() const;        // world -> eye
+  glm::mat4 projection() const;  // eye -> clip
+  // Throws hsr::Error on NaN/Inf, near <= 0, far <= near, eye == target, up parallel to the
+  // view direction, fov outside (0, 180), or a size outside 1..kMaxDimension / kMaxPixels.
+  void validate() const;
+
+  static constexpr int kMaxDimension = 16384;
+  static constexpr long long kMaxPixels = 16384LL * 16384LL;
+};
+
+// A camera that looks at the whole of `bounds` from a fixed three-quarter direction, with near
+// and far fitted around it. Uses the scene's stored camera when it has one.
+Camera frameScene(const Scene& scene, int width, int height);
+Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg = 45.0f,
+                   bool ortho = false);
+
+}  // namespace hsr

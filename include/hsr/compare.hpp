@@ -1,0 +1,36 @@
+#pragma once
+// Side-by-side comparison of every registered algorithm on one scene: time, memory,
+// overdraw, and agreement of each polygon-id buffer with the z-buffer's.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hsr/render.hpp"
+
+namespace hsr {
+
+struct ComparisonRow {
+  std::string algorithm;
+  double ms = 0.0;                  // wall time of render()
+  std::uint64_t state_bytes = 0;    // memory held by the algorithm
+  double mean_overdraw = 0.0;       // fragments written per covered pixel
+  std::uint32_t max_overdraw = 0;
+  double id_agreement = 1.0;        // fraction of pixels whose id equals the z-buffer's
+  std::uint64_t differing_pixels = 0;
+  Frame frame;
+};
+
+std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& camera,
+                                             const RenderOptions& options);
+
+// A labelled contact sheet: one column per algorithm, rows colour / ids / overdraw.
+// Returns RGB8 top row first and sets width and height.
+std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows, int* width,
+                                          int* height);
+
+// Draws text with a built-in 5x7 pixel font into an RGB8 image (for labels).
+void drawLabel(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y,
+               const std::string& text, int scale = 2);
+
+}  // namespace hsr

@@ -1,0 +1,44 @@
+#pragma once
+// Scene sources (mesh files through assimp, built-in scenes) and writers (PNG, NPY, JSON).
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hsr/render.hpp"
+#include "hsr/scene.hpp"
+
+namespace hsr {
+
+// Loads SCENE: an existing file wins; otherwise a built-in name. Throws hsr::Error with a
+// one-line reason (missing file, unreadable format, empty scene, non-finite coordinates...).
+Scene loadScene(std::string_view spec);
+// Mesh files: anything assimp reads. Polygons stay polygons (no triangulation), node
+// transforms are applied, ids follow node order then face order. Safe on untrusted input.
+Scene loadMeshFile(const std::filesystem::path& path);
+
+struct BuiltinScene {
+  std::string_view name;     // e.g. "spheres:N"
+  std::string_view summary;
+};
+const std::vector<BuiltinScene>& builtinScenes();
+// Built-ins: demo, cyclic, penetrating, spheres:N, soup:N:SEED. Deterministic.
+Scene makeBuiltinScene(std::string_view spec);
+
+// Writers. Images are written top row first. All throw hsr::Error on I/O failure.
+void writePng(const std::filesystem::path& path, int width, int height, int channels,
+              const std::uint8_t* pixels);
+void writeNpy(const std::filesystem::path& path, int width, int height, const float* data);
+void writeNpy(const std::filesystem::path& path, int width, int height,
+              const std::uint32_t* data);
+
+// Pictures of a frame's buffers, RGB8 top row first.
+std::vector<std::uint8_t> depthPicture(const Frame& frame);     // normalised grey, near = light
+std::vector<std::uint8_t> idPicture(const Frame& frame);        // hashed palette, bg black
+std::vector<std::uint8_t> overdrawPicture(const Frame& frame);  // heatmap
+std::vector<std::uint8_t> picture(const Frame& frame, std::string_view kind);  // by name
+
+std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm);
+
+}  // namespace hsr

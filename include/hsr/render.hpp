@@ -1,0 +1,90 @@
+#pragma once
+// render(): scene + camera + options -> Frame (colour, depth, polygon ids, overdraw, stats).
+// Every visibility algorithm is reached through this one call and the registry.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "hsr/camera.hpp"
+#include "hsr/scene.hpp"
+
+namespace hsr {
+
+enum class CullMode { None, Back, Front, FrontAndBack };  // glCullFace (None = disabled)
+enum class FrontFace { Ccw, Cw };                        // glFrontFace
+enum class PolygonMode { Fill, Line, Point };            // glPolygonMode(FRONT_AND_BACK, ...)
+enum class DepthFunc { Never, Less, Equal, LEqual, Greater, NotEqual, GEqual, Always };
+// How the pipeline decides facing: OpenGL's sign of the window-space area (default), or the
+// notes' eye-space test N . (eye - P) > 0. They agree on every polygon that is not edge-on.
+enum class FacingTest { WindowArea, EyePlane };
+
+struct RenderOptions {
+  std::string algorithm = "zbuffer";
+  CullMode cull = CullMode::None;
+  FrontFace front_face = FrontFace::Ccw;
+  FacingTest facing_test = FacingTest::WindowArea;
+  PolygonMode polygon_mode = PolygonMode::Fill;
+  bool depth_test = true;
+  DepthFunc depth_func = DepthFunc::Less;
+  bool depth_mask = true;
+  bool frustum_cull = true;  // skip objects whose bounds lie outside the view volume
+  bool outline = false;      // draw silhouette edges (front/back polygon boundary) over the fill
+  bool shade = true;         // headlight Lambert; false = flat material colour
+  glm::vec3 clear_color{0.08f, 0.09f, 0.11f};
+  float clear_depth = 1.0f;
+  int threads = 0;  // 0 = all hardware threads; results are identical for any value
+};
+
+struct StageTime {
+  std::string name;
+  double ms = 0.0;
+};
+
+struct Stats {
+  std::uint64_t polygons_in = 0;
+  std::uint64_t triangles_in = 0;          // after triangulating polygons
+  std::uint64_t degenerate_dropped = 0;    // zero-area, repeated or non-finite vertices
+  std::uint64_t culled_frustum = 0;        // polygons of objects outside the view volume
+  std::uint64_t culled_backface = 0;       // triangles removed by the cull mode
+  std::uint64_t clipped = 0;               // triangles that crossed a clip plane
+  std::uint64_t clipped_away = 0;          // triangles entirely outside after clipping
+  std::uint64_t triangles_rasterized = 0;  // triangles handed to the visibility algorithm
+  std::uint64_t fragments_tested = 0;      // pixel samples that reached the depth test
+  std::uint64_t fragments_written = 0;     // samples that passed and were written
+  std::uint64_t state_bytes = 0;           // memory held by the algorithm's state
+  std::vector<StageTime> stages;           // per-stage wall time
+  void addStage(std::string name, double ms);
+  double totalMs() const;
+};
+
+// Buffers are width*height, TOP ROW FIRST (as image files and .npy). GL window pixel (x, y),
+// origin bottom-left, is element (height - 1 - y) * width + x.
+struct Frame {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> color;     // RGB8
+  std::vector<float> depth;            // window z in [0,1]; clear depth where nothing drawn
+  std::vector<PolygonId> ids;          // kNoPolygon where nothing drawn
+  std::vector<std::uint32_t> overdraw; // fragments written per pixel
+  Stats stats;
+};
+
+Frame render(const Scene& scene, const Camera& camera, const RenderOptions& options = {});
+
+// The registry of visibility algorithms (one table; CLI, tests and benches loop over it).
+struct AlgorithmInfo {
+  std::string_view name;
+  std::string_view precision;  // "image" or "object"
+  std::string_view summary;
+};
+const std::vector<AlgorithmInfo>& algorithms();
+
+// Parsing helpers shared by the CLI and the GL facade; throw hsr::Error on unknown names.
+CullMode parseCullMode(std::string_view s);
+FrontFace parseFrontFace(std::string_view s);
+PolygonMode parsePolygonMode(std::string_view s);
+DepthFunc parseDepthFunc(std::string_view s);
+
+}  // namespace hsr

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs the Debian packages hsr builds, tests and benchmarks with. Idempotent.
+set -euo pipefail
+pkgs=(build-essential cmake pkg-config
+      libglm-dev libassimp-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtbb-dev libstb-dev
+      libgtest-dev libgmock-dev libbenchmark-dev
+      libosmesa6-dev assimp-testmodels)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

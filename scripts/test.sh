@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Install, build and pass every test: the Release suite, then the same suite under ASan+UBSan.
+# HSR_TEST_INTENSITY: 1 (default, CI) or 3 for long local runs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export HSR_TEST_INTENSITY=${HSR_TEST_INTENSITY:-1}
+scripts/install-deps.sh
+echo "== Release build and tests =="
+scripts/build.sh build
+ctest --test-dir build --output-on-failure -j2
+echo "== ASan+UBSan build and tests =="
+scripts/build.sh build-asan -DHSR_SANITIZE=ON -DHSR_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+# Mesa's own allocations are not ours to track: leak checking stays off for the oracle.
+ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure -j2

@@ -1,0 +1,140 @@
+// hsr compare: every algorithm on one scene, measured and checked against the z-buffer.
+
+#include "hsr/compare.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+
+#include "hsr/io.hpp"
+
+namespace hsr {
+
+std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& camera,
+                                             const RenderOptions& options) {
+  std::vector<ComparisonRow> rows;
+  for (const AlgorithmInfo& info : algorithms()) {
+    RenderOptions o = options;
+    o.algorithm = std::string(info.name);
+    ComparisonRow row;
+    row.algorithm = o.algorithm;
+    const auto t0 = std::chrono::steady_clock::now();
+    row.frame = render(scene, camera, o);
+    row.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    row.state_bytes = row.frame.stats.state_bytes;
+    std::uint64_t covered = 0, sum = 0;
+    for (std::uint32_t c : row.frame.overdraw) {
+      if (c) covered++;
+      sum += c;
+      row.max_overdraw = std::max(row.max_overdraw, c);
+    }
+    row.mean_overdraw = covered ? static_cast<double>(sum) / static_cast<double>(covered) : 0.0;
+    rows.push_back(std::move(row));
+  }
+  // Agreement with the reference: the z-buffer (first row of the registry).
+  const std::vector<PolygonId>& ref = rows.front().frame.ids;
+  for (ComparisonRow& r : rows) {
+    std::uint64_t diff = 0;
+    for (std::size_t i = 0; i < ref.size(); ++i) diff += r.frame.ids[i] != ref[i];
+    r.differing_pixels = diff;
+    r.id_agreement = ref.empty() ? 1.0 : 1.0 - static_cast<double>(diff) / static_cast<double>(ref.size());
+  }
+  return rows;
+}
+
+namespace {
+
+// 5x7 glyphs, one byte per row (low 5 bits, MSB = leftmost column).
+struct Glyph {
+  char c;
+  std::array<std::uint8_t, 7> rows;
+};
+constexpr Glyph kFont[] = {
+    {'A', {14, 17, 17, 31, 17, 17, 17}}, {'B', {30, 17, 17, 30, 17, 17, 30}},
+    {'C', {14, 17, 16, 16, 16, 17, 14}}, {'D', {30, 17, 17, 17, 17, 17, 30}},
+    {'E', {31, 16, 16, 30, 16, 16, 31}}, {'F', {31, 16, 16, 30, 16, 16, 16}},
+    {'G', {14, 17, 16, 23, 17, 17, 15}}, {'H', {17, 17, 17, 31, 17, 17, 17}},
+    {'I', {14, 4, 4, 4, 4, 4, 14}},      {'J', {7, 2, 2, 2, 2, 18, 12}},
+    {'K', {17, 18, 20, 24, 20, 18, 17}}, {'L', {16, 16, 16, 16, 16, 16, 31}},
+    {'M', {17, 27, 21, 21, 17, 17, 17}}, {'N', {17, 17, 25, 21, 19, 17, 17}},
+    {'O', {14, 17, 17, 17, 17, 17, 14}}, {'P', {30, 17, 17, 30, 16, 16, 16}},
+    {'Q', {14, 17, 17, 17, 21, 18, 13}}, {'R', {30, 17, 17, 30, 20, 18, 17}},
+    {'S', {15, 16, 16, 14, 1, 1, 30}},   {'T', {31, 4, 4, 4, 4, 4, 4}},
+    {'U', {17, 17, 17, 17, 17, 17, 14}}, {'V', {17, 17, 17, 17, 17, 10, 4}},
+    {'W', {17, 17, 17, 21, 21, 21, 10}}, {'X', {17, 17, 10, 4, 10, 17, 17}},
+    {'Y', {17, 17, 10, 4, 4, 4, 4}},     {'Z', {31, 1, 2, 4, 8, 16, 31}},
+    {'0', {14, 17, 19, 21, 25, 17, 14}}, {'1', {4, 12, 4, 4, 4, 4, 14}},
+    {'2', {14, 17, 1, 2, 4, 8, 31}},     {'3', {31, 2, 4, 2, 1, 17, 14}},
+    {'4', {2, 6, 10, 18, 31, 2, 2}},     {'5', {31, 16, 30, 1, 1, 17, 14}},
+    {'6', {6, 8, 16, 30, 17, 17, 14}},   {'7', {31, 1, 2, 4, 8, 8, 8}},
+    {'8', {14, 17, 17, 14, 17, 17, 14}}, {'9', {14, 17, 17, 15, 1, 2, 12}},
+    {'.', {0, 0, 0, 0, 0, 12, 12}},      {'%', {24, 25, 2, 4, 8, 19, 3}},
+    {'-', {0, 0, 0, 31, 0, 0, 0}},       {':', {0, 12, 12, 0, 12, 12, 0}},
+    {'/', {1, 1, 2, 4, 8, 16, 16}},      {'(', {2, 4, 8, 8, 8, 4, 2}},
+    {')', {8, 4, 2, 2, 2, 4, 8}},        {'=', {0, 0, 31, 0, 31, 0, 0}},
+    {'_', {0, 0, 0, 0, 0, 0, 31}},       {'X', {17, 17, 10, 4, 10, 17, 17}},
+};
+
+const Glyph* findGlyph(char c) {
+  if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+  for (const Glyph& g : kFont)
+    if (g.c == c) return &g;
+  return nullptr;
+}
+
+}  // namespace
+
+void drawLabel(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y,
+               const std::string& text, int scale) {
+  for (std::size_t n = 0; n < text.size(); ++n) {
+    const Glyph* g = findGlyph(text[n]);
+    if (!g) continue;  // space and unknown characters advance only
+    const int gx = x + static_cast<int>(n) * 6 * scale;
+    for (int r = 0; r < 7; ++r)
+      for (int c = 0; c < 5; ++c) {
+        if (!((g->rows[r] >> (4 - c)) & 1)) continue;
+        for (int sy = 0; sy < scale; ++sy)
+          for (int sx = 0; sx < scale; ++sx) {
+            const int px = gx + c * scale + sx, py = y + r * scale + sy;
+            if (px < 0 || py < 0 || px >= width || py >= height) continue;
+            const std::size_t k = 3 * (static_cast<std::size_t>(py) * width + px);
+            rgb[k] = rgb[k + 1] = rgb[k + 2] = 255;
+          }
+      }
+  }
+}
+
+std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows, int* width,
+                                          int* height) {
+  constexpr int kLabel = 24, kGap = 8;
+  constexpr const char* kKinds[] = {"color", "ids", "overdraw"};
+  const int fw = rows.empty() ? 0 : rows[0].frame.width;
+  const int fh = rows.empty() ? 0 : rows[0].frame.height;
+  const int cols = static_cast<int>(rows.size());
+  *width = cols * fw + (cols + 1) * kGap;
+  *height = 3 * (fh + kLabel) + 4 * kGap;
+  std::vector<std::uint8_t> sheet(static_cast<std::size_t>(*width) * *height * 3, 32);
+  for (int c = 0; c < cols; ++c) {
+    const ComparisonRow& r = rows[c];
+    for (int k = 0; k < 3; ++k) {
+      const std::vector<std::uint8_t> pic = picture(r.frame, kKinds[k]);
+      const int ox = kGap + c * (fw + kGap);
+      const int oy = kGap + k * (fh + kLabel + kGap);
+      char label[128];
+      if (k == 0)
+        std::snprintf(label, sizeof label, "%s %.1f MS", r.algorithm.c_str(), r.ms);
+      else if (k == 1)
+        std::snprintf(label, sizeof label, "IDS %.3f%% = ZBUFFER", 100.0 * r.id_agreement);
+      else
+        std::snprintf(label, sizeof label, "OVERDRAW MEAN %.2f MAX %u", r.mean_overdraw, r.max_overdraw);
+      drawLabel(sheet, *width, *height, ox, oy + 4, label, 2);
+      for (int y = 0; y < fh; ++y)
+        std::copy_n(&pic[3 * static_cast<std::size_t>(y) * fw], 3 * fw,
+                    &sheet[3 * (static_cast<std::size_t>(oy + kLabel + y) * *width + ox)]);
+    }
+  }
+  return sheet;
+}
+
+}  // namespace hsr

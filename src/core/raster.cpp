@@ -1,0 +1,55 @@
+// Exact fixed-point triangle setup (Pineda 1988 edge functions; top-left rule as in
+// Direct3D/OpenGL implementations such as Mesa's llvmpipe).
+
+#include "core/raster.hpp"
+
+#include <algorithm>
+
+namespace hsr::detail {
+
+TriangleSetup setupTriangle(const ScreenTriangle& t, int first_row) {
+  TriangleSetup s;
+  // Bounding box in whole pixels: pixel centres are at multiples of 256.
+  const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]});
+  const std::int64_t max_x = std::max({t.x[0], t.x[1], t.x[2]});
+  const std::int64_t min_y = std::min({t.y[0], t.y[1], t.y[2]});
+  const std::int64_t max_y = std::max({t.y[0], t.y[1], t.y[2]});
+  s.x0 = static_cast<int>(ceilDiv(min_x, kSubpixelOne));
+  s.x1 = static_cast<int>(floorDiv(max_x, kSubpixelOne));
+  s.y0 = static_cast<int>(ceilDiv(min_y, kSubpixelOne));
+  s.y1 = static_cast<int>(floorDiv(max_y, kSubpixelOne));
+  const std::int64_t py = static_cast<std::int64_t>(first_row) * kSubpixelOne;
+  for (int k = 0; k < 3; ++k) {
+    const std::int64_t ax = t.x[k], ay = t.y[k];
+    const std::int64_t bx = t.x[(k + 1) % 3], by = t.y[(k + 1) % 3];
+    const std::int64_t dx = bx - ax, dy = by - ay;
+    // Top edge: horizontal with the inside below it (y down); left edge: inside to its right.
+    const bool top_left = (dy < 0) || (dy == 0 && dx > 0);
+    EdgeSetup& e = s.edge[k];
+    e.step_x = -dy * kSubpixelOne;
+    e.step_y = dx * kSubpixelOne;
+    // E(i*256, py) = dx*(py - ay) - dy*(i*256 - ax)
+    e.row = dx * (py - ay) + dy * ax + (top_left ? 0 : -1);
+  }
+  return s;
+}
+
+bool spanOfRow(const TriangleSetup& s, int* lo, int* hi) {
+  std::int64_t l = *lo, h = *hi;
+  for (const EdgeSetup& e : s.edge) {
+    // Need step_x * i + row >= 0.
+    if (e.step_x > 0) {
+      l = std::max(l, ceilDiv(-e.row, e.step_x));
+    } else if (e.step_x < 0) {
+      h = std::min(h, floorDiv(e.row, -e.step_x));
+    } else if (e.row < 0) {
+      return false;
+    }
+  }
+  if (l > h) return false;
+  *lo = static_cast<int>(l);
+  *hi = static_cast<int>(h);
+  return true;
+}
+
+}  // namespace hsr::detail

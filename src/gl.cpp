@@ -1,0 +1,78 @@
+// The GL-style facade: OpenGL state in, z-buffer draws into persistent buffers.
+
+#include "hsr/gl.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/task_arena.h>
+
+#include "hsr/error.hpp"
+#include "visibility/algorithm.hpp"
+#include "visibility/zbuffer.hpp"
+
+namespace hsr::gl {
+
+Context::Context(const Camera& camera) : camera_(camera) {
+  camera_.validate();
+  state_.depth_test = false;  // OpenGL's default: GL_DEPTH_TEST disabled
+  state_.cull = CullMode::None;
+  state_.shade = true;
+  frame_ = detail::makeClearedFrame(camera_.width, camera_.height, state_);
+}
+
+void Context::enable(Capability cap) {
+  if (cap == DEPTH_TEST) state_.depth_test = true;
+  if (cap == CULL_FACE) cull_enabled_ = true;
+}
+
+void Context::disable(Capability cap) {
+  if (cap == DEPTH_TEST) state_.depth_test = false;
+  if (cap == CULL_FACE) cull_enabled_ = false;
+}
+
+bool Context::isEnabled(Capability cap) const {
+  return cap == DEPTH_TEST ? state_.depth_test : cull_enabled_;
+}
+
+void Context::clear(unsigned bits) {
+  const Frame cleared = detail::makeClearedFrame(camera_.width, camera_.height, state_);
+  if (bits & COLOR_BUFFER_BIT) {
+    frame_.color = cleared.color;
+    std::fill(frame_.overdraw.begin(), frame_.overdraw.end(), 0u);
+  }
+  // The depth buffer's partner here is the id buffer: what is nearest is what is visible.
+  // glClear's depth write mask applies, as in OpenGL.
+  if ((bits & DEPTH_BUFFER_BIT) && state_.depth_mask) {
+    frame_.depth = cleared.depth;
+    frame_.ids = cleared.ids;
+  }
+}
+
+void Context::polygonMode(Mode m) {
+  state_.polygon_mode = m == POINT ? PolygonMode::Point
+                        : m == LINE ? PolygonMode::Line
+                                    : PolygonMode::Fill;
+}
+
+void Context::setCamera(const Camera& camera) {
+  if (camera.width != camera_.width || camera.height != camera_.height)
+    throw Error("setCamera: the viewport size of a context is fixed");
+  camera.validate();
+  camera_ = camera;
+}
+
+void Context::draw(const Scene& scene) {
+  RenderOptions o = state_;
+  o.cull = !cull_enabled_        ? CullMode::None
+           : cull_face_ == FRONT ? CullMode::Front
+           : cull_face_ == BACK  ? CullMode::Back
+                                 : CullMode::FrontAndBack;
+  tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency());
+  arena.execute([&] {
+    const detail::PreparedScene prepared = detail::prepare(scene, camera_, o);
+    detail::drawZBuffer(detail::AlgorithmInput{scene, camera_, o, prepared}, frame_);
+  });
+}
+
+}  // namespace hsr::gl

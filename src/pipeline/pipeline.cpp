@@ -1,0 +1,548 @@
+// The shared front end of every visibility algorithm: cull, clip, project, snap.
+// Guarantee: the output depends only on the scene, camera and options (never on the thread
+// count): work is split into fixed chunks of polygons whose outputs are joined in order.
+
+#include "pipeline/pipeline.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstring>
+#include <cmath>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "pipeline/triangulate.hpp"
+
+namespace hsr::detail {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Guard band: x/w and y/w are clipped only where the window coordinate would leave
+// +-2^20 pixels around the centre, so snapped coordinates stay below 2^29 and every edge
+// function product fits in 64 bits. Inside it, triangles are rasterized unclipped, so
+// their edges stay exactly where the vertices put them (as Mesa's guard band does).
+constexpr float kGuardPixels = 1048576.0f;  // 2^20
+
+constexpr std::size_t kChunk = 2048;  // polygons per work item (fixed: determinism)
+
+enum ClipBit : unsigned {
+  kLeft = 1, kRight = 2, kBottom = 4, kTop = 8, kNear = 16, kFar = 32,  // view volume
+  kGuardX0 = 64, kGuardX1 = 128, kGuardY0 = 256, kGuardY1 = 512,       // guard band
+};
+constexpr unsigned kMustClip = kNear | kFar | kGuardX0 | kGuardX1 | kGuardY0 | kGuardY1;
+
+struct ClipSetup {
+  float gx, gy;  // guard band in NDC units
+};
+
+unsigned outcode(const glm::vec4& v, const ClipSetup& cs) {
+  unsigned c = 0;
+  if (!(v.x >= -v.w)) c |= kLeft;
+  if (!(v.x <= v.w)) c |= kRight;
+  if (!(v.y >= -v.w)) c |= kBottom;
+  if (!(v.y <= v.w)) c |= kTop;
+  if (!(v.z >= -v.w)) c |= kNear;
+  if (!(v.z <= v.w)) c |= kFar;
+  if (!(v.x >= -cs.gx * v.w)) c |= kGuardX0;
+  if (!(v.x <= cs.gx * v.w)) c |= kGuardX1;
+  if (!(v.y >= -cs.gy * v.w)) c |= kGuardY0;
+  if (!(v.y <= cs.gy * v.w)) c |= kGuardY1;
+  return c;
+}
+
+// Signed distance of a clip-space point to clip plane k (>= 0 inside).
+float planeDistance(const glm::vec4& v, int k, const ClipSetup& cs) {
+  switch (k) {
+    case 0: return v.z + v.w;            // near
+    case 1: return v.w - v.z;            // far
+    case 2: return cs.gx * v.w + v.x;    // guard left
+    case 3: return cs.gx * v.w - v.x;    // guard right
+    case 4: return cs.gy * v.w + v.y;    // guard bottom
+    default: return cs.gy * v.w - v.y;   // guard top
+  }
+}
+constexpr unsigned kPlaneBit[6] = {kNear, kFar, kGuardX0, kGuardX1, kGuardY0, kGuardY1};
+
+// A clip-space vertex plus whether the edge leaving it is an original polygon edge (GL's
+// edge flag: edges made by clipping are not drawn in LINE mode).
+struct ClipVertex {
+  glm::vec4 p;
+  bool edge;
+};
+using ClipPolygon = std::vector<ClipVertex>;
+
+// Sutherland-Hodgman against the planes the polygon crosses, in homogeneous coordinates
+// (before the divide, so parts behind the eye are cut away, never inverted).
+void clipPolygon(ClipPolygon& poly, unsigned planes, const ClipSetup& cs, ClipPolygon& tmp) {
+  for (int k = 0; k < 6 && !poly.empty(); ++k) {
+    if (!(planes & kPlaneBit[k])) continue;
+    tmp.clear();
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const ClipVertex& a = poly[i];
+      const ClipVertex& b = poly[(i + 1) % n];
+      const float da = planeDistance(a.p, k, cs), db = planeDistance(b.p, k, cs);
+      const bool ina = da >= 0.0f, inb = db >= 0.0f;
+      if (ina) tmp.push_back(a);
+      if (ina != inb) {
+        // Interpolate from the inside vertex so the result is independent of edge direction.
+        const ClipVertex& in = ina ? a : b;
+        const ClipVertex& out = ina ? b : a;
+        const float din = ina ? da : db, dout = ina ? db : da;
+        const float t = din / (din - dout);
+        ClipVertex v{in.p + t * (out.p - in.p), false};
+        // Entering the inside keeps the original edge's flag; the new edge along the plane
+        // (from the exit point to the next entry) is not an original edge.
+        v.edge = ina ? false : a.edge;
+        if (ina) tmp.back().edge = a.edge;
+        tmp.push_back(v);
+      }
+    }
+    poly.swap(tmp);
+  }
+}
+
+struct Viewport {
+  float sx, tx, sy, ty;  // window = ndc * s + t (y down)
+};
+
+struct WindowVertex {
+  float x, y, z;          // float window coords, pixel centres at integers, y down
+  std::int64_t fx, fy;    // snapped
+};
+
+WindowVertex toWindow(const glm::vec4& c, const Viewport& vp) {
+  // As Mesa's draw module: multiply by 1/w, then scale and translate; z to [0,1].
+  const float iw = 1.0f / c.w;
+  WindowVertex v;
+  const float xw = (c.x * iw) * vp.sx + vp.tx;
+  const float yw = (c.y * iw) * vp.sy + vp.ty;
+  v.z = (c.z * iw) * 0.5f + 0.5f;
+  // Pixel centres at integers (GL samples at x + 0.5), then 8 sub-pixel bits, round to nearest.
+  v.x = xw - 0.5f;
+  v.y = yw - 0.5f;
+  v.fx = std::lrint(v.x * static_cast<float>(kSubpixelOne));
+  v.fy = std::lrint(v.y * static_cast<float>(kSubpixelOne));
+  return v;
+}
+
+struct PolygonInfo {
+  int eye_orientation;  // +1 CCW seen from the eye, -1 CW, 0 edge-on/degenerate
+  std::uint32_t rgba;
+  bool transparent;
+  bool degenerate;
+};
+
+glm::dvec3 newellNormal(const Scene& scene, std::span<const std::uint32_t> poly) {
+  glm::dvec3 n(0.0);
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const glm::dvec3 a(scene.position(poly[i]));
+    const glm::dvec3 b(scene.position(poly[(i + 1) % poly.size()]));
+    n.x += (a.y - b.y) * (a.z + b.z);
+    n.y += (a.z - b.z) * (a.x + b.x);
+    n.z += (a.x - b.x) * (a.y + b.y);
+  }
+  return n;
+}
+
+std::uint32_t packColor(glm::vec3 c, float alpha) {
+  auto q = [](float v) {
+    v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+    return static_cast<std::uint32_t>(std::lround(v * 255.0f));
+  };
+  return q(c.r) | (q(c.g) << 8) | (q(c.b) << 16) | (q(alpha) << 24);
+}
+
+PolygonInfo polygonInfo(const Scene& scene, PolygonId id, const Camera& camera,
+                        const glm::vec3& view_dir, bool shade) {
+  PolygonInfo info{0, 0, false, true};
+  const std::span<const std::uint32_t> poly = scene.polygon(id);
+  glm::dvec3 centroid(0.0);
+  for (std::uint32_t v : poly) {
+    const glm::vec3& p = scene.position(v);
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return info;
+    centroid += glm::dvec3(p);
+  }
+  centroid /= static_cast<double>(poly.size());
+  const glm::dvec3 n = newellNormal(scene, poly);
+  const double len = glm::length(n);
+  if (!(len > 0.0) || !std::isfinite(len)) return info;  // zero area
+  info.degenerate = false;
+  // The notes' test: V = eye - P (or the reversed view direction for parallel projection).
+  const glm::dvec3 v = camera.ortho ? -glm::dvec3(view_dir) : glm::dvec3(camera.eye) - centroid;
+  const double d = glm::dot(n, v);
+  info.eye_orientation = d > 0.0 ? 1 : (d < 0.0 ? -1 : 0);
+  const std::uint32_t m = scene.material(id);
+  const Material mat = m < scene.materials.size() ? scene.materials[m] : Material{};
+  // Headlight Lambert, two-sided: light from the eye, 20% ambient.
+  float lambert = 1.0f;
+  if (shade) {
+    const double vl = glm::length(v);
+    lambert = vl > 0.0 ? static_cast<float>(std::abs(d) / (len * vl)) : 1.0f;
+    lambert = 0.2f + 0.8f * lambert;
+  }
+  info.rgba = packColor(mat.color * lambert, mat.alpha);
+  info.transparent = mat.alpha < 1.0f;
+  return info;
+}
+
+// Which facings survive the cull mode. `front` is the polygon's facing under the rule.
+bool culled(CullMode mode, bool front) {
+  switch (mode) {
+    case CullMode::None: return false;
+    case CullMode::Back: return !front;
+    case CullMode::Front: return front;
+    case CullMode::FrontAndBack: return true;
+  }
+  return false;
+}
+
+// Output of one chunk of polygons.
+struct ChunkOut {
+  std::vector<ScreenTriangle> triangles;
+  std::vector<ScreenLine> lines, points;
+  std::uint64_t degenerate = 0, culled_frustum = 0, culled_backface = 0, clipped = 0,
+                clipped_away = 0, triangles_in = 0;
+};
+
+struct Context {
+  const Scene& scene;
+  const Camera& camera;
+  const RenderOptions& options;
+  glm::mat4 mvp;
+  glm::vec3 view_dir;
+  ClipSetup cs;
+  Viewport vp;
+  const std::vector<glm::vec4>& clip;            // clip-space vertex positions
+  const std::vector<std::uint8_t>& object_state;  // 0 culled, 1 inside, 2 crosses
+};
+
+void emitTriangle(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
+                  const PolygonInfo& info, ChunkOut& out) {
+  const std::int64_t fx[3] = {w[0].fx, w[1].fx, w[2].fx};
+  const std::int64_t fy[3] = {w[0].fy, w[1].fy, w[2].fy};
+  const int orientation = windowOrientation(fx, fy);
+  if (orientation == 0) return;  // zero area after snapping: draws nothing, as GL
+  bool front;
+  if (ctx.options.facing_test == FacingTest::WindowArea) {
+    front = (orientation > 0) == (ctx.options.front_face == FrontFace::Ccw);
+  } else {
+    front = (info.eye_orientation > 0) == (ctx.options.front_face == FrontFace::Ccw);
+  }
+  if (culled(ctx.options.cull, front)) {
+    out.culled_backface++;
+    return;
+  }
+  // Order the vertices so the y-down area is positive (every edge function > 0 inside).
+  int o[3] = {0, 1, 2};
+  if (orientation > 0) std::swap(o[1], o[2]);  // CCW in y-up is negative area in y-down
+  ScreenTriangle t;
+  for (int k = 0; k < 3; ++k) {
+    t.x[k] = static_cast<std::int32_t>(fx[o[k]]);
+    t.y[k] = static_cast<std::int32_t>(fy[o[k]]);
+  }
+  // Depth plane through the three float window positions (z is affine in window space).
+  const WindowVertex& a = w[o[0]];
+  const WindowVertex& b = w[o[1]];
+  const WindowVertex& c = w[o[2]];
+  const double dx1 = double(b.x) - a.x, dy1 = double(b.y) - a.y, dz1 = double(b.z) - a.z;
+  const double dx2 = double(c.x) - a.x, dy2 = double(c.y) - a.y, dz2 = double(c.z) - a.z;
+  const double det = dx1 * dy2 - dx2 * dy1;
+  t.xr = a.x;
+  t.yr = a.y;
+  t.z0 = a.z;
+  if (det != 0.0) {
+    t.dzdx = static_cast<float>((dz1 * dy2 - dz2 * dy1) / det);
+    t.dzdy = static_cast<float>((dx1 * dz2 - dx2 * dz1) / det);
+  } else {
+    t.dzdx = t.dzdy = 0.0f;
+  }
+  if (!std::isfinite(t.dzdx) || !std::isfinite(t.dzdy)) t.dzdx = t.dzdy = 0.0f;
+  t.id = id;
+  t.rgba = info.rgba;
+  t.front = front ? 1 : 0;
+  t.transparent = info.transparent ? 1 : 0;
+  out.triangles.push_back(t);
+}
+
+void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
+                    std::vector<Triangle>& tris, ClipPolygon& poly, ClipPolygon& tmp) {
+  const Scene& scene = ctx.scene;
+  const std::uint8_t state = ctx.object_state[scene.object(id)];
+  const std::span<const std::uint32_t> vi = scene.polygon(id);
+  out.triangles_in += vi.size() >= 3 ? vi.size() - 2 : 0;
+  if (state == 0) {
+    out.culled_frustum++;
+    return;
+  }
+  const PolygonInfo info = polygonInfo(scene, id, ctx.camera, ctx.view_dir, ctx.options.shade);
+  if (info.degenerate) {
+    out.degenerate++;
+    return;
+  }
+  if (ctx.options.facing_test == FacingTest::EyePlane) {
+    const bool front = (info.eye_orientation > 0) == (ctx.options.front_face == FrontFace::Ccw);
+    if (culled(ctx.options.cull, front)) {
+      out.culled_backface += vi.size() - 2;
+      return;
+    }
+  }
+
+  const PolygonMode mode = ctx.options.polygon_mode;
+  if (mode != PolygonMode::Fill) {
+    // LINE and POINT: the polygon's own edges / vertices, culled by the polygon's facing
+    // (window area of the whole polygon after projection, or the eye test).
+    poly.clear();
+    unsigned all = ~0u, any = 0;
+    for (std::uint32_t v : vi) {
+      poly.push_back({ctx.clip[v], true});
+      const unsigned c = outcode(ctx.clip[v], ctx.cs);
+      all &= c;
+      any |= c;
+    }
+    if (all & (kLeft | kRight | kBottom | kTop | kNear | kFar)) {
+      out.clipped_away++;
+      return;
+    }
+    if (any & kMustClip) {
+      out.clipped++;
+      clipPolygon(poly, any & kMustClip, ctx.cs, tmp);
+    }
+    if (poly.size() < 3) {
+      out.clipped_away++;
+      return;
+    }
+    std::vector<WindowVertex> wv(poly.size());
+    for (std::size_t i = 0; i < poly.size(); ++i) wv[i] = toWindow(poly[i].p, ctx.vp);
+    if (ctx.options.facing_test == FacingTest::WindowArea && ctx.options.cull != CullMode::None) {
+      std::int64_t area = 0;  // doubled y-down area (shoelace)
+      for (std::size_t i = 0; i < wv.size(); ++i) {
+        const WindowVertex& a = wv[i];
+        const WindowVertex& b = wv[(i + 1) % wv.size()];
+        area += a.fx * b.fy - b.fx * a.fy;
+      }
+      const bool front = (area < 0) == (ctx.options.front_face == FrontFace::Ccw);
+      if (area == 0 || culled(ctx.options.cull, front)) {
+        out.culled_backface++;
+        return;
+      }
+    }
+    for (std::size_t i = 0; i < wv.size(); ++i) {
+      const WindowVertex& a = wv[i];
+      const WindowVertex& b = wv[(i + 1) % wv.size()];
+      if (mode == PolygonMode::Line) {
+        if (poly[i].edge) out.lines.push_back({a.x, a.y, a.z, b.x, b.y, b.z, id, info.rgba});
+      } else if (poly[i].edge || i == 0) {
+        out.points.push_back({a.x, a.y, a.z, a.x, a.y, a.z, id, info.rgba});
+      }
+    }
+    return;
+  }
+
+  // FILL: triangulate, then per triangle: trivial reject, clip if needed, project, emit.
+  tris.clear();
+  triangulatePolygon(scene, id, tris);
+  for (const Triangle& t : tris) {
+    const glm::vec4 c[3] = {ctx.clip[t.v[0]], ctx.clip[t.v[1]], ctx.clip[t.v[2]]};
+    unsigned codes[3];
+    for (int k = 0; k < 3; ++k) codes[k] = outcode(c[k], ctx.cs);
+    if (codes[0] & codes[1] & codes[2] & (kLeft | kRight | kBottom | kTop | kNear | kFar)) {
+      out.clipped_away++;
+      continue;
+    }
+    const unsigned crossing = (codes[0] | codes[1] | codes[2]) & kMustClip;
+    if (!crossing) {
+      const WindowVertex w[3] = {toWindow(c[0], ctx.vp), toWindow(c[1], ctx.vp),
+                                 toWindow(c[2], ctx.vp)};
+      emitTriangle(ctx, w, id, info, out);
+      continue;
+    }
+    out.clipped++;
+    poly.assign({{c[0], true}, {c[1], true}, {c[2], true}});
+    clipPolygon(poly, crossing, ctx.cs, tmp);
+    if (poly.size() < 3) {
+      out.clipped_away++;
+      continue;
+    }
+    // The clipped polygon is convex: a fan from its first vertex, as GL's clipper emits.
+    const WindowVertex w0 = toWindow(poly[0].p, ctx.vp);
+    WindowVertex prev = toWindow(poly[1].p, ctx.vp);
+    for (std::size_t k = 2; k < poly.size(); ++k) {
+      const WindowVertex cur = toWindow(poly[k].p, ctx.vp);
+      const WindowVertex w[3] = {w0, prev, cur};
+      emitTriangle(ctx, w, id, info, out);
+      prev = cur;
+    }
+  }
+}
+
+// Silhouette edges: edges shared by a front-facing and a back-facing polygon (eye test),
+// plus border edges of open surfaces. Vertices are welded by position so unshared meshes
+// (STL) still find their neighbours.
+void findOutline(const Context& ctx, PreparedScene& out) {
+  const Scene& scene = ctx.scene;
+  std::unordered_map<std::uint64_t, std::uint32_t> weld;
+  std::vector<std::uint32_t> canon(scene.vertexCount());
+  for (std::uint32_t v = 0; v < scene.vertexCount(); ++v) {
+    const glm::vec3& p = scene.position(v);
+    std::uint32_t bits[3];
+    std::memcpy(bits, &p, sizeof bits);
+    const std::uint64_t h = (std::uint64_t(bits[0]) * 0x9E3779B97F4A7C15ull) ^
+                            (std::uint64_t(bits[1]) * 0xC2B2AE3D27D4EB4Full) ^
+                            (std::uint64_t(bits[2]) * 0x165667B19E3779F9ull);
+    auto [it, fresh] = weld.try_emplace(h, v);
+    canon[v] = (!fresh && scene.position(it->second) == p) ? it->second : v;
+  }
+  struct EdgeUse {
+    PolygonId first;
+    int facing;
+    std::uint32_t a, b;  // original vertices of the first use
+    int count;
+    bool mixed;
+  };
+  std::unordered_map<std::uint64_t, EdgeUse> edges;
+  for (PolygonId id = 0; id < scene.polygonCount(); ++id) {
+    if (ctx.object_state[scene.object(id)] == 0) continue;
+    const int o = eyeSpaceOrientation(scene, id, ctx.camera);
+    if (o == 0) continue;
+    const std::span<const std::uint32_t> poly = scene.polygon(id);
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      std::uint32_t a = canon[poly[i]], b = canon[poly[(i + 1) % poly.size()]];
+      if (a == b) continue;
+      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      auto [it, fresh] = edges.try_emplace(key, EdgeUse{id, o, poly[i], poly[(i + 1) % poly.size()], 1, false});
+      if (!fresh) {
+        it->second.count++;
+        if (it->second.facing != o) it->second.mixed = true;
+      }
+    }
+  }
+  std::vector<std::pair<PolygonId, std::uint64_t>> order;
+  for (const auto& [key, e] : edges)
+    if (e.mixed || e.count == 1) order.push_back({e.first, key});
+  std::sort(order.begin(), order.end());  // deterministic output order
+  ClipPolygon seg, tmp;
+  for (const auto& [pid, key] : order) {
+    const EdgeUse& e = edges.at(key);
+    // Clip the segment against near/far/guard as a degenerate polygon (a, b, a).
+    glm::vec4 pa = ctx.clip[e.a], pb = ctx.clip[e.b];
+    const unsigned ca = outcode(pa, ctx.cs), cb = outcode(pb, ctx.cs);
+    if (ca & cb & (kLeft | kRight | kBottom | kTop | kNear | kFar)) continue;
+    bool visible = true;
+    for (int k = 0; k < 6 && visible; ++k) {
+      if (!((ca | cb) & kPlaneBit[k])) continue;
+      const float da = planeDistance(pa, k, ctx.cs), db = planeDistance(pb, k, ctx.cs);
+      if (da < 0.0f && db < 0.0f) visible = false;
+      else if (da < 0.0f) pa = pa + (da / (da - db)) * (pb - pa);
+      else if (db < 0.0f) pb = pb + (db / (db - da)) * (pa - pb);
+    }
+    if (!visible) continue;
+    const WindowVertex a = toWindow(pa, ctx.vp), b = toWindow(pb, ctx.vp);
+    out.outline.push_back({a.x, a.y, a.z, b.x, b.y, b.z, pid, 0xFF000000u});
+  }
+}
+
+}  // namespace
+
+int windowOrientation(const std::int64_t x[3], const std::int64_t y_down[3]) {
+  const std::int64_t area =
+      (x[1] - x[0]) * (y_down[2] - y_down[0]) - (y_down[1] - y_down[0]) * (x[2] - x[0]);
+  // y-down flips the sign: negative y-down area is counter-clockwise in GL's y-up window.
+  return area < 0 ? 1 : (area > 0 ? -1 : 0);
+}
+
+int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera) {
+  const glm::vec3 dir = glm::normalize(camera.target - camera.eye);
+  return polygonInfo(scene, id, camera, dir, false).eye_orientation;
+}
+
+PreparedScene prepare(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  PreparedScene out;
+  out.width = camera.width;
+  out.height = camera.height;
+  out.stats.polygons_in = scene.polygonCount();
+
+  // Transform: world -> eye -> clip for every vertex of an object not culled by its bounds.
+  auto t0 = Clock::now();
+  const glm::mat4 mvp = camera.projection() * camera.view();
+  std::vector<std::uint8_t> object_state(scene.objects.size(), 1);
+  const ClipSetup cs{kGuardPixels * 2.0f / static_cast<float>(camera.width),
+                     kGuardPixels * 2.0f / static_cast<float>(camera.height)};
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    const Bounds& b = scene.objects[o].bounds;
+    if (b.empty()) continue;
+    unsigned all = ~0u, any = 0;
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y,
+                             (k & 4) ? b.hi.z : b.lo.z);
+      const unsigned c = outcode(mvp * glm::vec4(corner, 1.0f), cs);
+      all &= c;
+      any |= c;
+    }
+    if (options.frustum_cull && (all & (kLeft | kRight | kBottom | kTop | kNear | kFar)))
+      object_state[o] = 0;
+    else
+      object_state[o] = (any & kMustClip) ? 2 : 1;
+  }
+  std::vector<glm::vec4> clip(scene.vertexCount());
+  tbb::parallel_for(std::size_t(0), scene.objects.size(), [&](std::size_t o) {
+    if (object_state[o] == 0) return;
+    const Object& obj = scene.objects[o];
+    for (std::uint32_t v = obj.first_vertex; v < obj.first_vertex + obj.vertex_count; ++v)
+      clip[v] = mvp * glm::vec4(scene.position(v), 1.0f);
+  });
+  out.stats.addStage("transform", msSince(t0));
+
+  // Cull, clip, project and snap, in fixed chunks of polygons joined in order.
+  t0 = Clock::now();
+  const float w = static_cast<float>(camera.width), h = static_cast<float>(camera.height);
+  const Context ctx{scene, camera, options, mvp, glm::normalize(camera.target - camera.eye), cs,
+                    Viewport{w * 0.5f, w * 0.5f, -h * 0.5f, h * 0.5f}, clip, object_state};
+  const std::size_t n = scene.polygonCount();
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<ChunkOut> parts(chunks);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    ChunkOut& part = parts[c];
+    std::vector<Triangle> tris;
+    ClipPolygon poly, tmp;
+    const std::size_t end = std::min(n, (c + 1) * kChunk);
+    part.triangles.reserve((end - c * kChunk) * 2);
+    for (std::size_t id = c * kChunk; id < end; ++id)
+      processPolygon(ctx, static_cast<PolygonId>(id), part, tris, poly, tmp);
+  });
+  std::size_t total = 0;
+  for (const ChunkOut& p : parts) total += p.triangles.size();
+  out.triangles.reserve(total);
+  for (ChunkOut& p : parts) {
+    out.triangles.insert(out.triangles.end(), p.triangles.begin(), p.triangles.end());
+    out.lines.insert(out.lines.end(), p.lines.begin(), p.lines.end());
+    out.points.insert(out.points.end(), p.points.begin(), p.points.end());
+    out.stats.degenerate_dropped += p.degenerate;
+    out.stats.culled_frustum += p.culled_frustum;
+    out.stats.culled_backface += p.culled_backface;
+    out.stats.clipped += p.clipped;
+    out.stats.clipped_away += p.clipped_away;
+    out.stats.triangles_in += p.triangles_in;
+  }
+  out.stats.triangles_rasterized = out.triangles.size() + out.lines.size() + out.points.size();
+  out.stats.addStage("cull+clip+project", msSince(t0));
+
+  if (options.outline) {
+    t0 = Clock::now();
+    findOutline(ctx, out);
+    out.stats.addStage("outline", msSince(t0));
+  }
+  return out;
+}
+
+}  // namespace hsr::detail

@@ -1,0 +1,342 @@
+// Z-buffer, tiled and binned for many cores (DESIGN.md "Speed"):
+//   1. bin: each primitive is listed in every 64x64 screen tile its bounding box touches,
+//      by a counting sort that keeps submission order inside each tile;
+//   2. raster: tiles are filled in parallel; inside a tile each triangle is walked row by row,
+//      the exact span of a row comes from the integer edge functions (core/raster), and depth
+//      is stepped incrementally along the span, z' = z + dz/dx, as the notes show.
+//   Opaque triangles first, then transparent ones blended over them (depth tested, no depth
+//   or id write), then LINE/POINT primitives, then the outline.
+
+#include "visibility/zbuffer.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "core/raster.hpp"
+#include "hsr/error.hpp"
+
+namespace hsr::detail {
+namespace {
+
+constexpr int kTileShift = 6;  // 64x64 pixel tiles: 16 KiB of depth, fits in L1/L2
+constexpr int kTile = 1 << kTileShift;
+
+struct PixelBox {
+  int x0, y0, x1, y1;  // inclusive; empty when x0 > x1 or y0 > y1
+};
+
+PixelBox triangleBox(const ScreenTriangle& t, int w, int h) {
+  const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]});
+  const std::int64_t max_x = std::max({t.x[0], t.x[1], t.x[2]});
+  const std::int64_t min_y = std::min({t.y[0], t.y[1], t.y[2]});
+  const std::int64_t max_y = std::max({t.y[0], t.y[1], t.y[2]});
+  return {static_cast<int>(std::max<std::int64_t>(0, ceilDiv(min_x, kSubpixelOne))),
+          static_cast<int>(std::max<std::int64_t>(0, ceilDiv(min_y, kSubpixelOne))),
+          static_cast<int>(std::min<std::int64_t>(w - 1, floorDiv(max_x, kSubpixelOne))),
+          static_cast<int>(std::min<std::int64_t>(h - 1, floorDiv(max_y, kSubpixelOne)))};
+}
+
+PixelBox lineBox(const ScreenLine& l, int w, int h) {
+  auto lo = [](float a, float b) { return std::floor(std::min(a, b)) - 1.0f; };
+  auto hi = [](float a, float b) { return std::ceil(std::max(a, b)) + 1.0f; };
+  const float x0 = std::max(lo(l.x0, l.x1), 0.0f), y0 = std::max(lo(l.y0, l.y1), 0.0f);
+  const float x1 = std::min(hi(l.x0, l.x1), float(w - 1)), y1 = std::min(hi(l.y0, l.y1), float(h - 1));
+  if (!(x0 <= x1) || !(y0 <= y1)) return {1, 1, 0, 0};
+  return {int(x0), int(y0), int(x1), int(y1)};
+}
+
+// Per-tile lists of primitive indices, in submission order.
+struct Bins {
+  int tiles_x = 0, tiles_y = 0;
+  std::vector<std::size_t> start;  // tiles + 1
+  std::vector<std::uint32_t> items;
+  std::size_t bytes() const { return start.size() * sizeof(std::size_t) + items.size() * 4; }
+};
+
+template <class T, class BoxFn>
+Bins binPrimitives(const std::vector<T>& prims, int w, int h, BoxFn box) {
+  Bins bins;
+  bins.tiles_x = (w + kTile - 1) >> kTileShift;
+  bins.tiles_y = (h + kTile - 1) >> kTileShift;
+  const std::size_t tiles = static_cast<std::size_t>(bins.tiles_x) * bins.tiles_y;
+  const std::size_t n = prims.size();
+  // Chunks only split the work; the result (sorted by tile, then index) does not depend on them.
+  const std::size_t chunk = std::max<std::size_t>(8192, n / 64 + 1);
+  const std::size_t chunks = (n + chunk - 1) / chunk;
+  std::vector<std::size_t> counts(chunks * tiles, 0);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    std::size_t* cnt = &counts[c * tiles];
+    for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
+      const PixelBox b = box(prims[i], w, h);
+      if (b.x0 > b.x1 || b.y0 > b.y1) continue;
+      for (int ty = b.y0 >> kTileShift; ty <= b.y1 >> kTileShift; ++ty)
+        for (int tx = b.x0 >> kTileShift; tx <= b.x1 >> kTileShift; ++tx)
+          cnt[static_cast<std::size_t>(ty) * bins.tiles_x + tx]++;
+    }
+  });
+  // Exclusive prefix sum in (tile, chunk) order: tile-major keeps each tile's list contiguous
+  // and, within a tile, chunk order = submission order.
+  bins.start.assign(tiles + 1, 0);
+  std::size_t running = 0;
+  for (std::size_t t = 0; t < tiles; ++t) {
+    bins.start[t] = running;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::size_t k = counts[c * tiles + t];
+      counts[c * tiles + t] = running;
+      running += k;
+    }
+  }
+  bins.start[tiles] = running;
+  if (running > (std::size_t(1) << 31))
+    throw Error("scene too heavy to bin: " + std::to_string(running) + " tile entries");
+  bins.items.resize(running);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    std::size_t* off = &counts[c * tiles];
+    for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
+      const PixelBox b = box(prims[i], w, h);
+      if (b.x0 > b.x1 || b.y0 > b.y1) continue;
+      for (int ty = b.y0 >> kTileShift; ty <= b.y1 >> kTileShift; ++ty)
+        for (int tx = b.x0 >> kTileShift; tx <= b.x1 >> kTileShift; ++tx)
+          bins.items[off[static_cast<std::size_t>(ty) * bins.tiles_x + tx]++] =
+              static_cast<std::uint32_t>(i);
+    }
+  });
+  return bins;
+}
+
+struct Buffers {
+  int width;
+  std::uint32_t* rgba;
+  float* depth;
+  PolygonId* ids;
+  std::uint32_t* overdraw;
+};
+
+struct Counters {
+  std::uint64_t tested = 0, written = 0;
+};
+
+template <DepthFunc F>
+inline bool depthPasses(float z, float stored) {
+  if constexpr (F == DepthFunc::Never) return false;
+  if constexpr (F == DepthFunc::Less) return z < stored;
+  if constexpr (F == DepthFunc::Equal) return z == stored;
+  if constexpr (F == DepthFunc::LEqual) return z <= stored;
+  if constexpr (F == DepthFunc::Greater) return z > stored;
+  if constexpr (F == DepthFunc::NotEqual) return z != stored;
+  if constexpr (F == DepthFunc::GEqual) return z >= stored;
+  return true;  // Always
+}
+
+std::uint32_t blend(std::uint32_t src, std::uint32_t dst) {
+  const std::uint32_t a = src >> 24;
+  std::uint32_t out = 0xFF000000u;
+  for (int s = 0; s < 24; s += 8) {
+    const std::uint32_t cs = (src >> s) & 0xFF, cd = (dst >> s) & 0xFF;
+    out |= ((cs * a + cd * (255 - a) + 127) / 255) << s;
+  }
+  return out;
+}
+
+// One triangle clipped to one tile: the notes' scan conversion with incremental depth.
+template <DepthFunc F>
+void rasterTriangle(const ScreenTriangle& t, const PixelBox& tile, const Buffers& fb,
+                    bool depth_mask, Counters& c) {
+  TriangleSetup s = setupTriangle(t, tile.y0);
+  const int j0 = std::max(tile.y0, s.y0), j1 = std::min(tile.y1, s.y1);
+  const int i0 = std::max(tile.x0, s.x0), i1 = std::min(tile.x1, s.x1);
+  if (j0 > j1 || i0 > i1) return;
+  for (EdgeSetup& e : s.edge) e.row += e.step_y * (j0 - tile.y0);
+  const bool transparent = t.transparent != 0;
+  for (int j = j0; j <= j1; ++j, nextRow(s)) {
+    int lo = i0, hi = i1;
+    if (!spanOfRow(s, &lo, &hi)) continue;
+    // Depth at the span's first pixel from the plane, then one add per pixel.
+    float z = t.z0 + t.dzdy * (static_cast<float>(j) - t.yr) +
+              t.dzdx * (static_cast<float>(lo) - t.xr);
+    std::size_t idx = static_cast<std::size_t>(j) * fb.width + lo;
+    c.tested += static_cast<std::uint64_t>(hi - lo + 1);
+    for (int i = lo; i <= hi; ++i, ++idx, z += t.dzdx) {
+      const float zc = std::clamp(z, 0.0f, 1.0f);  // GL clamps window depth to [0,1]
+      if (!depthPasses<F>(zc, fb.depth[idx])) continue;
+      c.written++;
+      fb.overdraw[idx]++;
+      if (transparent) {
+        fb.rgba[idx] = blend(t.rgba, fb.rgba[idx]);
+        continue;
+      }
+      if (depth_mask) fb.depth[idx] = zc;
+      fb.ids[idx] = t.id;
+      fb.rgba[idx] = t.rgba;
+    }
+  }
+}
+
+// A line by DDA through pixel centres (one pixel per step along the major axis), depth
+// interpolated linearly. `outline` lines only colour pixels whose stored depth they reach.
+template <DepthFunc F>
+void rasterLine(const ScreenLine& l, const PixelBox& tile, const Buffers& fb, bool depth_mask,
+                bool outline, Counters& c) {
+  const float dx = l.x1 - l.x0, dy = l.y1 - l.y0;
+  const float len = std::max(std::abs(dx), std::abs(dy));
+  const int steps = std::isfinite(len) ? static_cast<int>(std::min(std::ceil(len), 1e6f)) : 0;
+  for (int k = 0; k <= steps; ++k) {
+    const float t = steps == 0 ? 0.0f : static_cast<float>(k) / static_cast<float>(steps);
+    const int i = static_cast<int>(std::lround(l.x0 + dx * t));
+    const int j = static_cast<int>(std::lround(l.y0 + dy * t));
+    if (i < tile.x0 || i > tile.x1 || j < tile.y0 || j > tile.y1) continue;
+    const float z = std::clamp(l.z0 + (l.z1 - l.z0) * t, 0.0f, 1.0f);
+    const std::size_t idx = static_cast<std::size_t>(j) * fb.width + i;
+    c.tested++;
+    if (outline) {
+      // Silhouettes lie on the surface they bound: allow a small depth tolerance.
+      if (z <= fb.depth[idx] + 2e-4f) fb.rgba[idx] = l.rgba;
+      continue;
+    }
+    if (!depthPasses<F>(z, fb.depth[idx])) continue;
+    c.written++;
+    fb.overdraw[idx]++;
+    if (depth_mask) fb.depth[idx] = z;
+    fb.ids[idx] = l.id;
+    fb.rgba[idx] = l.rgba;
+  }
+}
+
+struct TileJob {
+  const PreparedScene& ps;
+  const Bins& tri_bins;
+  const Bins& line_bins;
+  const Bins& point_bins;
+  const Bins& outline_bins;
+  const Buffers& fb;
+  bool depth_mask;
+};
+
+template <DepthFunc F>
+Counters rasterTile(const TileJob& job, std::size_t tile_index) {
+  const Bins& tb = job.tri_bins;
+  const int tx = static_cast<int>(tile_index % tb.tiles_x);
+  const int ty = static_cast<int>(tile_index / tb.tiles_x);
+  const PixelBox tile{tx * kTile, ty * kTile, std::min(job.ps.width, (tx + 1) * kTile) - 1,
+                      std::min(job.ps.height, (ty + 1) * kTile) - 1};
+  Counters c;
+  bool any_transparent = false;
+  for (std::size_t k = tb.start[tile_index]; k < tb.start[tile_index + 1]; ++k) {
+    const ScreenTriangle& t = job.ps.triangles[tb.items[k]];
+    if (t.transparent) {
+      any_transparent = true;
+      continue;
+    }
+    rasterTriangle<F>(t, tile, job.fb, job.depth_mask, c);
+  }
+  if (any_transparent) {
+    for (std::size_t k = tb.start[tile_index]; k < tb.start[tile_index + 1]; ++k) {
+      const ScreenTriangle& t = job.ps.triangles[tb.items[k]];
+      if (t.transparent) rasterTriangle<F>(t, tile, job.fb, false, c);
+    }
+  }
+  const Bins& lb = job.line_bins;
+  for (std::size_t k = lb.start[tile_index]; k < lb.start[tile_index + 1]; ++k)
+    rasterLine<F>(job.ps.lines[lb.items[k]], tile, job.fb, job.depth_mask, false, c);
+  const Bins& pb = job.point_bins;
+  for (std::size_t k = pb.start[tile_index]; k < pb.start[tile_index + 1]; ++k)
+    rasterLine<F>(job.ps.points[pb.items[k]], tile, job.fb, job.depth_mask, false, c);
+  const Bins& ob = job.outline_bins;
+  for (std::size_t k = ob.start[tile_index]; k < ob.start[tile_index + 1]; ++k)
+    rasterLine<F>(job.ps.outline[ob.items[k]], tile, job.fb, false, true, c);
+  return c;
+}
+
+using TileFn = Counters (*)(const TileJob&, std::size_t);
+
+TileFn tileFunction(DepthFunc f) {
+  switch (f) {
+    case DepthFunc::Never: return &rasterTile<DepthFunc::Never>;
+    case DepthFunc::Less: return &rasterTile<DepthFunc::Less>;
+    case DepthFunc::Equal: return &rasterTile<DepthFunc::Equal>;
+    case DepthFunc::LEqual: return &rasterTile<DepthFunc::LEqual>;
+    case DepthFunc::Greater: return &rasterTile<DepthFunc::Greater>;
+    case DepthFunc::NotEqual: return &rasterTile<DepthFunc::NotEqual>;
+    case DepthFunc::GEqual: return &rasterTile<DepthFunc::GEqual>;
+    case DepthFunc::Always: break;
+  }
+  return &rasterTile<DepthFunc::Always>;
+}
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+Frame renderZBuffer(const AlgorithmInput& in) {
+  // Clear colour, depth and ids, as glClear(COLOR | DEPTH), then draw.
+  const auto t0 = std::chrono::steady_clock::now();
+  Frame frame = makeClearedFrame(in.prepared.width, in.prepared.height, in.options);
+  frame.stats.addStage("clear", msSince(t0));
+  drawZBuffer(in, frame);
+  return frame;
+}
+
+void drawZBuffer(const AlgorithmInput& in, Frame& frame) {
+  const PreparedScene& ps = in.prepared;
+  const RenderOptions& o = in.options;
+  const int w = ps.width, h = ps.height;
+  if (frame.width != w || frame.height != h) throw Error("frame size differs from the camera's");
+  auto t0 = std::chrono::steady_clock::now();
+  // Working colour as RGBA32 (one store per fragment).
+  std::vector<std::uint32_t> rgba(static_cast<std::size_t>(w) * h);
+  tbb::parallel_for(0, h, [&](int j) {
+    for (int i = 0; i < w; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * w + i;
+      rgba[k] = 0xFF000000u | frame.color[3 * k] | (std::uint32_t(frame.color[3 * k + 1]) << 8) |
+                (std::uint32_t(frame.color[3 * k + 2]) << 16);
+    }
+  });
+
+  t0 = std::chrono::steady_clock::now();
+  const Bins tri_bins = binPrimitives(ps.triangles, w, h, triangleBox);
+  const Bins line_bins = binPrimitives(ps.lines, w, h, lineBox);
+  const Bins point_bins = binPrimitives(ps.points, w, h, lineBox);
+  const Bins outline_bins = binPrimitives(ps.outline, w, h, lineBox);
+  frame.stats.addStage("bin", msSince(t0));
+  frame.stats.fragments_tested = frame.stats.fragments_written = 0;
+
+  t0 = std::chrono::steady_clock::now();
+  const Buffers fb{w, rgba.data(), frame.depth.data(), frame.ids.data(), frame.overdraw.data()};
+  // GL: with the depth test disabled every fragment passes and the depth buffer is not written.
+  const DepthFunc func = o.depth_test ? o.depth_func : DepthFunc::Always;
+  const bool depth_mask = o.depth_test && o.depth_mask;
+  const TileJob job{ps, tri_bins, line_bins, point_bins, outline_bins, fb, depth_mask};
+  const TileFn fn = tileFunction(func);
+  const std::size_t tiles = static_cast<std::size_t>(tri_bins.tiles_x) * tri_bins.tiles_y;
+  std::vector<Counters> per_tile(tiles);
+  tbb::parallel_for(std::size_t(0), tiles, [&](std::size_t t) { per_tile[t] = fn(job, t); });
+  for (const Counters& c : per_tile) {
+    frame.stats.fragments_tested += c.tested;
+    frame.stats.fragments_written += c.written;
+  }
+  frame.stats.addStage("raster", msSince(t0));
+
+  // Resolve: RGBA32 working colour -> RGB8 frame.
+  t0 = std::chrono::steady_clock::now();
+  tbb::parallel_for(0, h, [&](int j) {
+    for (int i = 0; i < w; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * w + i;
+      frame.color[3 * k + 0] = static_cast<std::uint8_t>(rgba[k]);
+      frame.color[3 * k + 1] = static_cast<std::uint8_t>(rgba[k] >> 8);
+      frame.color[3 * k + 2] = static_cast<std::uint8_t>(rgba[k] >> 16);
+    }
+  });
+  frame.stats.addStage("resolve", msSince(t0));
+  frame.stats.state_bytes = rgba.size() * 4 + frame.depth.size() * 4 + frame.ids.size() * 4 +
+                            frame.overdraw.size() * 4 + frame.color.size() + tri_bins.bytes() +
+                            line_bins.bytes() + point_bins.bytes() + outline_bins.bytes() +
+                            ps.triangles.capacity() * sizeof(ScreenTriangle);
+}
+
+}  // namespace hsr::detail

@@ -1,0 +1,170 @@
+// The `hsr` command on bad input: one clear line on stderr, exit code 2, never a crash or a
+// hang; and on good input, the files it promises.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+  int code;
+  std::string err;
+  std::string out;
+};
+
+fs::path tempDir() {
+  const fs::path d = fs::temp_directory_path() / ("hsr_cli_test_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+Run runCli(const std::string& args) {
+  const fs::path err = tempDir() / "stderr.txt";
+  const std::string cmd = "timeout 60 " + std::string(HSR_CLI_PATH) + " " + args + " 2>" +
+                          err.string();
+  Run r;
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  while (p && fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int status = p ? pclose(p) : -1;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::ifstream in(err);
+  r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return r;
+}
+
+int lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+void expectCleanError(const std::string& args, const std::string& must_mention = "") {
+  const Run r = runCli(args);
+  EXPECT_EQ(r.code, 2) << args << "\nstderr: " << r.err;
+  EXPECT_EQ(lines(r.err), 1) << args << "\nstderr: " << r.err;
+  EXPECT_EQ(r.err.rfind("hsr: ", 0), 0u) << r.err;
+  if (!must_mention.empty())
+    EXPECT_NE(r.err.find(must_mention), std::string::npos) << args << "\nstderr: " << r.err;
+}
+
+TEST(Cli, BadCameraAndSizeGiveOneLineAndExit2) {
+  const std::string out = "-o " + (tempDir() / "x.png").string();
+  expectCleanError("render demo --near 0 " + out, "near");
+  expectCleanError("render demo --near -1 " + out, "near");
+  expectCleanError("render demo --near 5 --far 2 " + out, "far");
+  expectCleanError("render demo --size 0x10 " + out, "size");
+  expectCleanError("render demo --size 100000x100000 " + out, "GiB");
+  expectCleanError("render demo --size banana " + out, "size");
+  expectCleanError("render demo --eye nan,0,0 " + out, "finite");
+  expectCleanError("render demo --eye 1,2 " + out, "--eye");
+  expectCleanError("render demo --eye 0,0,0 --target 0,0,0 " + out, "same point");
+  expectCleanError("render demo --fov 0 " + out, "fov");
+  expectCleanError("render demo --fov inf " + out);
+  expectCleanError("render demo --cull sideways " + out, "cull");
+  expectCleanError("render demo --algorithm magic " + out, "algorithm");
+  expectCleanError("render demo --output color,smell " + out, "output");
+  expectCleanError("render demo --threads -3 " + out, "threads");
+  expectCleanError("render demo --no-such-flag " + out);
+}
+
+TEST(Cli, BadFilesGiveOneLineAndExit2) {
+  const fs::path d = tempDir();
+  const std::string out = "-o " + (d / "x.png").string();
+  expectCleanError("render " + (d / "does_not_exist.obj").string() + " " + out, "does_not_exist");
+  {
+    std::ofstream f(d / "text.obj");
+    f << "this is not a mesh\njust some words\n";
+  }
+  expectCleanError("render " + (d / "text.obj").string() + " " + out, "text.obj");
+  {
+    std::ofstream f(d / "empty.obj");
+  }
+  expectCleanError("render " + (d / "empty.obj").string() + " " + out, "empty.obj");
+  {
+    std::ofstream f(d / "nan.obj");
+    f << "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n";
+  }
+  expectCleanError("render " + (d / "nan.obj").string() + " " + out, "nan.obj");
+  // A truncated binary STL: header says 1000 triangles, data holds 2.
+  {
+    std::ofstream f(d / "short.stl", std::ios::binary);
+    std::string header(80, ' ');
+    f.write(header.data(), 80);
+    const std::uint32_t n = 1000;
+    f.write(reinterpret_cast<const char*>(&n), 4);
+    std::string tri(100, '\0');
+    f.write(tri.data(), tri.size());
+  }
+  expectCleanError("render " + (d / "short.stl").string() + " " + out, "short.stl");
+  for (const auto& e : fs::directory_iterator(fs::path(HSR_TEST_MODELS) / "invalid")) {
+    const Run r = runCli("render " + e.path().string() + " " + out);
+    EXPECT_EQ(r.code, 2) << e.path() << "\nstderr: " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << e.path() << "\nstderr: " << r.err;
+  }
+}
+
+TEST(Cli, RendersDemoWithEveryOutput) {
+  const fs::path d = tempDir() / "demo";
+  const Run r = runCli("render demo --size 160x120 --output color,depth,ids,overdraw -o " +
+                       (d / "demo.png").string() + " --raw " + (d / "raw").string() +
+                       " --stats " + (d / "stats.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"demo-color.png", "demo-depth.png", "demo-ids.png", "demo-overdraw.png",
+                        "raw/depth.npy", "raw/ids.npy", "raw/overdraw.npy", "stats.json"})
+    EXPECT_TRUE(fs::exists(d / f)) << f;
+  // ids.npy: 128-byte-aligned header + 160*120 uint32.
+  EXPECT_GE(fs::file_size(d / "raw/ids.npy"), 160u * 120u * 4u);
+  EXPECT_NE(r.out.find("fragments tested"), std::string::npos) << r.out;
+}
+
+TEST(Cli, NoArgumentRendersTheDemo) {
+  const fs::path d = tempDir() / "noarg";
+  fs::create_directories(d);
+  const std::string cmd = "cd " + d.string() + " && timeout 60 " + HSR_CLI_PATH + " >/dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_TRUE(fs::exists(d / "out" / "demo.png"));
+}
+
+TEST(Cli, ScenesListsBuiltinsAndAlgorithms) {
+  const Run r = runCli("scenes");
+  EXPECT_EQ(r.code, 0);
+  for (const char* s : {"demo", "cyclic", "penetrating", "spheres:N", "soup:N:SEED", "zbuffer"})
+    EXPECT_NE(r.out.find(s), std::string::npos) << s;
+}
+
+TEST(Cli, CompareWritesTableAndSheet) {
+  const fs::path sheet = tempDir() / "sheet.png";
+  const Run r = runCli("compare cyclic --size 120x90 --sheet " + sheet.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("zbuffer"), std::string::npos);
+  EXPECT_NE(r.out.find("100.0000%"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(sheet));
+}
+
+TEST(Cli, CameraInsideModelStillRenders) {
+  // Inside a closed cube the z-buffer shows the inside faces; near-plane clipping handles the
+  // polygons around the eye. It renders, with a warning line.
+  const fs::path d = tempDir();
+  {
+    std::ofstream f(d / "cube.obj");
+    f << "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
+         "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  }
+  const Run r = runCli("render " + (d / "cube.obj").string() +
+                       " --eye 0,0,0.2 --target 0,0,-1 --near 0.01 --far 10 --size 64x64 -o " +
+                       (d / "inside.png").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("inside"), std::string::npos) << r.err;
+}
+
+}  // namespace

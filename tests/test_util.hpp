@@ -1,0 +1,53 @@
+#pragma once
+// Small helpers shared by the tests: deterministic random numbers and scene builders.
+
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include "hsr/camera.hpp"
+#include "hsr/scene.hpp"
+
+namespace hsr::testing {
+
+// SplitMix64: tiny, deterministic on every platform (std distributions are not).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : s_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  float uniform(float lo, float hi) { return lo + static_cast<float>(uniform()) * (hi - lo); }
+
+ private:
+  std::uint64_t s_;
+};
+
+// HSR_TEST_INTENSITY: 1 in CI (default), 3 for long local runs.
+inline int testIntensity() {
+  const char* v = std::getenv("HSR_TEST_INTENSITY");
+  const int i = v ? std::atoi(v) : 1;
+  return i < 1 ? 1 : i;
+}
+
+// An orthographic camera on which world x,y in [0,w]x[0,h] map to window pixels (y up),
+// looking down -z from z = 10 with near 1 and far 20 (window depth = (10 - z - 1) / 19 ... ).
+inline Camera pixelCamera(int w, int h) {
+  Camera c;
+  c.width = w;
+  c.height = h;
+  c.ortho = true;
+  c.ortho_half_height = h * 0.5f;
+  c.eye = {w * 0.5f, h * 0.5f, 10.0f};
+  c.target = {w * 0.5f, h * 0.5f, 0.0f};
+  c.up = {0.0f, 1.0f, 0.0f};
+  c.near = 1.0f;
+  c.far = 20.0f;
+  return c;
+}
+
+}  // namespace hsr::testing
