@@ -18,7 +18,7 @@ Context::Context(const Camera& camera) : camera_(camera) {
   state_.depth_test = false;  // OpenGL's default: GL_DEPTH_TEST disabled
   state_.cull = CullMode::None;
   state_.shade = true;
-  frame_ = detail::makeClearedFrame(camera_.width, camera_.height, state_);
+  detail::clearFrame(frame_, camera_.width, camera_.height, state_);
 }
 
 void Context::enable(Capability cap) {
@@ -36,7 +36,8 @@ bool Context::isEnabled(Capability cap) const {
 }
 
 void Context::clear(unsigned bits) {
-  const Frame cleared = detail::makeClearedFrame(camera_.width, camera_.height, state_);
+  Frame cleared;
+  detail::clearFrame(cleared, camera_.width, camera_.height, state_);
   if (bits & COLOR_BUFFER_BIT) {
     frame_.color = cleared.color;
     std::fill(frame_.overdraw.begin(), frame_.overdraw.end(), 0u);
@@ -71,7 +72,7 @@ void Context::draw(const Scene& scene) {
   tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency());
   arena.execute([&] {
     const detail::PreparedScene prepared = detail::prepare(scene, camera_, o);
-    detail::drawZBuffer(detail::AlgorithmInput{scene, camera_, o, prepared}, frame_);
+    detail::drawZBuffer(detail::AlgorithmInput{scene, camera_, o, prepared, nullptr}, frame_);
   });
 }
 

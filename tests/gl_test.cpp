@@ -102,12 +102,12 @@ TEST(GlFacade, DepthPersistsUntilCleared) {
   const Frame first = ctx.frame();
   ctx.draw(far_scene);
   const std::size_t centre = static_cast<std::size_t>(48) * 96 + 48;
-  EXPECT_EQ(ctx.frame().color[3 * centre], first.color[3 * centre]);  // still red in the middle
+  EXPECT_EQ(ctx.frame().color[centre], first.color[centre]);  // still red in the middle
   ctx.clear(gl::DEPTH_BUFFER_BIT);
   ctx.draw(far_scene);
   std::size_t green_over_red = 0;
   for (std::size_t k = 0; k < first.ids.size(); ++k)
-    green_over_red += first.ids[k] != kNoPolygon && ctx.frame().color[3 * k + 1] > ctx.frame().color[3 * k];
+    green_over_red += first.ids[k] != kNoPolygon && testing::channel(ctx.frame(), k, 1) > testing::channel(ctx.frame(), k, 0);
   EXPECT_GT(green_over_red, 0u);
 }
 

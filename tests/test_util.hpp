@@ -6,6 +6,7 @@
 #include <string>
 
 #include "hsr/camera.hpp"
+#include "hsr/render.hpp"
 #include "hsr/scene.hpp"
 
 namespace hsr::testing {
@@ -26,6 +27,9 @@ class Rng {
  private:
   std::uint64_t s_;
 };
+
+// Channel c (0 = R, 1 = G, 2 = B) of pixel k of a frame's packed RGBA colour.
+inline int channel(const Frame& f, std::size_t k, int c) { return (f.color[k] >> (8 * c)) & 0xFF; }
 
 // HSR_TEST_INTENSITY: 1 in CI (default), 3 for long local runs.
 inline int testIntensity() {

@@ -131,9 +131,11 @@ TEST(ZBuffer, OutlineDarkensSilhouetteOnly) {
   RenderOptions o;
   o.outline = true;
   const Frame f = render(s, cam, o);
-  auto rgb = [&](int x, int y) { return &f.color[3 * (static_cast<std::size_t>(63 - y) * 64 + x)]; };
-  EXPECT_EQ(rgb(32, 8)[0], 0);    // border edge of an open surface is a silhouette
-  EXPECT_GT(rgb(32, 32)[0], 100);  // interior keeps its shade
+  auto red = [&](int x, int y) {
+    return hsr::testing::channel(f, static_cast<std::size_t>(63 - y) * 64 + x, 0);
+  };
+  EXPECT_EQ(red(32, 8), 0);    // border edge of an open surface is a silhouette
+  EXPECT_GT(red(32, 32), 100);  // interior keeps its shade
 }
 
 TEST(ZBuffer, BitIdenticalAtAnyThreadCount) {
@@ -181,8 +183,8 @@ TEST(ZBuffer, TransparentPolygonBlendsWithoutHidingWhatIsBehind) {
   const Frame f = render(s, pixelCamera(48, 48), o);
   const std::size_t k = static_cast<std::size_t>(47 - 20) * 48 + 20;
   EXPECT_EQ(f.ids[k], 1u);  // the opaque polygon is the visible surface
-  EXPECT_NEAR(f.color[3 * k + 0], 128, 1);  // half red ...
-  EXPECT_NEAR(f.color[3 * k + 2], 128, 1);  // ... half blue
+  EXPECT_NEAR(testing::channel(f, k, 0), 128, 1);  // half red ...
+  EXPECT_NEAR(testing::channel(f, k, 2), 128, 1);  // ... half blue
 }
 
 }  // namespace

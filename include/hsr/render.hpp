@@ -3,6 +3,7 @@
 // Every visibility algorithm is reached through this one call and the registry.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -60,18 +61,34 @@ struct Stats {
   double totalMs() const;
 };
 
+// Memory an algorithm keeps between renders into the same Frame (so that repeated frames
+// allocate nothing). Opaque; a copied Frame starts without it, so copies never share it.
+class FrameScratch {
+ public:
+  FrameScratch() = default;
+  FrameScratch(const FrameScratch&) {}
+  FrameScratch& operator=(const FrameScratch&) { return *this; }
+  FrameScratch(FrameScratch&&) noexcept = default;
+  FrameScratch& operator=(FrameScratch&&) noexcept = default;
+  std::shared_ptr<void> ptr;
+};
+
 // Buffers are width*height, TOP ROW FIRST (as image files and .npy). GL window pixel (x, y),
 // origin bottom-left, is element (height - 1 - y) * width + x.
 struct Frame {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> color;     // RGB8
+  std::vector<std::uint32_t> color;    // RGBA8 packed, R in the low byte (bytes R,G,B,A)
   std::vector<float> depth;            // window z in [0,1]; clear depth where nothing drawn
   std::vector<PolygonId> ids;          // kNoPolygon where nothing drawn
   std::vector<std::uint32_t> overdraw; // fragments written per pixel
   Stats stats;
+  FrameScratch scratch;
 };
 
 Frame render(const Scene& scene, const Camera& camera, const RenderOptions& options = {});
+// The same, drawing into `frame` and reusing its buffers' memory (for repeated frames).
+void render(const Scene& scene, const Camera& camera, const RenderOptions& options,
+            Frame& frame);
 
 // The registry of visibility algorithms (one table; CLI, tests and benches loop over it).
 struct AlgorithmInfo {

@@ -9,15 +9,10 @@ namespace hsr::detail {
 
 TriangleSetup setupTriangle(const ScreenTriangle& t, int first_row) {
   TriangleSetup s;
-  // Bounding box in whole pixels: pixel centres are at multiples of 256.
-  const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]});
-  const std::int64_t max_x = std::max({t.x[0], t.x[1], t.x[2]});
-  const std::int64_t min_y = std::min({t.y[0], t.y[1], t.y[2]});
-  const std::int64_t max_y = std::max({t.y[0], t.y[1], t.y[2]});
-  s.x0 = static_cast<int>(ceilDiv(min_x, kSubpixelOne));
-  s.x1 = static_cast<int>(floorDiv(max_x, kSubpixelOne));
-  s.y0 = static_cast<int>(ceilDiv(min_y, kSubpixelOne));
-  s.y1 = static_cast<int>(floorDiv(max_y, kSubpixelOne));
+  s.x0 = t.x0;
+  s.x1 = t.x1;
+  s.y0 = t.y0;
+  s.y1 = t.y1;
   const std::int64_t py = static_cast<std::int64_t>(first_row) * kSubpixelOne;
   for (int k = 0; k < 3; ++k) {
     const std::int64_t ax = t.x[k], ay = t.y[k];

@@ -21,7 +21,7 @@ struct EdgeSetup {
 
 struct TriangleSetup {
   EdgeSetup edge[3];
-  int x0, x1, y0, y1;  // inclusive pixel bounding box of the triangle (may be off screen)
+  int x0, x1, y0, y1;  // inclusive pixel bounding box of the triangle, within the viewport
 };
 
 // Setup at row `first_row`. Vertices must have positive y-down area (ScreenTriangle does).
@@ -33,6 +33,10 @@ bool spanOfRow(const TriangleSetup& s, int* lo, int* hi);
 inline void nextRow(TriangleSetup& s) {
   for (EdgeSetup& e : s.edge) e.row += e.step_y;
 }
+
+// Whole pixels from 24.8 fixed point: floor and ceil of a / 256 (arithmetic shift floors).
+inline std::int64_t floorPixel(std::int64_t a) { return a >> kSubpixelBits; }
+inline std::int64_t ceilPixel(std::int64_t a) { return -((-a) >> kSubpixelBits); }
 
 // floor(a / b) and ceil(a / b) for b > 0.
 inline std::int64_t floorDiv(std::int64_t a, std::int64_t b) {

@@ -136,6 +136,13 @@ WindowVertex toWindow(const glm::vec4& c, const Viewport& vp) {
   return v;
 }
 
+// Per-vertex results of the transform stage, shared by every triangle that uses the vertex.
+constexpr unsigned kNonFinite = 1u << 16;
+struct VertexOut {
+  WindowVertex w;  // valid when !(code & kMustClip)
+  unsigned code;   // outcode, plus kNonFinite
+};
+
 struct PolygonInfo {
   int eye_orientation;  // +1 CCW seen from the eye, -1 CW, 0 edge-on/degenerate
   std::uint32_t rgba;
@@ -158,7 +165,7 @@ glm::dvec3 newellNormal(const Scene& scene, std::span<const std::uint32_t> poly)
 std::uint32_t packColor(glm::vec3 c, float alpha) {
   auto q = [](float v) {
     v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
-    return static_cast<std::uint32_t>(std::lround(v * 255.0f));
+    return static_cast<std::uint32_t>(v * 255.0f + 0.5f);  // round half up; v is in [0,1]
   };
   return q(c.r) | (q(c.g) << 8) | (q(c.b) << 16) | (q(alpha) << 24);
 }
@@ -167,19 +174,24 @@ PolygonInfo polygonInfo(const Scene& scene, PolygonId id, const Camera& camera,
                         const glm::vec3& view_dir, bool shade) {
   PolygonInfo info{0, 0, false, true};
   const std::span<const std::uint32_t> poly = scene.polygon(id);
-  glm::dvec3 centroid(0.0);
   for (std::uint32_t v : poly) {
     const glm::vec3& p = scene.position(v);
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return info;
-    centroid += glm::dvec3(p);
   }
-  centroid /= static_cast<double>(poly.size());
-  const glm::dvec3 n = newellNormal(scene, poly);
-  const double len = glm::length(n);
-  if (!(len > 0.0) || !std::isfinite(len)) return info;  // zero area
+  // Normal by the right-hand rule: a cross product for triangles, Newell's method otherwise
+  // (any polygon, even a non-planar one). Any point of a planar polygon serves as P.
+  const glm::dvec3 p0(scene.position(poly[0]));
+  glm::dvec3 n;
+  if (poly.size() == 3) {
+    n = glm::cross(glm::dvec3(scene.position(poly[1])) - p0, glm::dvec3(scene.position(poly[2])) - p0);
+  } else {
+    n = newellNormal(scene, poly);
+  }
+  const double len2 = glm::dot(n, n);
+  if (!(len2 > 0.0) || !std::isfinite(len2)) return info;  // zero area
   info.degenerate = false;
   // The notes' test: V = eye - P (or the reversed view direction for parallel projection).
-  const glm::dvec3 v = camera.ortho ? -glm::dvec3(view_dir) : glm::dvec3(camera.eye) - centroid;
+  const glm::dvec3 v = camera.ortho ? -glm::dvec3(view_dir) : glm::dvec3(camera.eye) - p0;
   const double d = glm::dot(n, v);
   info.eye_orientation = d > 0.0 ? 1 : (d < 0.0 ? -1 : 0);
   const std::uint32_t m = scene.material(id);
@@ -187,9 +199,9 @@ PolygonInfo polygonInfo(const Scene& scene, PolygonId id, const Camera& camera,
   // Headlight Lambert, two-sided: light from the eye, 20% ambient.
   float lambert = 1.0f;
   if (shade) {
-    const double vl = glm::length(v);
-    lambert = vl > 0.0 ? static_cast<float>(std::abs(d) / (len * vl)) : 1.0f;
-    lambert = 0.2f + 0.8f * lambert;
+    const double vl2 = glm::dot(v, v);
+    lambert = vl2 > 0.0 ? static_cast<float>(std::abs(d) / std::sqrt(len2 * vl2)) : 1.0f;
+    lambert = 0.2f + 0.8f * std::min(lambert, 1.0f);
   }
   info.rgba = packColor(mat.color * lambert, mat.alpha);
   info.transparent = mat.alpha < 1.0f;
@@ -224,25 +236,19 @@ struct Context {
   ClipSetup cs;
   Viewport vp;
   const std::vector<glm::vec4>& clip;            // clip-space vertex positions
+  const std::vector<VertexOut>& verts;           // per-vertex outcodes and window positions
   const std::vector<std::uint8_t>& object_state;  // 0 culled, 1 inside, 2 crosses
+  std::vector<glm::vec3> material_rgb;           // per material, clamped
 };
 
+// Facing and culling of one window-space triangle; then emitTriangle.
+void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
+                 const PolygonInfo& info, ChunkOut& out);
+
 void emitTriangle(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
-                  const PolygonInfo& info, ChunkOut& out) {
+                  const PolygonInfo& info, ChunkOut& out, int orientation, bool front) {
   const std::int64_t fx[3] = {w[0].fx, w[1].fx, w[2].fx};
   const std::int64_t fy[3] = {w[0].fy, w[1].fy, w[2].fy};
-  const int orientation = windowOrientation(fx, fy);
-  if (orientation == 0) return;  // zero area after snapping: draws nothing, as GL
-  bool front;
-  if (ctx.options.facing_test == FacingTest::WindowArea) {
-    front = (orientation > 0) == (ctx.options.front_face == FrontFace::Ccw);
-  } else {
-    front = (info.eye_orientation > 0) == (ctx.options.front_face == FrontFace::Ccw);
-  }
-  if (culled(ctx.options.cull, front)) {
-    out.culled_backface++;
-    return;
-  }
   // Order the vertices so the y-down area is positive (every edge function > 0 inside).
   int o[3] = {0, 1, 2};
   if (orientation > 0) std::swap(o[1], o[2]);  // CCW in y-up is negative area in y-down
@@ -251,6 +257,17 @@ void emitTriangle(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
     t.x[k] = static_cast<std::int32_t>(fx[o[k]]);
     t.y[k] = static_cast<std::int32_t>(fy[o[k]]);
   }
+  // Pixel bounding box (pixel centres are at multiples of 256), clamped to the viewport;
+  // a triangle between pixel centres or off screen covers nothing.
+  const std::int64_t bx0 = std::max<std::int64_t>(0, -((-std::min({fx[0], fx[1], fx[2]})) >> kSubpixelBits));
+  const std::int64_t by0 = std::max<std::int64_t>(0, -((-std::min({fy[0], fy[1], fy[2]})) >> kSubpixelBits));
+  const std::int64_t bx1 = std::min<std::int64_t>(ctx.camera.width - 1, std::max({fx[0], fx[1], fx[2]}) >> kSubpixelBits);
+  const std::int64_t by1 = std::min<std::int64_t>(ctx.camera.height - 1, std::max({fy[0], fy[1], fy[2]}) >> kSubpixelBits);
+  if (bx0 > bx1 || by0 > by1) return;
+  t.x0 = static_cast<std::int16_t>(bx0);
+  t.y0 = static_cast<std::int16_t>(by0);
+  t.x1 = static_cast<std::int16_t>(bx1);
+  t.y1 = static_cast<std::int16_t>(by1);
   // Depth plane through the three float window positions (z is affine in window space).
   const WindowVertex& a = w[o[0]];
   const WindowVertex& b = w[o[1]];
@@ -275,6 +292,76 @@ void emitTriangle(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
   out.triangles.push_back(t);
 }
 
+void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
+                 const PolygonInfo& info, ChunkOut& out) {
+  const std::int64_t fx[3] = {w[0].fx, w[1].fx, w[2].fx};
+  const std::int64_t fy[3] = {w[0].fy, w[1].fy, w[2].fy};
+  const int orientation = windowOrientation(fx, fy);
+  if (orientation == 0) return;  // zero area after snapping: draws nothing, as GL
+  const bool ccw_front = ctx.options.front_face == FrontFace::Ccw;
+  const bool front = ctx.options.facing_test == FacingTest::WindowArea
+                         ? (orientation > 0) == ccw_front
+                         : (info.eye_orientation > 0) == ccw_front;
+  if (culled(ctx.options.cull, front)) {
+    out.culled_backface++;
+    return;
+  }
+  emitTriangle(ctx, w, id, info, out, orientation, front);
+}
+
+// The common case, kept lean: a triangle in FILL mode that needs no clipping. Per-vertex work
+// (outcodes, projection, snapping) was done once per vertex in the transform stage.
+// Returns false when the triangle needs the general path (clipping).
+bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_t> vi,
+                  ChunkOut& out) {
+  const VertexOut& a = ctx.verts[vi[0]];
+  const VertexOut& b = ctx.verts[vi[1]];
+  const VertexOut& c = ctx.verts[vi[2]];
+  const unsigned any = a.code | b.code | c.code;
+  if (any & (kMustClip | kNonFinite)) return false;
+  // Zero-area triangles in world space are degenerate data: dropped and counted.
+  const glm::vec3 p0 = ctx.scene.position(vi[0]);
+  const glm::vec3 n = glm::cross(ctx.scene.position(vi[1]) - p0, ctx.scene.position(vi[2]) - p0);
+  const float len2 = glm::dot(n, n);
+  if (!(len2 > 0.0f) || !std::isfinite(len2)) {
+    out.degenerate++;
+    return true;
+  }
+  if (a.code & b.code & c.code & (kLeft | kRight | kBottom | kTop)) {
+    out.clipped_away++;
+    return true;
+  }
+  // Facing: OpenGL's window-space area, or the notes' N . (eye - P).
+  const glm::vec3 v = ctx.camera.ortho ? -ctx.view_dir : ctx.camera.eye - p0;
+  const float d = glm::dot(n, v);
+  const std::int64_t fx[3] = {a.w.fx, b.w.fx, c.w.fx};
+  const std::int64_t fy[3] = {a.w.fy, b.w.fy, c.w.fy};
+  const int orientation = windowOrientation(fx, fy);
+  if (orientation == 0) return true;  // zero area after snapping: draws nothing, as GL
+  const bool ccw_front = ctx.options.front_face == FrontFace::Ccw;
+  const bool front = ctx.options.facing_test == FacingTest::WindowArea
+                         ? (orientation > 0) == ccw_front
+                         : (d > 0.0f) == ccw_front;
+  if (culled(ctx.options.cull, front)) {
+    out.culled_backface++;
+    return true;
+  }
+  // Headlight Lambert, two-sided, 20% ambient (as polygonInfo).
+  const std::uint32_t m = ctx.scene.material(id);
+  const glm::vec3 rgb = m < ctx.material_rgb.size() ? ctx.material_rgb[m] : glm::vec3(0.8f);
+  const float alpha = m < ctx.scene.materials.size() ? ctx.scene.materials[m].alpha : 1.0f;
+  float lambert = 1.0f;
+  if (ctx.options.shade) {
+    const float vl2 = glm::dot(v, v);
+    lambert = vl2 > 0.0f ? std::min(std::abs(d) / std::sqrt(len2 * vl2), 1.0f) : 1.0f;
+    lambert = 0.2f + 0.8f * lambert;
+  }
+  const PolygonInfo info{d > 0.0f ? 1 : -1, packColor(rgb * lambert, alpha), alpha < 1.0f, false};
+  const WindowVertex w[3] = {a.w, b.w, c.w};
+  emitTriangle(ctx, w, id, info, out, orientation, front);
+  return true;
+}
+
 void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
                     std::vector<Triangle>& tris, ClipPolygon& poly, ClipPolygon& tmp) {
   const Scene& scene = ctx.scene;
@@ -285,6 +372,9 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
     out.culled_frustum++;
     return;
   }
+  if (vi.size() == 3 && ctx.options.polygon_mode == PolygonMode::Fill &&
+      fastTriangle(ctx, id, vi, out))
+    return;
   const PolygonInfo info = polygonInfo(scene, id, ctx.camera, ctx.view_dir, ctx.options.shade);
   if (info.degenerate) {
     out.degenerate++;
@@ -364,7 +454,7 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
     if (!crossing) {
       const WindowVertex w[3] = {toWindow(c[0], ctx.vp), toWindow(c[1], ctx.vp),
                                  toWindow(c[2], ctx.vp)};
-      emitTriangle(ctx, w, id, info, out);
+      cullAndEmit(ctx, w, id, info, out);
       continue;
     }
     out.clipped++;
@@ -380,7 +470,7 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
     for (std::size_t k = 2; k < poly.size(); ++k) {
       const WindowVertex cur = toWindow(poly[k].p, ctx.vp);
       const WindowVertex w[3] = {w0, prev, cur};
-      emitTriangle(ctx, w, id, info, out);
+      cullAndEmit(ctx, w, id, info, out);
       prev = cur;
     }
   }
@@ -466,16 +556,32 @@ int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera) 
   return polygonInfo(scene, id, camera, dir, false).eye_orientation;
 }
 
-PreparedScene prepare(const Scene& scene, const Camera& camera, const RenderOptions& options) {
-  PreparedScene out;
+
+struct PipelineScratch {
+  std::vector<std::uint8_t> object_state;
+  std::vector<glm::vec4> clip;
+  std::vector<VertexOut> verts;
+  std::vector<ChunkOut> parts;
+};
+
+void prepare(const Scene& scene, const Camera& camera, const RenderOptions& options,
+             PreparedScene& out) {
+  if (!out.scratch) out.scratch = std::make_shared<PipelineScratch>();
+  PipelineScratch& scratch = *out.scratch;
   out.width = camera.width;
   out.height = camera.height;
+  out.triangles.clear();
+  out.lines.clear();
+  out.points.clear();
+  out.outline.clear();
+  out.stats = Stats{};
   out.stats.polygons_in = scene.polygonCount();
 
   // Transform: world -> eye -> clip for every vertex of an object not culled by its bounds.
   auto t0 = Clock::now();
   const glm::mat4 mvp = camera.projection() * camera.view();
-  std::vector<std::uint8_t> object_state(scene.objects.size(), 1);
+  std::vector<std::uint8_t>& object_state = scratch.object_state;
+  object_state.assign(scene.objects.size(), 1);
   const ClipSetup cs{kGuardPixels * 2.0f / static_cast<float>(camera.width),
                      kGuardPixels * 2.0f / static_cast<float>(camera.height)};
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
@@ -494,37 +600,61 @@ PreparedScene prepare(const Scene& scene, const Camera& camera, const RenderOpti
     else
       object_state[o] = (any & kMustClip) ? 2 : 1;
   }
-  std::vector<glm::vec4> clip(scene.vertexCount());
+  const float w = static_cast<float>(camera.width), h = static_cast<float>(camera.height);
+  const Viewport vp{w * 0.5f, w * 0.5f, -h * 0.5f, h * 0.5f};
+  std::vector<glm::vec4>& clip = scratch.clip;
+  std::vector<VertexOut>& verts = scratch.verts;
+  clip.resize(scene.vertexCount());
+  verts.resize(scene.vertexCount());
   tbb::parallel_for(std::size_t(0), scene.objects.size(), [&](std::size_t o) {
     if (object_state[o] == 0) return;
     const Object& obj = scene.objects[o];
-    for (std::uint32_t v = obj.first_vertex; v < obj.first_vertex + obj.vertex_count; ++v)
-      clip[v] = mvp * glm::vec4(scene.position(v), 1.0f);
+    for (std::uint32_t v = obj.first_vertex; v < obj.first_vertex + obj.vertex_count; ++v) {
+      const glm::vec3& p = scene.position(v);
+      clip[v] = mvp * glm::vec4(p, 1.0f);
+      VertexOut& out_v = verts[v];
+      out_v.code = outcode(clip[v], cs);
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) out_v.code |= kNonFinite;
+      if (!(out_v.code & (kMustClip | kNonFinite))) out_v.w = toWindow(clip[v], vp);
+    }
   });
   out.stats.addStage("transform", msSince(t0));
 
   // Cull, clip, project and snap, in fixed chunks of polygons joined in order.
   t0 = Clock::now();
-  const float w = static_cast<float>(camera.width), h = static_cast<float>(camera.height);
-  const Context ctx{scene, camera, options, mvp, glm::normalize(camera.target - camera.eye), cs,
-                    Viewport{w * 0.5f, w * 0.5f, -h * 0.5f, h * 0.5f}, clip, object_state};
+  Context ctx{scene, camera, options, mvp, glm::normalize(camera.target - camera.eye), cs,
+              vp, clip, verts, object_state, {}};
+  for (const Material& m : scene.materials) ctx.material_rgb.push_back(m.color);
   const std::size_t n = scene.polygonCount();
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  std::vector<ChunkOut> parts(chunks);
+  std::vector<ChunkOut>& parts = scratch.parts;
+  parts.resize(chunks);
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
     ChunkOut& part = parts[c];
+    part.triangles.clear();
+    part.lines.clear();
+    part.points.clear();
+    part.degenerate = part.culled_frustum = part.culled_backface = part.clipped = 0;
+    part.clipped_away = part.triangles_in = 0;
     std::vector<Triangle> tris;
     ClipPolygon poly, tmp;
     const std::size_t end = std::min(n, (c + 1) * kChunk);
-    part.triangles.reserve((end - c * kChunk) * 2);
+    std::size_t expected = 0;
+    for (std::size_t id = c * kChunk; id < end; ++id) {
+      const std::size_t k = scene.polygon(static_cast<PolygonId>(id)).size();
+      expected += k >= 3 ? k - 2 : 0;
+    }
+    part.triangles.reserve(expected);
     for (std::size_t id = c * kChunk; id < end; ++id)
       processPolygon(ctx, static_cast<PolygonId>(id), part, tris, poly, tmp);
   });
-  std::size_t total = 0;
-  for (const ChunkOut& p : parts) total += p.triangles.size();
-  out.triangles.reserve(total);
+  std::vector<std::size_t> offset(chunks + 1, 0);
+  for (std::size_t c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + parts[c].triangles.size();
+  out.triangles.resize(offset[chunks]);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    std::copy(parts[c].triangles.begin(), parts[c].triangles.end(), out.triangles.begin() + offset[c]);
+  });
   for (ChunkOut& p : parts) {
-    out.triangles.insert(out.triangles.end(), p.triangles.begin(), p.triangles.end());
     out.lines.insert(out.lines.end(), p.lines.begin(), p.lines.end());
     out.points.insert(out.points.end(), p.points.begin(), p.points.end());
     out.stats.degenerate_dropped += p.degenerate;
@@ -542,7 +672,6 @@ PreparedScene prepare(const Scene& scene, const Camera& camera, const RenderOpti
     findOutline(ctx, out);
     out.stats.addStage("outline", msSince(t0));
   }
-  return out;
 }
 
 }  // namespace hsr::detail

@@ -6,6 +6,7 @@
 // output, so all of them see exactly the same triangles.
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "hsr/camera.hpp"
@@ -23,6 +24,7 @@ inline constexpr int kSubpixelOne = 1 << kSubpixelBits;
 // every edge function is > 0 inside.
 struct ScreenTriangle {
   std::int32_t x[3], y[3];  // 24.8 fixed point
+  std::int16_t x0, y0, x1, y1;  // inclusive pixel bounding box, clamped to the viewport
   float xr, yr;             // float position of vertex 0 (pixel-centre coords), for depth
   float z0, dzdx, dzdy;     // depth plane: z(i, j) = z0 + dzdx*(i - xr) + dzdy*(j - yr)
   PolygonId id;
@@ -39,6 +41,8 @@ struct ScreenLine {
   std::uint32_t rgba;
 };
 
+struct PipelineScratch;  // prepare()'s working memory, reused between calls
+
 struct PreparedScene {
   int width = 0, height = 0;
   std::vector<ScreenTriangle> triangles;  // polygon-id order (submission order), FILL mode
@@ -46,9 +50,18 @@ struct PreparedScene {
   std::vector<ScreenLine> points;         // POINT mode: x1 == x0
   std::vector<ScreenLine> outline;        // silhouette edges, drawn over the fill
   Stats stats;
+  std::shared_ptr<PipelineScratch> scratch;
 };
 
-PreparedScene prepare(const Scene& scene, const Camera& camera, const RenderOptions& options);
+// Fills `out`, reusing the memory it holds from an earlier call.
+void prepare(const Scene& scene, const Camera& camera, const RenderOptions& options,
+             PreparedScene& out);
+inline PreparedScene prepare(const Scene& scene, const Camera& camera,
+                             const RenderOptions& options) {
+  PreparedScene out;
+  prepare(scene, camera, options, out);
+  return out;
+}
 
 // Facing of one polygon by the notes' eye-space test: N . (eye - P) > 0 with N by the right-hand
 // rule of the vertex order (Newell's normal) -> counter-clockwise as seen from the eye.

@@ -7,7 +7,8 @@
 #include <memory>
 #include <string>
 
-#include <tbb/global_control.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "hsr/error.hpp"
@@ -26,25 +27,29 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
   return table;
 }
 
-Frame makeClearedFrame(int width, int height, const RenderOptions& options) {
-  Frame f;
+void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
   f.width = width;
   f.height = height;
+  f.stats = Stats{};
   const std::size_t n = static_cast<std::size_t>(width) * height;
-  f.color.resize(3 * n);
   auto q = [](float v) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f));
+    return static_cast<std::uint32_t>(std::lround(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f));
   };
-  const std::uint8_t rgb[3] = {q(options.clear_color.r), q(options.clear_color.g),
-                               q(options.clear_color.b)};
-  for (std::size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) f.color[3 * i + c] = rgb[c];
+  const std::uint32_t clear = q(options.clear_color.r) | (q(options.clear_color.g) << 8) |
+                              (q(options.clear_color.b) << 16) | 0xFF000000u;
   const float clear_depth =
       std::isfinite(options.clear_depth) ? std::clamp(options.clear_depth, 0.0f, 1.0f) : 1.0f;
-  f.depth.assign(n, clear_depth);
-  f.ids.assign(n, kNoPolygon);
-  f.overdraw.assign(n, 0);
-  return f;
+  f.color.resize(n);
+  f.depth.resize(n);
+  f.ids.resize(n);
+  f.overdraw.resize(n);
+  // Cleared in parallel bands of rows: first touch spreads the pages over the workers.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+    std::fill(f.color.begin() + r.begin(), f.color.begin() + r.end(), clear);
+    std::fill(f.depth.begin() + r.begin(), f.depth.begin() + r.end(), clear_depth);
+    std::fill(f.ids.begin() + r.begin(), f.ids.begin() + r.end(), kNoPolygon);
+    std::fill(f.overdraw.begin() + r.begin(), f.overdraw.begin() + r.end(), 0u);
+  });
 }
 
 }  // namespace detail
@@ -59,6 +64,12 @@ const std::vector<AlgorithmInfo>& algorithms() {
 }
 
 Frame render(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  Frame frame;
+  render(scene, camera, options, frame);
+  return frame;
+}
+
+void render(const Scene& scene, const Camera& camera, const RenderOptions& options, Frame& frame) {
   camera.validate();
   const detail::AlgorithmEntry* entry = nullptr;
   for (const auto& e : detail::algorithmTable())
@@ -71,10 +82,15 @@ Frame render(const Scene& scene, const Camera& camera, const RenderOptions& opti
   if (options.threads < 0) throw Error("threads must be >= 0");
   const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
-  Frame frame;
+  if (!frame.scratch.ptr) frame.scratch.ptr = std::make_shared<detail::RenderCache>();
+  auto& cache = *static_cast<detail::RenderCache*>(frame.scratch.ptr.get());
+  // Scratch made by another algorithm is dropped (each algorithm owns its scratch type).
+  if (cache.owner != entry) cache.algorithm.reset();
+  cache.owner = entry;
   arena.execute([&] {
-    detail::PreparedScene prepared = detail::prepare(scene, camera, options);
-    frame = entry->run(detail::AlgorithmInput{scene, camera, options, prepared});
+    detail::PreparedScene& prepared = cache.prepared;
+    detail::prepare(scene, camera, options, prepared);
+    entry->run(detail::AlgorithmInput{scene, camera, options, prepared, &cache.algorithm}, frame);
     // The pipeline's counts and stage times come first, then the algorithm's.
     Stats s = prepared.stats;
     for (const StageTime& st : frame.stats.stages) s.addStage(st.name, st.ms);
@@ -83,7 +99,6 @@ Frame render(const Scene& scene, const Camera& camera, const RenderOptions& opti
     s.state_bytes = frame.stats.state_bytes;
     frame.stats = std::move(s);
   });
-  return frame;
 }
 
 namespace {

@@ -29,16 +29,7 @@ struct PixelBox {
   int x0, y0, x1, y1;  // inclusive; empty when x0 > x1 or y0 > y1
 };
 
-PixelBox triangleBox(const ScreenTriangle& t, int w, int h) {
-  const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]});
-  const std::int64_t max_x = std::max({t.x[0], t.x[1], t.x[2]});
-  const std::int64_t min_y = std::min({t.y[0], t.y[1], t.y[2]});
-  const std::int64_t max_y = std::max({t.y[0], t.y[1], t.y[2]});
-  return {static_cast<int>(std::max<std::int64_t>(0, ceilDiv(min_x, kSubpixelOne))),
-          static_cast<int>(std::max<std::int64_t>(0, ceilDiv(min_y, kSubpixelOne))),
-          static_cast<int>(std::min<std::int64_t>(w - 1, floorDiv(max_x, kSubpixelOne))),
-          static_cast<int>(std::min<std::int64_t>(h - 1, floorDiv(max_y, kSubpixelOne)))};
-}
+PixelBox triangleBox(const ScreenTriangle& t, int, int) { return {t.x0, t.y0, t.x1, t.y1}; }
 
 PixelBox lineBox(const ScreenLine& l, int w, int h) {
   auto lo = [](float a, float b) { return std::floor(std::min(a, b)) - 1.0f; };
@@ -49,6 +40,10 @@ PixelBox lineBox(const ScreenLine& l, int w, int h) {
   return {int(x0), int(y0), int(x1), int(y1)};
 }
 
+struct Counters {
+  std::uint64_t tested = 0, written = 0;
+};
+
 // Per-tile lists of primitive indices, in submission order.
 struct Bins {
   int tiles_x = 0, tiles_y = 0;
@@ -58,8 +53,8 @@ struct Bins {
 };
 
 template <class T, class BoxFn>
-Bins binPrimitives(const std::vector<T>& prims, int w, int h, BoxFn box) {
-  Bins bins;
+void binPrimitives(const std::vector<T>& prims, int w, int h, BoxFn box, Bins& bins,
+                   std::vector<std::size_t>& counts) {
   bins.tiles_x = (w + kTile - 1) >> kTileShift;
   bins.tiles_y = (h + kTile - 1) >> kTileShift;
   const std::size_t tiles = static_cast<std::size_t>(bins.tiles_x) * bins.tiles_y;
@@ -67,7 +62,7 @@ Bins binPrimitives(const std::vector<T>& prims, int w, int h, BoxFn box) {
   // Chunks only split the work; the result (sorted by tile, then index) does not depend on them.
   const std::size_t chunk = std::max<std::size_t>(8192, n / 64 + 1);
   const std::size_t chunks = (n + chunk - 1) / chunk;
-  std::vector<std::size_t> counts(chunks * tiles, 0);
+  counts.assign(chunks * tiles, 0);
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
     std::size_t* cnt = &counts[c * tiles];
     for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
@@ -105,8 +100,14 @@ Bins binPrimitives(const std::vector<T>& prims, int w, int h, BoxFn box) {
               static_cast<std::uint32_t>(i);
     }
   });
-  return bins;
 }
+
+// Reused between frames rendered into the same Frame.
+struct ZBufferScratch {
+  Bins tri_bins, line_bins, point_bins, outline_bins;
+  std::vector<std::size_t> counts;
+  std::vector<Counters> per_tile;
+};
 
 struct Buffers {
   int width;
@@ -116,9 +117,6 @@ struct Buffers {
   std::uint32_t* overdraw;
 };
 
-struct Counters {
-  std::uint64_t tested = 0, written = 0;
-};
 
 template <DepthFunc F>
 inline bool depthPasses(float z, float stored) {
@@ -152,9 +150,22 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& tile, const Buffers
   if (j0 > j1 || i0 > i1) return;
   for (EdgeSetup& e : s.edge) e.row += e.step_y * (j0 - tile.y0);
   const bool transparent = t.transparent != 0;
+  const bool narrow = i1 - i0 < 8;  // few columns: test pixels directly, no divisions
   for (int j = j0; j <= j1; ++j, nextRow(s)) {
     int lo = i0, hi = i1;
-    if (!spanOfRow(s, &lo, &hi)) continue;
+    if (narrow) {
+      // Trim the row's ends by evaluating the three edge functions at each column.
+      auto inside = [&](int i) {
+        return s.edge[0].row + s.edge[0].step_x * i >= 0 &&
+               s.edge[1].row + s.edge[1].step_x * i >= 0 &&
+               s.edge[2].row + s.edge[2].step_x * i >= 0;
+      };
+      while (lo <= hi && !inside(lo)) ++lo;
+      while (hi >= lo && !inside(hi)) --hi;
+      if (lo > hi) continue;
+    } else if (!spanOfRow(s, &lo, &hi)) {
+      continue;
+    }
     // Depth at the span's first pixel from the plane, then one add per pixel.
     float z = t.z0 + t.dzdy * (static_cast<float>(j) - t.yr) +
               t.dzdx * (static_cast<float>(lo) - t.xr);
@@ -273,13 +284,12 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-Frame renderZBuffer(const AlgorithmInput& in) {
+void renderZBuffer(const AlgorithmInput& in, Frame& frame) {
   // Clear colour, depth and ids, as glClear(COLOR | DEPTH), then draw.
   const auto t0 = std::chrono::steady_clock::now();
-  Frame frame = makeClearedFrame(in.prepared.width, in.prepared.height, in.options);
+  clearFrame(frame, in.prepared.width, in.prepared.height, in.options);
   frame.stats.addStage("clear", msSince(t0));
   drawZBuffer(in, frame);
-  return frame;
 }
 
 void drawZBuffer(const AlgorithmInput& in, Frame& frame) {
@@ -288,33 +298,29 @@ void drawZBuffer(const AlgorithmInput& in, Frame& frame) {
   const int w = ps.width, h = ps.height;
   if (frame.width != w || frame.height != h) throw Error("frame size differs from the camera's");
   auto t0 = std::chrono::steady_clock::now();
-  // Working colour as RGBA32 (one store per fragment).
-  std::vector<std::uint32_t> rgba(static_cast<std::size_t>(w) * h);
-  tbb::parallel_for(0, h, [&](int j) {
-    for (int i = 0; i < w; ++i) {
-      const std::size_t k = static_cast<std::size_t>(j) * w + i;
-      rgba[k] = 0xFF000000u | frame.color[3 * k] | (std::uint32_t(frame.color[3 * k + 1]) << 8) |
-                (std::uint32_t(frame.color[3 * k + 2]) << 16);
-    }
-  });
-
-  t0 = std::chrono::steady_clock::now();
-  const Bins tri_bins = binPrimitives(ps.triangles, w, h, triangleBox);
-  const Bins line_bins = binPrimitives(ps.lines, w, h, lineBox);
-  const Bins point_bins = binPrimitives(ps.points, w, h, lineBox);
-  const Bins outline_bins = binPrimitives(ps.outline, w, h, lineBox);
+  std::unique_ptr<ZBufferScratch> own;
+  ZBufferScratch& z = algorithmScratch(in, own);
+  binPrimitives(ps.triangles, w, h, triangleBox, z.tri_bins, z.counts);
+  binPrimitives(ps.lines, w, h, lineBox, z.line_bins, z.counts);
+  binPrimitives(ps.points, w, h, lineBox, z.point_bins, z.counts);
+  binPrimitives(ps.outline, w, h, lineBox, z.outline_bins, z.counts);
+  const Bins& tri_bins = z.tri_bins;
+  const Bins& line_bins = z.line_bins;
+  const Bins& point_bins = z.point_bins;
+  const Bins& outline_bins = z.outline_bins;
   frame.stats.addStage("bin", msSince(t0));
   frame.stats.fragments_tested = frame.stats.fragments_written = 0;
 
   t0 = std::chrono::steady_clock::now();
-  const Buffers fb{w, rgba.data(), frame.depth.data(), frame.ids.data(), frame.overdraw.data()};
+  const Buffers fb{w, frame.color.data(), frame.depth.data(), frame.ids.data(), frame.overdraw.data()};
   // GL: with the depth test disabled every fragment passes and the depth buffer is not written.
   const DepthFunc func = o.depth_test ? o.depth_func : DepthFunc::Always;
   const bool depth_mask = o.depth_test && o.depth_mask;
   const TileJob job{ps, tri_bins, line_bins, point_bins, outline_bins, fb, depth_mask};
   const TileFn fn = tileFunction(func);
   const std::size_t tiles = static_cast<std::size_t>(tri_bins.tiles_x) * tri_bins.tiles_y;
-  std::vector<Counters> per_tile(tiles);
+  std::vector<Counters>& per_tile = z.per_tile;
+  per_tile.assign(tiles, Counters{});
   tbb::parallel_for(std::size_t(0), tiles, [&](std::size_t t) { per_tile[t] = fn(job, t); });
   for (const Counters& c : per_tile) {
     frame.stats.fragments_tested += c.tested;
@@ -322,19 +328,8 @@ void drawZBuffer(const AlgorithmInput& in, Frame& frame) {
   }
   frame.stats.addStage("raster", msSince(t0));
 
-  // Resolve: RGBA32 working colour -> RGB8 frame.
-  t0 = std::chrono::steady_clock::now();
-  tbb::parallel_for(0, h, [&](int j) {
-    for (int i = 0; i < w; ++i) {
-      const std::size_t k = static_cast<std::size_t>(j) * w + i;
-      frame.color[3 * k + 0] = static_cast<std::uint8_t>(rgba[k]);
-      frame.color[3 * k + 1] = static_cast<std::uint8_t>(rgba[k] >> 8);
-      frame.color[3 * k + 2] = static_cast<std::uint8_t>(rgba[k] >> 16);
-    }
-  });
-  frame.stats.addStage("resolve", msSince(t0));
-  frame.stats.state_bytes = rgba.size() * 4 + frame.depth.size() * 4 + frame.ids.size() * 4 +
-                            frame.overdraw.size() * 4 + frame.color.size() + tri_bins.bytes() +
+  frame.stats.state_bytes = frame.color.size() * 4 + frame.depth.size() * 4 +
+                            frame.ids.size() * 4 + frame.overdraw.size() * 4 + tri_bins.bytes() +
                             line_bins.bytes() + point_bins.bytes() + outline_bins.bytes() +
                             ps.triangles.capacity() * sizeof(ScreenTriangle);
 }

@@ -7,7 +7,7 @@
 
 namespace hsr::detail {
 
-Frame renderZBuffer(const AlgorithmInput& input);
+void renderZBuffer(const AlgorithmInput& input, Frame& frame);
 // Draws into an existing frame without clearing it (the GL facade's draw call).
 void drawZBuffer(const AlgorithmInput& input, Frame& frame);
 
