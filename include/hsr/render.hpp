@@ -34,7 +34,7 @@ struct RenderOptions {
   bool frustum_cull = true;  // skip objects whose bounds lie outside the view volume
   bool outline = false;      // draw silhouette edges (front/back polygon boundary) over the fill
   bool shade = true;         // headlight Lambert; false = flat material colour
-  glm::vec3 clear_color{0.08f, 0.09f, 0.11f};
+  glm::vec3 clear_color{0.94f, 0.94f, 0.92f};  // light paper, so outlines read
   float clear_depth = 1.0f;
   int threads = 0;  // 0 = all hardware threads; results are identical for any value
 };

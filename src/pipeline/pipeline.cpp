@@ -499,6 +499,7 @@ void findOutline(const Context& ctx, PreparedScene& out) {
     std::uint32_t a, b;  // original vertices of the first use
     int count;
     bool mixed;
+    PolygonId other;
   };
   std::unordered_map<std::uint64_t, EdgeUse> edges;
   for (PolygonId id = 0; id < scene.polygonCount(); ++id) {
@@ -510,10 +511,13 @@ void findOutline(const Context& ctx, PreparedScene& out) {
       std::uint32_t a = canon[poly[i]], b = canon[poly[(i + 1) % poly.size()]];
       if (a == b) continue;
       const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-      auto [it, fresh] = edges.try_emplace(key, EdgeUse{id, o, poly[i], poly[(i + 1) % poly.size()], 1, false});
+      auto [it, fresh] = edges.try_emplace(key, EdgeUse{id, o, poly[i], poly[(i + 1) % poly.size()], 1, false, id});
       if (!fresh) {
         it->second.count++;
-        if (it->second.facing != o) it->second.mixed = true;
+        if (it->second.facing != o) {
+          it->second.mixed = true;
+          it->second.other = id;
+        }
       }
     }
   }
@@ -538,7 +542,7 @@ void findOutline(const Context& ctx, PreparedScene& out) {
     }
     if (!visible) continue;
     const WindowVertex a = toWindow(pa, ctx.vp), b = toWindow(pb, ctx.vp);
-    out.outline.push_back({a.x, a.y, a.z, b.x, b.y, b.z, pid, 0xFF000000u});
+    out.outline.push_back({a.x, a.y, a.z, b.x, b.y, b.z, pid, 0xFF000000u, e.other});
   }
 }
 

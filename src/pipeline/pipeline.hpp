@@ -39,6 +39,7 @@ struct ScreenLine {
   float x0, y0, z0, x1, y1, z1;
   PolygonId id;
   std::uint32_t rgba;
+  PolygonId other = kNoPolygon;  // outline: the polygon on the other side of the edge
 };
 
 struct PipelineScratch;  // prepare()'s working memory, reused between calls

@@ -253,15 +253,25 @@ void rasterLine(const ScreenLine& l, const PixelBox& tile, const Buffers& fb, bo
     const float t = steps == 0 ? 0.0f : static_cast<float>(k) / static_cast<float>(steps);
     const int i = static_cast<int>(std::lround(l.x0 + dx * t));
     const int j = static_cast<int>(std::lround(l.y0 + dy * t));
-    if (i < tile.x0 || i > tile.x1 || j < tile.y0 || j > tile.y1) continue;
     const float z = std::clamp(l.z0 + (l.z1 - l.z0) * t, 0.0f, 1.0f);
-    const std::size_t idx = static_cast<std::size_t>(j) * fb.width + i;
-    c.tested++;
     if (outline) {
-      // Silhouettes lie on the surface they bound: allow a small depth tolerance.
-      if (z <= fb.depth[idx] + 2e-4f) fb.rgba[idx] = l.rgba;
+      // A 2x2 pen, so the outline reads at any size. A silhouette pixel shows when nothing
+      // is drawn there, when one of the edge's own two polygons is the visible one, or when
+      // it is nearer than what is there (with a small tolerance); hidden ones stay hidden.
+      for (int pj = j - 1; pj <= j; ++pj)
+        for (int pi = i - 1; pi <= i; ++pi) {
+          if (pi < tile.x0 || pi > tile.x1 || pj < tile.y0 || pj > tile.y1) continue;
+          const std::size_t pk = static_cast<std::size_t>(pj) * fb.width + pi;
+          const PolygonId there = fb.ids[pk];
+          if (there == kNoPolygon || there == l.id || there == l.other ||
+              z <= fb.depth[pk] + 2e-4f)
+            fb.rgba[pk] = l.rgba;
+        }
       continue;
     }
+    if (i < tile.x0 || i > tile.x1 || j < tile.y0 || j > tile.y1) continue;
+    const std::size_t idx = static_cast<std::size_t>(j) * fb.width + i;
+    c.tested++;
     if (!depthPasses<F>(z, fb.depth[idx])) continue;
     c.written++;
     fb.overdraw[idx]++;

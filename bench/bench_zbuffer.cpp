@@ -1,0 +1,215 @@
+// Z-buffer frames/s and triangles/s at 1920x1080 against Mesa's llvmpipe (through OSMesa) in
+// the same process: spheres:10000/100000/1000000 and a fill-rate scene of ten full-screen
+// quads drawn back to front (every fragment passes). Scenes, cameras and llvmpipe's vertex
+// buffers are built once, outside the timed loops.
+//
+// Threads: HSR_BENCH_THREADS (default 2) is passed to hsr as RenderOptions::threads and to
+// llvmpipe as LP_NUM_THREADS, which llvmpipe reads once per process when its screen is made,
+// so it is set before the first OSMesa call. After the runs, a table of speed ratios
+// (llvmpipe time / hsr time, median of repetitions: > 1 means hsr is faster) and hsr's memory.
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "agreement/mesa_oracle.hpp"
+#include "hsr/camera.hpp"
+#include "hsr/io.hpp"
+#include "hsr/render.hpp"
+#include "hsr/scene.hpp"
+
+namespace {
+
+constexpr int kWidth = 1920, kHeight = 1080;
+int g_threads = 2;
+
+// One benchmark scene: built on first use and kept for the whole run.
+struct BenchScene {
+  std::string label;  // "spheres/10000"
+  std::function<hsr::Scene()> make;
+  bool fill_rate = false;
+  std::unique_ptr<hsr::Scene> scene;
+  hsr::Camera camera;
+  std::unique_ptr<hsr::testing::MesaScene> mesa;
+  // Filled by the hsr benchmark: memory and work of one frame.
+  std::uint64_t state_bytes = 0;
+  std::uint64_t fragments_written = 0;
+  std::size_t triangles = 0;
+};
+
+// Ten quads far larger than the view, stacked along z, listed back to front.
+hsr::Scene fillRateScene() {
+  hsr::Scene s;
+  s.name = "fillrate";
+  for (int k = 0; k < 10; ++k) {
+    s.beginObject("quad" + std::to_string(k));
+    const std::uint32_t m = s.addMaterial({{0.1f * k, 0.5f, 1.0f - 0.1f * k}, 1.0f});
+    const float z = -1.0f + 0.1f * static_cast<float>(k);  // later quads are nearer
+    s.addPolygonVertices({{-4, -4, z}, {4, -4, z}, {4, 4, z}, {-4, 4, z}}, m);
+  }
+  return s;
+}
+
+hsr::Camera fillRateCamera() {
+  hsr::Camera c;
+  c.width = kWidth;
+  c.height = kHeight;
+  c.ortho = true;
+  c.ortho_half_height = 1.0f;  // x spans +-1.78: inside the quads' +-4
+  c.eye = {0.0f, 0.0f, 5.0f};
+  c.target = {0.0f, 0.0f, 0.0f};
+  c.near = 1.0f;
+  c.far = 10.0f;
+  return c;
+}
+
+std::vector<BenchScene>& benchScenes() {
+  static std::vector<BenchScene> scenes = [] {
+    std::vector<BenchScene> v;
+    for (const char* n : {"10000", "100000", "1000000"}) {
+      BenchScene b;
+      b.label = std::string("spheres/") + n;
+      const std::string spec = std::string("spheres:") + n;
+      b.make = [spec] { return hsr::makeBuiltinScene(spec); };
+      v.push_back(std::move(b));
+    }
+    BenchScene f;
+    f.label = "fillrate/10";
+    f.make = fillRateScene;
+    f.fill_rate = true;
+    v.push_back(std::move(f));
+    return v;
+  }();
+  return scenes;
+}
+
+void ensureScene(BenchScene& b) {
+  if (b.scene) return;
+  b.scene = std::make_unique<hsr::Scene>(b.make());
+  b.camera = b.fill_rate ? fillRateCamera() : hsr::frameScene(*b.scene, kWidth, kHeight);
+  b.triangles = b.scene->triangleCount();
+}
+
+void setCounters(benchmark::State& state, const BenchScene& b) {
+  const double frames = static_cast<double>(state.iterations());
+  state.counters["fps"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
+  state.counters["triangles/s"] =
+      benchmark::Counter(frames * static_cast<double>(b.triangles), benchmark::Counter::kIsRate);
+  state.counters["triangles"] = static_cast<double>(b.triangles);
+}
+
+void runZBuffer(benchmark::State& state, BenchScene* b) {
+  ensureScene(*b);
+  hsr::RenderOptions options;
+  options.algorithm = "zbuffer";
+  options.threads = g_threads;
+  hsr::Frame frame;
+  hsr::render(*b->scene, b->camera, options, frame);  // warm: allocate the frame's buffers
+  for (auto _ : state) {
+    hsr::render(*b->scene, b->camera, options, frame);
+    benchmark::DoNotOptimize(frame.ids.data());
+    benchmark::ClobberMemory();
+  }
+  b->state_bytes = frame.stats.state_bytes;
+  b->fragments_written = frame.stats.fragments_written;
+  setCounters(state, *b);
+}
+
+void runLlvmpipe(benchmark::State& state, BenchScene* b) {
+  ensureScene(*b);
+  if (!b->mesa) {
+    b->mesa = std::make_unique<hsr::testing::MesaScene>(*b->scene, b->camera);
+    b->mesa->renderFrameMs();  // warm: JIT-compiles llvmpipe's shaders
+  }
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(b->mesa->renderFrameMs());
+  }
+  setCounters(state, *b);
+}
+
+// Keeps the median real time per iteration of every benchmark (or the mean of its runs when
+// there are no aggregates), on top of the usual console output.
+class MedianCollector : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& r : runs) {
+      const std::string& name = r.run_name.function_name;
+      if (r.error_occurred) continue;
+      if (r.run_type == Run::RT_Aggregate && r.aggregate_name == "median") {
+        median_ms[name] = r.GetAdjustedRealTime();
+      } else if (r.run_type == Run::RT_Iteration) {
+        Acc& a = single[name];
+        a.sum += r.GetAdjustedRealTime();
+        a.n += 1;
+      }
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+  // Time per frame in the reporter's unit (ms here), or < 0 if the benchmark did not run.
+  double time(const std::string& name) const {
+    if (auto it = median_ms.find(name); it != median_ms.end()) return it->second;
+    if (auto it = single.find(name); it != single.end()) return it->second.sum / it->second.n;
+    return -1.0;
+  }
+
+ private:
+  struct Acc {
+    double sum = 0.0;
+    int n = 0;
+  };
+  std::map<std::string, double> median_ms;
+  std::map<std::string, Acc> single;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Thread count for both renderers; llvmpipe reads LP_NUM_THREADS once, at its first context.
+  if (const char* t = std::getenv("HSR_BENCH_THREADS")) g_threads = std::max(1, std::atoi(t));
+  setenv("LP_NUM_THREADS", std::to_string(g_threads).c_str(), 1);
+
+  for (BenchScene& b : benchScenes()) {
+    const bool huge = b.label == "spheres/1000000";
+    for (const char* algo : {"BM_ZBuffer", "BM_Llvmpipe"}) {
+      const bool ours = std::string(algo) == "BM_ZBuffer";
+      auto* bm = benchmark::RegisterBenchmark((std::string(algo) + "/" + b.label).c_str(),
+                                              ours ? runZBuffer : runLlvmpipe, &b);
+      bm->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
+      if (huge) bm->Iterations(3);
+      else bm->MinTime(0.3);
+    }
+  }
+
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  std::printf("hsr z-buffer vs %s at %dx%d, %d thread(s) each\n",
+              hsr::testing::mesaRenderer().c_str(), kWidth, kHeight, g_threads);
+  MedianCollector reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+
+  // Speed ratios and memory.
+  std::printf("\nthreads=%d  %-16s %12s %12s %10s %14s %14s\n", g_threads, "scene", "hsr ms",
+              "llvmpipe ms", "ratio", "state B/px", "scene B/tri");
+  for (const BenchScene& b : benchScenes()) {
+    const double ours = reporter.time("BM_ZBuffer/" + b.label);
+    const double mesa = reporter.time("BM_Llvmpipe/" + b.label);
+    if (ours < 0 && mesa < 0) continue;
+    const double px = double(kWidth) * kHeight;
+    const double scene_bytes = b.scene ? static_cast<double>(b.scene->memoryBytes()) : 0.0;
+    char ratio[32] = "-";
+    if (ours > 0 && mesa > 0) std::snprintf(ratio, sizeof ratio, "%.2f", mesa / ours);
+    std::printf("threads=%d  %-16s %12.3f %12.3f %10s %14.2f %14.1f\n", g_threads,
+                b.label.c_str(), ours, mesa, ratio, static_cast<double>(b.state_bytes) / px,
+                b.triangles ? scene_bytes / static_cast<double>(b.triangles) : 0.0);
+  }
+  std::printf("(ratio = llvmpipe time / hsr time, median of repetitions: > 1 means hsr is faster)\n");
+  benchmark::Shutdown();
+  return 0;
+}

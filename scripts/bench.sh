@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Builds Release and runs the z-buffer vs llvmpipe benchmark with HSR_BENCH_THREADS=1 and 2
+# (plus any thread counts given as arguments, e.g. `scripts/bench.sh 4 8`), then prints the
+# ratio tables of all runs together. BUILD_DIR (default build) and JOBS (default 2)
+# may be set; extra Google Benchmark flags go in BENCH_ARGS.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir="${BUILD_DIR:-build}"
+jobs="${JOBS:-2}"
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DHSR_BUILD_BENCH=ON >/dev/null
+cmake --build "$build_dir" --target hsr_bench -j "$jobs"
+out="$(mktemp -d)"
+trap 'rm -rf "$out"' EXIT
+for t in 1 2 "$@"; do
+  echo "=== HSR_BENCH_THREADS=$t ==="
+  # shellcheck disable=SC2086
+  HSR_BENCH_THREADS="$t" "$build_dir/hsr_bench" ${BENCH_ARGS:-} | tee "$out/threads-$t.txt"
+done
+echo
+echo "=== speed ratios (llvmpipe time / hsr time; > 1 means hsr is faster) ==="
+for t in 1 2 "$@"; do
+  grep -E "^threads=" "$out/threads-$t.txt" || true
+  echo
+done

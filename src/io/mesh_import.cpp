@@ -1,0 +1,459 @@
+// Mesh files through assimp, and loadScene (a file, else a built-in scene).
+// Guarantee: any input (missing, truncated, malformed, hostile) either loads into a Scene whose
+// every position is finite and every index in range, or throws hsr::Error with one line that
+// names the file. Polygons stay polygons (no triangulation); ids follow node order (root first,
+// depth first, children in order), then each mesh's face order.
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <new>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <assimp/GltfMaterial.h>
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <glm/geometric.hpp>
+
+#include "hsr/error.hpp"
+#include "hsr/io.hpp"
+#include "hsr/scene.hpp"
+
+namespace hsr {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Limits on untrusted input, checked before anything is allocated for it.
+constexpr std::uintmax_t kMaxFileBytes = 2ull << 30;  // 2 GiB
+constexpr std::uint64_t kMaxVertices = 50'000'000;
+constexpr std::uint64_t kMaxPolygons = 50'000'000;
+constexpr std::uint64_t kMaxNodes = 10'000'000;  // a node tree this big is an attack
+
+// The first line of an assimp message, trimmed (some span several lines).
+std::string firstLine(std::string_view s) {
+  s = s.substr(0, s.find_first_of("\r\n"));
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  return s.empty() ? std::string("unknown error") : std::string(s);
+}
+
+bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+bool finite(const aiMatrix4x4& m) {
+  for (unsigned r = 0; r < 4; ++r)
+    for (unsigned c = 0; c < 4; ++c)
+      if (!std::isfinite(m[r][c])) return false;
+  return true;
+}
+
+// Affine transform of a point in double precision (assimp matrices are row-major, column
+// vectors, translation in the last column).
+glm::vec3 transformPoint(const aiMatrix4x4& m, const aiVector3D& p) {
+  const double x = p.x, y = p.y, z = p.z;
+  return {static_cast<float>(m.a1 * x + m.a2 * y + m.a3 * z + m.a4),
+          static_cast<float>(m.b1 * x + m.b2 * y + m.b3 * z + m.b4),
+          static_cast<float>(m.c1 * x + m.c2 * y + m.c3 * z + m.c4)};
+}
+
+bool isIdentity(const aiMatrix4x4& m) { return m.IsIdentity(); }
+
+float clamp01(float v, float fallback) {
+  return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : fallback;
+}
+
+// An assimp material as ours: glTF's base colour (with alpha, unless alphaMode is OPAQUE),
+// else the diffuse colour and opacity.
+Material convertMaterial(const aiMaterial* m) {
+  Material out;
+  if (!m) return out;
+  aiColor4D c;
+  bool have_alpha = false;
+  if (m->Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS) {
+    out.color = {clamp01(c.r, 0.8f), clamp01(c.g, 0.8f), clamp01(c.b, 0.8f)};
+    out.alpha = clamp01(c.a, 1.0f);
+    have_alpha = true;
+    aiString mode;
+    if (m->Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string_view(mode.C_Str()) == "OPAQUE")
+      out.alpha = 1.0f;
+  } else if (m->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) {
+    out.color = {clamp01(c.r, 0.8f), clamp01(c.g, 0.8f), clamp01(c.b, 0.8f)};
+  }
+  float opacity = 1.0f;
+  if (!have_alpha && m->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) out.alpha = clamp01(opacity, 1.0f);
+  // Opacity 0 is what several exporters write for "opaque" (OBJ's "d 0"); an invisible
+  // material is never what a file meant to show
+  if (out.alpha <= 0.0f) out.alpha = 1.0f;
+  return out;
+}
+
+bool isGltf(const fs::path& path) {
+  std::string ext = path.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext == ".gltf" || ext == ".glb";
+}
+
+// The node's transform to world space: the product of its ancestors' transforms.
+aiMatrix4x4 globalTransform(const aiNode* node) {
+  aiMatrix4x4 m = node->mTransformation;
+  std::uint64_t depth = 0;
+  for (const aiNode* p = node->mParent; p && depth < kMaxNodes; p = p->mParent, ++depth)
+    m = p->mTransformation * m;
+  return m;
+}
+
+// glTF: the first camera that a node places. A glTF camera sits at its node's origin, looks
+// down the node's -Z with +Y up (assimp 5.2 also copies the node's translation into
+// mPosition, which would count it twice, so aiCamera's own frame is not used). assimp stores
+// yfov * aspect in mHorizontalFOV, and xmag in mOrthographicWidth with mAspect = xmag / ymag.
+// A camera that makes no sense (non-finite, degenerate) is ignored: the scene is auto-framed.
+std::optional<SceneCamera> gltfCamera(const aiScene* ai, const Scene& scene) {
+  if (!ai->mRootNode || !ai->mCameras) return std::nullopt;
+  for (unsigned i = 0; i < ai->mNumCameras; ++i) {
+    const aiCamera* cam = ai->mCameras[i];
+    if (!cam) continue;
+    const aiNode* node = ai->mRootNode->FindNode(cam->mName);
+    if (!node) continue;
+    const aiMatrix4x4 m = globalTransform(node);
+    if (!finite(m)) return std::nullopt;
+    SceneCamera s;
+    s.eye = transformPoint(m, aiVector3D(0, 0, 0));
+    const glm::vec3 forward = transformPoint(m, aiVector3D(0, 0, -1)) - s.eye;
+    const glm::vec3 up = transformPoint(m, aiVector3D(0, 1, 0)) - s.eye;
+    if (!finite(s.eye) || !finite(forward) || !finite(up)) return std::nullopt;
+    const float flen = glm::length(forward), ulen = glm::length(up);
+    if (!(flen > 0.0f) || !(ulen > 0.0f)) return std::nullopt;
+    s.target = s.eye + forward / flen;
+    s.up = up / ulen;
+    if (glm::length(glm::cross(forward / flen, s.up)) < 1e-3f) return std::nullopt;
+
+    const float aspect = cam->mAspect > 0.0f && std::isfinite(cam->mAspect) ? cam->mAspect : 1.0f;
+    if (cam->mHorizontalFOV == 0.0f && cam->mOrthographicWidth > 0.0f) {
+      s.ortho = true;
+      s.ortho_half_height = cam->mOrthographicWidth / aspect;
+      if (!std::isfinite(s.ortho_half_height) || !(s.ortho_half_height > 0.0f)) return std::nullopt;
+    } else {
+      s.fov_deg = static_cast<float>(cam->mHorizontalFOV / aspect * 180.0 / 3.14159265358979323846);
+      if (!std::isfinite(s.fov_deg) || !(s.fov_deg > 0.0f) || !(s.fov_deg < 180.0f))
+        return std::nullopt;
+    }
+    // Clip planes: glTF may leave zfar out (an infinite projection); fit what is missing to
+    // the scene's bounds
+    const Bounds b = scene.bounds();
+    const float reach = b.empty() ? 100.0f
+                                  : glm::length(b.center() - s.eye) + 1.5f * b.radius();
+    s.far = cam->mClipPlaneFar;
+    s.near = cam->mClipPlaneNear;
+    if (!std::isfinite(s.far) || !(s.far > 0.0f)) s.far = std::max(reach, 1e-3f);
+    // A far plane beyond the whole scene only costs depth precision: pull it in
+    if (reach > 0.0f && reach < s.far && reach > 2.0f * std::max(s.near, 0.0f)) s.far = reach;
+    if (!std::isfinite(s.near) || !(s.near > 0.0f) || !(s.near < s.far)) s.near = s.far * 1e-4f;
+    if (!std::isfinite(s.far) || !(s.far > s.near)) return std::nullopt;
+    return s;
+  }
+  return std::nullopt;
+}
+
+// Converts the imported assimp scene: one Object per mesh instance, in node order.
+Scene convertScene(const aiScene* ai, const fs::path& path) {
+  const std::string file = path.string();
+  Scene scene;
+  scene.name = path.filename().string();
+
+  // Materials, in the file's order; one default appended if a mesh needs it
+  for (unsigned i = 0; i < ai->mNumMaterials && ai->mMaterials; ++i)
+    scene.addMaterial(convertMaterial(ai->mMaterials[i]));
+  std::uint32_t default_material = 0xFFFFFFFFu;
+
+  if (!ai->mRootNode) throw Error(file + ": no polygons (the file holds no scene nodes)");
+
+  std::uint64_t vertices_total = 0, polygons_total = 0, nodes_seen = 0;
+  bool saw_points_or_lines = false;
+  std::vector<std::uint32_t> remap, local;
+  constexpr std::uint32_t kUnset = 0xFFFFFFFFu;
+
+  // Walk the node tree depth first, root first, children in order; an explicit stack so that
+  // a deep hostile hierarchy cannot overflow the call stack
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack;
+  stack.emplace_back(ai->mRootNode, ai->mRootNode->mTransformation);
+  while (!stack.empty()) {
+    auto [node, transform] = stack.back();
+    stack.pop_back();
+    if (++nodes_seen > kMaxNodes) throw Error(file + ": too large (over 10M scene nodes)");
+    if (!finite(transform))
+      throw Error(file + ": node '" + std::string(node->mName.C_Str()) +
+                  "' has a non-finite transform");
+    const bool identity = isIdentity(transform);
+
+    for (unsigned k = 0; k < node->mNumMeshes && node->mMeshes; ++k) {
+      const unsigned mesh_index = node->mMeshes[k];
+      if (mesh_index >= ai->mNumMeshes || !ai->mMeshes || !ai->mMeshes[mesh_index])
+        throw Error(file + ": node '" + std::string(node->mName.C_Str()) + "' refers to mesh " +
+                    std::to_string(mesh_index) + " of " + std::to_string(ai->mNumMeshes));
+      const aiMesh* mesh = ai->mMeshes[mesh_index];
+      if (!mesh->mVertices || !mesh->mFaces || mesh->mNumFaces == 0) continue;
+
+      // Size limits, in 64 bits, before any allocation
+      vertices_total += mesh->mNumVertices;
+      polygons_total += mesh->mNumFaces;
+      if (vertices_total > kMaxVertices)
+        throw Error(file + ": too large (over " + std::to_string(kMaxVertices / 1000000) +
+                    "M vertices)");
+      if (polygons_total > kMaxPolygons)
+        throw Error(file + ": too large (over " + std::to_string(kMaxPolygons / 1000000) +
+                    "M polygons)");
+
+      std::uint32_t material = mesh->mMaterialIndex;
+      if (material >= scene.materials.size()) {
+        if (default_material == 0xFFFFFFFFu) default_material = scene.addMaterial(Material{});
+        material = default_material;
+      }
+
+      // Faces: points and lines are not polygons; vertices enter the scene on first use, so
+      // that unused ones do not widen the object's bounds
+      remap.assign(mesh->mNumVertices, kUnset);
+      bool object_started = false;
+      for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+        const aiFace& face = mesh->mFaces[f];
+        if (face.mNumIndices < 3 || !face.mIndices) {
+          saw_points_or_lines = true;
+          continue;
+        }
+        if (!object_started) {
+          std::string name = node->mName.C_Str();
+          const std::string mesh_name = mesh->mName.C_Str();
+          name += name.empty() ? "" : ": ";
+          name += mesh_name.empty() ? "mesh " + std::to_string(mesh_index) : mesh_name;
+          scene.beginObject(std::move(name));
+          object_started = true;
+        }
+        local.clear();
+        for (unsigned j = 0; j < face.mNumIndices; ++j) {
+          const unsigned v = face.mIndices[j];
+          if (v >= mesh->mNumVertices)
+            throw Error(file + ": face " + std::to_string(f) + " of mesh " +
+                        std::to_string(mesh_index) + " uses vertex " + std::to_string(v) +
+                        " but the mesh has " + std::to_string(mesh->mNumVertices));
+          if (remap[v] == kUnset) {
+            const aiVector3D& raw = mesh->mVertices[v];
+            const glm::vec3 p = identity ? glm::vec3(raw.x, raw.y, raw.z)
+                                         : transformPoint(transform, raw);
+            if (!finite(p))
+              throw Error(file + ": vertex " + std::to_string(v) + " of mesh " +
+                          std::to_string(mesh_index) + " is not finite" +
+                          (finite(glm::vec3(raw.x, raw.y, raw.z)) ? " after its node's transform"
+                                                                  : ""));
+            remap[v] = scene.addVertex(p);
+          }
+          local.push_back(remap[v]);
+        }
+        scene.addPolygon(local, material);
+      }
+    }
+
+    // Children in order: pushed in reverse so the first is popped first
+    if (node->mChildren) {
+      for (unsigned c = node->mNumChildren; c-- > 0;) {
+        const aiNode* child = node->mChildren[c];
+        if (child) stack.emplace_back(child, transform * child->mTransformation);
+      }
+    }
+  }
+
+  if (scene.polygonCount() == 0)
+    throw Error(file + (saw_points_or_lines ? ": no polygons (only points or lines)"
+                                            : ": no polygons (the file holds no meshes)"));
+  if (isGltf(path)) scene.camera = gltfCamera(ai, scene);
+  return scene;
+}
+
+// A decimal count in a file header, saturating at 2^64 - 1 so that absurd counts stay absurd.
+bool parseCount(const std::string& token, std::uint64_t* out) {
+  if (token.empty() || token.find_first_not_of("0123456789") != std::string::npos) return false;
+  std::uint64_t n = 0;
+  for (char c : token)
+    n = n > (~0ull - 9) / 10 ? ~0ull : n * 10 + static_cast<std::uint64_t>(c - '0');
+  *out = n;
+  return true;
+}
+
+// One line for a failed import, from assimp's error string or exception message.
+Error assimpFailure(const std::string& file, std::string_view message) {
+  if (message.find("bad_alloc") != std::string_view::npos)
+    return Error(file + ": out of memory while reading it (a corrupt count in the file?)");
+  // assimp often repeats the full path; once at the front of the line is enough
+  std::string line = firstLine(message);
+  const std::string name = fs::path(file).filename().string();
+  for (std::size_t at = 0; !name.empty() && (at = line.find(file, at)) != std::string::npos;) {
+    line.replace(at, file.size(), name);
+    at += name.size();
+  }
+  return Error(file + ": assimp could not read it: " + line);
+}
+
+// Some importers size their arrays from counts in the file's header before reading the data
+// (OFF and PLY do): a header that claims more elements than the file has bytes would make them
+// allocate and clear gigabytes for nothing (invalid/OutOfMemory.off: 16 GB, minutes). Such a
+// header is refused here, before assimp sees it.
+void checkDeclaredCounts(const fs::path& path, std::uintmax_t bytes) {
+  std::string ext = path.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext != ".off" && ext != ".ply") return;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  std::istringstream text(head);
+  const auto refuse = [&](std::uint64_t claimed, const char* what) {
+    throw Error(path.string() + ": its header claims " + std::to_string(claimed) + " " + what +
+                " but the file has only " + std::to_string(bytes) + " bytes");
+  };
+  if (ext == ".off") {
+    // [ST][C][N][4][n]OFF, comments from '#', then the vertex and face counts; every vertex
+    // and face takes a line of at least 4 bytes
+    std::vector<std::string> tokens;
+    std::string line;
+    while (tokens.size() < 3 && std::getline(text, line)) {
+      line = line.substr(0, line.find('#'));
+      std::istringstream words(line);
+      std::string w;
+      while (tokens.size() < 3 && words >> w) tokens.push_back(w);
+    }
+    std::size_t first = 0;
+    if (!tokens.empty() && std::isalpha(static_cast<unsigned char>(tokens[0][0]))) first = 1;
+    std::uint64_t vertices = 0, faces = 0;
+    if (tokens.size() < first + 2 || !parseCount(tokens[first], &vertices) ||
+        !parseCount(tokens[first + 1], &faces))
+      return;  // not a header we understand: assimp will say what is wrong
+    if (vertices > bytes / 4 + 16) refuse(vertices, "vertices");
+    if (faces > bytes / 4 + 16) refuse(faces, "faces");
+  } else {
+    // PLY: "element NAME COUNT" lines up to end_header; every element takes at least a byte
+    std::string line;
+    std::uint64_t total = 0;
+    while (std::getline(text, line)) {
+      if (line.rfind("end_header", 0) == 0) break;
+      std::istringstream words(line);
+      std::string keyword, name, count;
+      std::uint64_t n = 0;
+      if (words >> keyword >> name >> count && keyword == "element" && parseCount(count, &n)) {
+        total = n > ~0ull - total ? ~0ull : total + n;
+        if (total > bytes) refuse(total, "elements (vertices, faces...)");
+      }
+    }
+  }
+}
+
+// Before any post-processing (which would spend minutes on a billion bogus vertices, and
+// whose vertex joining would silently merge NaNs away): size limits, finite positions, and
+// at least one polygon.
+void preflight(const aiScene* ai, const std::string& file) {
+  std::uint64_t vertices = 0, faces = 0;
+  bool any_polygon = false, any_face = false;
+  for (unsigned m = 0; m < ai->mNumMeshes && ai->mMeshes; ++m) {
+    const aiMesh* mesh = ai->mMeshes[m];
+    if (!mesh) continue;
+    vertices += mesh->mNumVertices;
+    faces += mesh->mNumFaces;
+    if (vertices > kMaxVertices)
+      throw Error(file + ": too large (over " + std::to_string(kMaxVertices / 1000000) +
+                  "M vertices)");
+    if (faces > kMaxPolygons)
+      throw Error(file + ": too large (over " + std::to_string(kMaxPolygons / 1000000) +
+                  "M polygons)");
+    if (mesh->mNumVertices > 0 && !mesh->mVertices)
+      throw Error(file + ": mesh " + std::to_string(m) + " has no vertex positions");
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      const aiVector3D& p = mesh->mVertices[v];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        throw Error(file + ": vertex " + std::to_string(v) + " of mesh " + std::to_string(m) +
+                    " is not finite");
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces && mesh->mFaces; ++f) {
+      any_face = true;
+      if (mesh->mFaces[f].mNumIndices >= 3 && mesh->mFaces[f].mIndices) {
+        any_polygon = true;
+        break;
+      }
+    }
+  }
+  if (!any_polygon)
+    throw Error(file + (any_face ? ": no polygons (only points or lines)"
+                                 : ": no polygons (the file holds no meshes)"));
+}
+
+}  // namespace
+
+Scene loadMeshFile(const fs::path& path) {
+  const std::string file = path.string();
+  // The file itself: exists, is a regular file (not a directory or a FIFO that would block),
+  // not empty, not absurdly large
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) throw Error(file + ": no such file");
+  if (fs::is_directory(status)) throw Error(file + ": is a directory, not a mesh file");
+  if (!fs::is_regular_file(status)) throw Error(file + ": not a regular file");
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (ec) throw Error(file + ": cannot read its size: " + ec.message());
+  if (bytes == 0) throw Error(file + ": file is empty");
+  if (bytes > kMaxFileBytes) throw Error(file + ": too large (over 2 GiB)");
+
+  try {
+    checkDeclaredCounts(path, bytes);
+    Assimp::Importer importer;  // no logger is attached: assimp stays quiet
+    // Keep only what we use, so that identical positions join into shared vertices
+    importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                                aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                    aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                    aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
+                                    aiComponent_TEXTURES | aiComponent_LIGHTS);
+    // A file with bones but no meshes must not grow a made-up skeleton mesh
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
+    // Read without post-processing, check, then post-process: no triangulation, so polygons
+    // stay polygons and ids stay in file order
+    if (!importer.ReadFile(file, 0))
+      throw assimpFailure(file, importer.GetErrorString());
+    preflight(importer.GetScene(), file);
+    const aiScene* ai = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure |
+                                                     aiProcess_RemoveComponent |
+                                                     aiProcess_JoinIdenticalVertices);
+    if (!ai) throw assimpFailure(file, importer.GetErrorString());
+    return convertScene(ai, path);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw assimpFailure(file, "bad_alloc");
+  } catch (const std::exception& e) {
+    throw assimpFailure(file, e.what());
+  } catch (...) {
+    throw Error(file + ": assimp could not read it: unknown error");
+  }
+}
+
+Scene loadScene(std::string_view spec) {
+  // An existing file wins over a built-in of the same name
+  if (!spec.empty()) {
+    std::error_code ec;
+    const fs::path path{std::string(spec)};
+    if (fs::exists(path, ec)) return loadMeshFile(path);
+  }
+  const std::string_view name = spec.substr(0, spec.find(':'));
+  for (const BuiltinScene& b : builtinScenes())
+    if (!name.empty() && b.name.substr(0, b.name.find(':')) == name) return makeBuiltinScene(spec);
+  throw Error("no such file or built-in scene: " + std::string(spec));
+}
+
+}  // namespace hsr

@@ -1,0 +1,367 @@
+// The z-buffer against Mesa's OpenGL (OSMesa, llvmpipe): the same triangles and GL state must
+// give the same pixels. Coverage (drawn or not) and visible polygon ids are compared pixel by
+// pixel; depth is reported as max |dz| where both drew the same polygon (Mesa keeps 24 bits).
+// Every case prints its figures; the first differing pixels are dumped with the snapped
+// triangles hsr drew there, to tell whose rule (fill rule, snapping, clipping) differs.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "agreement/mesa_oracle.hpp"
+#include "hsr/camera.hpp"
+#include "hsr/io.hpp"
+#include "hsr/render.hpp"
+#include "pipeline/pipeline.hpp"
+#include "test_util.hpp"
+
+namespace hsr {
+namespace {
+
+using testing::MesaFrame;
+using testing::renderWithMesa;
+using testing::Rng;
+
+// Required agreement (TESTING.md: z-buffer vs Mesa).
+constexpr double kMinCoverageAgreement = 0.9999;
+constexpr double kMinIdAgreement = 0.999;
+// Two surfaces this close in window depth at a pixel are a tie that depth precision decides:
+// Mesa stores 24-bit fixed point, hsr float32 (both about 6e-8 apart near 1), and each
+// interpolates depth with its own rounding. Differing ids there are counted apart.
+constexpr double kDepthTie = 1e-6;
+
+struct Agreement {
+  std::uint64_t pixels = 0;
+  std::uint64_t coverage_differ = 0;  // drawn by one, not the other
+  std::uint64_t id_differ = 0;        // different id (coverage differences included)
+  std::uint64_t depth_ties = 0;       // id differs, both drew, depths within kDepthTie
+  std::uint64_t same_id = 0;          // both drew, same id
+  double max_dz = 0.0;                // over same_id pixels
+  double coverage() const { return pixels ? 1.0 - double(coverage_differ) / pixels : 1.0; }
+  double ids() const { return pixels ? 1.0 - double(id_differ) / pixels : 1.0; }
+  void add(const Agreement& o) {
+    pixels += o.pixels;
+    coverage_differ += o.coverage_differ;
+    id_differ += o.id_differ;
+    depth_ties += o.depth_ties;
+    same_id += o.same_id;
+    max_dz = std::max(max_dz, o.max_dz);
+  }
+};
+
+Agreement measure(const Frame& ours, const MesaFrame& mesa) {
+  Agreement a;
+  a.pixels = ours.ids.size();
+  for (std::size_t k = 0; k < ours.ids.size(); ++k) {
+    const bool drawn_ours = ours.ids[k] != kNoPolygon;
+    const bool drawn_mesa = mesa.ids[k] != kNoPolygon;
+    if (drawn_ours != drawn_mesa) a.coverage_differ++;
+    if (ours.ids[k] != mesa.ids[k]) {
+      a.id_differ++;
+      if (drawn_ours && drawn_mesa &&
+          std::abs(double(ours.depth[k]) - double(mesa.depth[k])) <= kDepthTie) {
+        a.depth_ties++;
+      }
+    } else if (drawn_ours) {
+      a.same_id++;
+      a.max_dz = std::max(a.max_dz, std::abs(double(ours.depth[k]) - double(mesa.depth[k])));
+    }
+  }
+  return a;
+}
+
+std::string optionsLabel(const RenderOptions& o) {
+  static const char* kCull[] = {"none", "back", "front", "both"};
+  static const char* kFunc[] = {"never", "less", "equal", "lequal",
+                                "greater", "notequal", "gequal", "always"};
+  std::string s = std::string("cull=") + kCull[static_cast<int>(o.cull)] +
+                  (o.front_face == FrontFace::Ccw ? " ccw" : " cw");
+  s += o.depth_test ? std::string(" depth=") + kFunc[static_cast<int>(o.depth_func)]
+                    : std::string(" depth=off");
+  if (!o.depth_mask) s += " mask=off";
+  return s;
+}
+
+void printAgreement(const std::string& label, const Agreement& a) {
+  std::printf("mesa-agreement %-44s coverage %9.5f%% ids %9.5f%% (%" PRIu64
+              " px differ: %" PRIu64 " coverage, %" PRIu64 " depth ties) max|dz| %.3g\n",
+              label.c_str(), 100.0 * a.coverage(), 100.0 * a.ids(), a.id_differ,
+              a.coverage_differ, a.depth_ties, a.max_dz);
+  std::fflush(stdout);
+}
+
+// The first differing pixels, with the snapped (24.8, y-down, centre-relative) triangles hsr
+// drew for the two ids involved, for diagnosing rule differences.
+void dumpDifferences(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                     const Frame& ours, const MesaFrame& mesa, int max_pixels = 6) {
+  const detail::PreparedScene ps = detail::prepare(scene, camera, options);
+  auto printTriangles = [&](PolygonId id) {
+    if (id == kNoPolygon) return;
+    for (const detail::ScreenTriangle& t : ps.triangles) {
+      if (t.id != id) continue;
+      std::printf("      hsr tri id %u: (%d,%d) (%d,%d) (%d,%d) /256 px, z0 %.9g dzdx %.3g dzdy %.3g\n",
+                  id, t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2], t.z0, t.dzdx, t.dzdy);
+    }
+  };
+  // Pixels that are not depth ties first: those point at a rule difference.
+  int shown = 0;
+  for (int pass = 0; pass < 2; ++pass)
+  for (std::size_t k = 0; k < ours.ids.size() && shown < max_pixels; ++k) {
+    if (ours.ids[k] == mesa.ids[k]) continue;
+    const bool tie = ours.ids[k] != kNoPolygon && mesa.ids[k] != kNoPolygon &&
+                     std::abs(double(ours.depth[k]) - double(mesa.depth[k])) <= kDepthTie;
+    if (tie != (pass == 1)) continue;
+    const int x = static_cast<int>(k % ours.width), row = static_cast<int>(k / ours.width);
+    std::printf("    pixel x=%d row=%d (gl y=%d): hsr id %u z %.9g | mesa id %u z %.9g%s\n", x,
+                row, ours.height - 1 - row, ours.ids[k], ours.depth[k], mesa.ids[k],
+                mesa.depth[k], tie ? " (depth tie)" : "");
+    printTriangles(ours.ids[k]);
+    if (mesa.ids[k] != ours.ids[k]) printTriangles(mesa.ids[k]);
+    ++shown;
+  }
+}
+
+// Renders with both, prints the figures, checks the thresholds; returns the figures.
+// With check_ids false only coverage is held to its threshold (ids are printed).
+Agreement expectAgreement(const std::string& name, const Scene& scene, const Camera& camera,
+                          RenderOptions options, bool check_ids = true) {
+  options.algorithm = "zbuffer";
+  const Frame ours = render(scene, camera, options);
+  const MesaFrame mesa = renderWithMesa(scene, camera, options);
+  const Agreement a = measure(ours, mesa);
+  const std::string label = name + " " + std::to_string(camera.width) + "x" +
+                            std::to_string(camera.height) + " " + optionsLabel(options);
+  printAgreement(label, a);
+  EXPECT_GE(a.coverage(), kMinCoverageAgreement) << label;
+  if (check_ids) {
+    EXPECT_GE(a.ids(), kMinIdAgreement) << label;
+  }
+  if (a.id_differ > 0) dumpDifferences(scene, camera, options, ours, mesa);
+  return a;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The oracle itself.
+
+TEST(MesaOracle, ColorRoundTripIsExact) {
+  std::printf("mesa renderer: %s\n", testing::mesaRenderer().c_str());
+  EXPECT_EQ(testing::mesaColorRoundTripErrors(), 0u);
+}
+
+TEST(MesaOracle, BuffersAreTopRowFirst) {
+  // One square in the top-left quarter of the window (GL y up: high y).
+  Scene s;
+  const std::uint32_t m = s.addMaterial({});
+  s.addPolygonVertices({{2, 10, 0}, {6, 10, 0}, {6, 14, 0}, {2, 14, 0}}, m);
+  const Camera cam = testing::pixelCamera(16, 16);
+  const MesaFrame f = renderWithMesa(s, cam, {});
+  ASSERT_EQ(f.ids.size(), 256u);
+  EXPECT_EQ(f.depth_bits, 24);
+  EXPECT_EQ(f.ids[3 * 16 + 3], 0u);           // row 3 from the top = gl y 12
+  EXPECT_EQ(f.ids[12 * 16 + 3], kNoPolygon);  // gl y 3
+  EXPECT_EQ(f.depth[12 * 16 + 3], 1.0f);
+  // The pixel camera maps z = 0 to window depth (10 - 1) / 19 (near 1, far 20, ortho).
+  EXPECT_NEAR(f.depth[3 * 16 + 3], 9.0 / 19.0, 1e-6);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Built-in scenes.
+
+struct BuiltinCase {
+  const char* spec;
+  int width, height;
+  CullMode cull;
+};
+
+TEST(ZBufferMesaAgreement, BuiltinScenes) {
+  const BuiltinCase cases[] = {
+      {"demo", 640, 480, CullMode::None},       {"demo", 317, 211, CullMode::Back},
+      {"cyclic", 640, 480, CullMode::None},     {"penetrating", 640, 480, CullMode::None},
+      {"penetrating", 317, 211, CullMode::Front}, {"spheres:5000", 640, 480, CullMode::None},
+      {"spheres:5000", 640, 480, CullMode::Back}, {"soup:300:1", 640, 480, CullMode::None},
+      {"soup:300:1", 256, 256, CullMode::FrontAndBack},
+  };
+  Agreement total;
+  for (const BuiltinCase& c : cases) {
+    SCOPED_TRACE(c.spec);
+    const Scene scene = makeBuiltinScene(c.spec);
+    const Camera cam = frameScene(scene, c.width, c.height);
+    RenderOptions o;
+    o.cull = c.cull;
+    total.add(expectAgreement(c.spec, scene, cam, o));
+  }
+  printAgreement("builtin scenes (all)", total);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Seeded random soups: near-plane crossings, vertices behind the eye, vertices thousands of
+// units outside the view, mixed windings, convex polygons, several objects.
+
+glm::vec3 randomDirection(Rng& rng) {
+  for (;;) {
+    const glm::vec3 d(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    const float len2 = d.x * d.x + d.y * d.y + d.z * d.z;
+    if (len2 > 1e-4f && len2 <= 1.0f) return d / std::sqrt(len2);
+  }
+}
+
+struct Soup {
+  Scene scene;
+  Camera camera;
+};
+
+Soup randomSoup(std::uint64_t seed, int width, int height) {
+  Rng rng(seed);
+  Soup s;
+  Camera& cam = s.camera;
+  cam.width = width;
+  cam.height = height;
+  cam.ortho = (seed % 5) == 4;
+  cam.fov_deg = rng.uniform(30.0f, 75.0f);
+  cam.eye = randomDirection(rng) * rng.uniform(8.0f, 14.0f);
+  cam.target = glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+  cam.up = {0.0f, 1.0f, 0.0f};
+  if (std::abs(glm::normalize(cam.target - cam.eye).y) > 0.95f) cam.up = {1.0f, 0.0f, 0.0f};
+  cam.near = rng.uniform(0.3f, 2.0f);
+  cam.far = rng.uniform(25.0f, 60.0f);
+  cam.ortho_half_height = rng.uniform(3.0f, 8.0f);
+
+  const glm::vec3 forward = glm::normalize(cam.target - cam.eye);
+  Scene& sc = s.scene;
+  sc.name = "random-soup-" + std::to_string(seed);
+  std::vector<std::uint32_t> mats;
+  for (int m = 0; m < 4; ++m) {
+    mats.push_back(sc.addMaterial({{rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1)}, 1}));
+  }
+  const int count = 50 + static_cast<int>(rng.next() % 451);  // 50..500 polygons
+  for (int k = 0; k < count; ++k) {
+    if (k % 64 == 0) sc.beginObject("object" + std::to_string(k / 64));
+    const double kind = rng.uniform();
+    const glm::vec3 centre(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(-4, 4));
+    const float size = rng.uniform(0.05f, 3.0f);
+    std::vector<glm::vec3> v;
+    auto near_eye = [&](float along) {  // a point `along` units in front of the eye, jittered
+      return cam.eye + forward * along + randomDirection(rng) * rng.uniform(0.0f, 1.5f);
+    };
+    if (kind < 0.62) {
+      // An ordinary triangle around the scene centre.
+      for (int i = 0; i < 3; ++i) v.push_back(centre + randomDirection(rng) * size);
+    } else if (kind < 0.70) {
+      // A convex polygon (4-6 vertices on a tilted circle): triangulated as a fan.
+      const int n = 4 + static_cast<int>(rng.next() % 3);
+      const glm::vec3 a = randomDirection(rng);
+      glm::vec3 b = glm::normalize(glm::cross(a, randomDirection(rng)));
+      const glm::vec3 c = glm::cross(a, b);
+      const float phase = rng.uniform(0.0f, 6.2831853f);
+      for (int i = 0; i < n; ++i) {
+        const float t = phase + 6.2831853f * static_cast<float>(i) / static_cast<float>(n);
+        v.push_back(centre + (b * std::cos(t) + c * std::sin(t)) * size);
+      }
+    } else if (kind < 0.80) {
+      // Crossing the near plane: one vertex between the eye and the near plane.
+      v.push_back(near_eye(rng.uniform(-0.2f, 1.0f) * cam.near));
+      v.push_back(centre + randomDirection(rng) * size);
+      v.push_back(centre + randomDirection(rng) * size);
+    } else if (kind < 0.90) {
+      // Partly behind the eye.
+      v.push_back(near_eye(-rng.uniform(0.5f, 20.0f)));
+      if (rng.uniform() < 0.5) v.push_back(near_eye(-rng.uniform(0.5f, 20.0f)));
+      while (v.size() < 3) v.push_back(centre + randomDirection(rng) * size);
+    } else {
+      // Vertices 1e3..3e4 units away (far outside the viewport, and beyond the far plane
+      // unless almost sideways).
+      const int far_count = 1 + static_cast<int>(rng.next() % 2);
+      for (int i = 0; i < far_count; ++i) {
+        glm::vec3 d = randomDirection(rng);
+        if (i == 0) {
+          // Mostly sideways, so that it stays inside near/far: lateral screen extent.
+          const glm::vec3 side = d - forward * (glm::dot(d, forward) * rng.uniform(0.9f, 1.0f));
+          if (glm::dot(side, side) > 1e-4f) d = glm::normalize(side);
+        }
+        v.push_back(centre + d * rng.uniform(1e3f, 3e4f));
+      }
+      while (v.size() < 3) v.push_back(centre + randomDirection(rng) * size);
+    }
+    // Mixed windings: reverse half of them.
+    if (rng.uniform() < 0.5) std::reverse(v.begin(), v.end());
+    sc.addPolygonVertices(v, mats[rng.next() % mats.size()]);
+  }
+  return s;
+}
+
+TEST(ZBufferMesaAgreement, RandomSoups) {
+  struct Size { int w, h; };
+  const Size sizes[] = {{256, 256}, {317, 211}, {256, 256}, {640, 480}, {129, 67}};
+  const CullMode culls[] = {CullMode::None, CullMode::Back, CullMode::Front,
+                            CullMode::FrontAndBack};
+  const int soups = 24 * testing::testIntensity();
+  Agreement total;
+  for (int seed = 1; seed <= soups; ++seed) {
+    SCOPED_TRACE("soup seed " + std::to_string(seed));
+    const Size size = sizes[seed % 5];
+    const Soup soup = randomSoup(static_cast<std::uint64_t>(seed), size.w, size.h);
+    RenderOptions o;
+    o.cull = culls[seed % 4];
+    o.front_face = (seed / 4) % 2 ? FrontFace::Cw : FrontFace::Ccw;
+    switch (seed % 7) {
+      case 3: o.depth_func = DepthFunc::LEqual; break;
+      case 4: o.depth_func = DepthFunc::Greater; o.clear_depth = 0.0f; break;
+      case 5: o.depth_test = false; break;  // the last drawn wins everywhere
+      case 6: o.depth_func = DepthFunc::Always; break;
+      default: break;
+    }
+    total.add(expectAgreement("soup#" + std::to_string(seed) + (soup.camera.ortho ? "o" : "p"),
+                              soup.scene, soup.camera, o));
+  }
+  printAgreement("random soups (all)", total);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Real models from assimp's test set.
+
+TEST(ZBufferMesaAgreement, RealModels) {
+  const char* files[] = {
+      "OBJ/spider.obj",
+      "PLY/Wuson.ply",
+      "STL/Spider_binary.stl",
+      "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
+  };
+  Agreement total;
+  int loaded = 0;
+  for (const char* f : files) {
+    const std::filesystem::path path = std::filesystem::path(HSR_TEST_MODELS) / f;
+    if (!std::filesystem::exists(path)) {
+      std::printf("mesa-agreement %s: missing, skipped\n", f);
+      continue;
+    }
+    SCOPED_TRACE(f);
+    const Scene scene = loadMeshFile(path);
+    ++loaded;
+    // Framed around the model's bounds, near and far fitted to it.
+    const Camera cam = frameBounds(scene.bounds(), 640, 480);
+    for (CullMode cull : {CullMode::None, CullMode::Back}) {
+      RenderOptions o;
+      o.cull = cull;
+      total.add(expectAgreement(f, scene, cam, o));
+    }
+    // The file's own camera, where it has one. 2CylinderEngine's (near 0.05, model ~1600
+    // away) puts every surface at window depth ~0.99999, where float32 and Mesa's 24-bit
+    // buffer both resolve only ~6e-8: which of two near surfaces wins is decided by rounding,
+    // so only coverage is held to the threshold there.
+    if (scene.camera) {
+      expectAgreement(std::string(f) + " (stored camera)", scene, frameScene(scene, 640, 480),
+                      RenderOptions{}, /*check_ids=*/false);
+    }
+  }
+  printAgreement("real models (all)", total);
+  EXPECT_GE(loaded, 3);
+}
+
+}  // namespace
+}  // namespace hsr

@@ -1,0 +1,600 @@
+// src/io: built-in scenes (deterministic, the promised sizes and windings), the assimp import
+// (real models load, hostile ones give one clean hsr::Error) and the writers (.npy parses
+// back, PNG decodes back, pictures and stats JSON say what they should).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <unistd.h>
+
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
+#include "hsr/error.hpp"
+#include "hsr/io.hpp"
+#include "hsr/scene.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hsr::Scene;
+
+const fs::path kModels = HSR_TEST_MODELS;
+
+fs::path tempDir() {
+  const fs::path d = fs::temp_directory_path() / ("hsr_io_test_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+void writeFile(const fs::path& p, const std::string& bytes) {
+  std::ofstream f(p, std::ios::binary);
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::string readFile(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+// Every index in range, every polygon with >= 3 vertices, every position finite, every
+// material valid, objects tiling the polygons in order.
+void expectWellFormed(const Scene& s, const std::string& what) {
+  SCOPED_TRACE(what);
+  ASSERT_GT(s.polygonCount(), 0u);
+  for (const glm::vec3& p : s.positions())
+    ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  for (hsr::PolygonId id = 0; id < s.polygonCount(); ++id) {
+    ASSERT_GE(s.polygon(id).size(), 3u) << "polygon " << id;
+    for (std::uint32_t v : s.polygon(id)) ASSERT_LT(v, s.vertexCount()) << "polygon " << id;
+    ASSERT_LT(s.material(id), s.materials.size()) << "polygon " << id;
+  }
+  std::uint32_t next = 0;
+  for (const hsr::Object& o : s.objects) {
+    EXPECT_EQ(o.first_polygon, next) << o.name;
+    next += o.polygon_count;
+  }
+  EXPECT_EQ(next, s.polygonCount());
+}
+
+void expectIdentical(const Scene& a, const Scene& b) {
+  ASSERT_EQ(a.polygonCount(), b.polygonCount());
+  ASSERT_EQ(a.vertexCount(), b.vertexCount());
+  EXPECT_EQ(std::memcmp(a.positions().data(), b.positions().data(),
+                        a.vertexCount() * sizeof(glm::vec3)),
+            0);
+  for (hsr::PolygonId id = 0; id < a.polygonCount(); ++id) {
+    ASSERT_TRUE(std::ranges::equal(a.polygon(id), b.polygon(id))) << "polygon " << id;
+    ASSERT_EQ(a.material(id), b.material(id)) << "polygon " << id;
+  }
+}
+
+// Signed volume of a closed polyhedron (divergence theorem over fan-triangulated faces):
+// positive when every face is wound counter-clockwise seen from outside.
+double signedVolume(const Scene& s, const hsr::Object& o) {
+  double v = 0.0;
+  for (std::uint32_t id = o.first_polygon; id < o.first_polygon + o.polygon_count; ++id) {
+    const auto poly = s.polygon(id);
+    const glm::dvec3 p0 = s.position(poly[0]);
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+      v += glm::dot(p0, glm::cross(glm::dvec3(s.position(poly[k])),
+                                   glm::dvec3(s.position(poly[k + 1])))) / 6.0;
+  }
+  return v;
+}
+
+const hsr::Object& objectNamed(const Scene& s, const std::string& name) {
+  for (const hsr::Object& o : s.objects)
+    if (o.name == name) return o;
+  ADD_FAILURE() << "no object " << name;
+  return s.objects.front();
+}
+
+// ---------------------------------------------------------------------------------------
+// Built-in scenes
+
+const char* const kSpecs[] = {"demo", "cyclic", "penetrating", "spheres:100", "spheres:1000",
+                              "soup:100:1", "soup:7"};
+
+TEST(BuiltinScenes, EveryBuiltinBuildsWellFormed) {
+  for (const char* spec : kSpecs) {
+    const Scene s = hsr::makeBuiltinScene(spec);
+    expectWellFormed(s, spec);
+    EXPECT_EQ(s.name, spec);
+  }
+}
+
+TEST(BuiltinScenes, SameSpecGivesIdenticalScene) {
+  for (const char* spec : kSpecs) {
+    SCOPED_TRACE(spec);
+    expectIdentical(hsr::makeBuiltinScene(spec), hsr::makeBuiltinScene(spec));
+  }
+}
+
+TEST(BuiltinScenes, ListNamesEveryBuiltin) {
+  std::set<std::string> names;
+  for (const hsr::BuiltinScene& b : hsr::builtinScenes()) {
+    names.insert(std::string(b.name));
+    EXPECT_FALSE(b.summary.empty()) << b.name;
+  }
+  for (const char* n : {"demo", "cyclic", "penetrating", "spheres:N", "soup:N:SEED"})
+    EXPECT_TRUE(names.count(n)) << n;
+}
+
+TEST(BuiltinScenes, SpheresHaveAboutNTriangles) {
+  for (std::size_t n : {100u, 1000u, 12345u, 100000u}) {
+    const Scene s = hsr::makeBuiltinScene("spheres:" + std::to_string(n));
+    EXPECT_EQ(s.triangleCount(), s.polygonCount()) << "spheres are made of triangles";
+    EXPECT_GE(s.triangleCount(), n * 0.9) << n;
+    EXPECT_LE(s.triangleCount(), n * 1.1) << n;
+    // One object per sphere, each with its own vertices, shared within the sphere
+    EXPECT_GE(s.objects.size(), 2u);
+    EXPECT_LT(s.vertexCount(), s.polygonCount());
+  }
+}
+
+TEST(BuiltinScenes, CountSuffixesAreThousandsAndMillions) {
+  EXPECT_EQ(hsr::makeBuiltinScene("spheres:2k").triangleCount(),
+            hsr::makeBuiltinScene("spheres:2000").triangleCount());
+  EXPECT_EQ(hsr::makeBuiltinScene("soup:3k:3").polygonCount(), 3000u);
+  EXPECT_THROW(hsr::makeBuiltinScene("spheres:21M"), hsr::Error);  // over 20M
+}
+
+TEST(BuiltinScenes, SphereTrianglesFaceOutward) {
+  const Scene s = hsr::makeBuiltinScene("spheres:5000");
+  for (const hsr::Object& o : s.objects) {
+    const glm::vec3 c = o.bounds.center();
+    for (std::uint32_t id = o.first_polygon; id < o.first_polygon + o.polygon_count; ++id) {
+      const auto t = s.polygon(id);
+      const glm::vec3 a = s.position(t[0]), b = s.position(t[1]), d = s.position(t[2]);
+      const glm::vec3 n = glm::cross(b - a, d - a);
+      ASSERT_GT(glm::dot(n, (a + b + d) / 3.0f - c), 0.0f) << o.name << " polygon " << id;
+    }
+  }
+}
+
+TEST(BuiltinScenes, DemoSolidsAreClosedAndWoundOutward) {
+  const Scene s = hsr::makeBuiltinScene("demo");
+  for (const char* name : {"convex dodecahedron", "non-convex star prism", "cube behind glass"}) {
+    const hsr::Object& o = objectNamed(s, name);
+    // Shift to the object's centre so the volume does not depend on where it stands
+    Scene local;
+    local.beginObject(name);
+    for (std::uint32_t v = 0; v < o.vertex_count; ++v)
+      local.addVertex(s.position(o.first_vertex + v) - o.bounds.center());
+    for (std::uint32_t id = o.first_polygon; id < o.first_polygon + o.polygon_count; ++id) {
+      std::vector<std::uint32_t> idx;
+      for (std::uint32_t v : s.polygon(id)) idx.push_back(v - o.first_vertex);
+      local.addPolygon(idx, 0);
+    }
+    EXPECT_GT(signedVolume(local, local.objects[0]), 0.1) << name;
+  }
+  // Exactly one translucent material, and it is used
+  int translucent = 0;
+  for (hsr::PolygonId id = 0; id < s.polygonCount(); ++id)
+    translucent += s.materials[s.material(id)].alpha < 1.0f;
+  EXPECT_EQ(translucent, 1);
+  // The dodecahedron keeps its pentagons, the star its concave 10-gons
+  const hsr::Object& dodeca = objectNamed(s, "convex dodecahedron");
+  EXPECT_EQ(dodeca.polygon_count, 12u);
+  EXPECT_EQ(s.polygon(dodeca.first_polygon).size(), 5u);
+  EXPECT_EQ(s.polygon(objectNamed(s, "non-convex star prism").first_polygon).size(), 10u);
+}
+
+// z of the plane through polygon `id` at (x, y).
+float planeZ(const Scene& s, hsr::PolygonId id, glm::vec2 xy) {
+  const auto q = s.polygon(id);
+  const glm::vec3 a = s.position(q[0]);
+  const glm::vec3 n = glm::cross(s.position(q[1]) - a, s.position(q[2]) - a);
+  return a.z - (n.x * (xy.x - a.x) + n.y * (xy.y - a.y)) / n.z;
+}
+
+TEST(BuiltinScenes, CyclicSticksOverlapInACycle) {
+  // Where stick i's centre line crosses stick i+1's (in x,y), stick i is nearer the viewer
+  // (higher z): 0 over 1, 1 over 2, 2 over 0, so no depth order exists.
+  const Scene s = hsr::makeBuiltinScene("cyclic");
+  ASSERT_EQ(s.polygonCount(), 3u);
+  const auto centreLine = [&](hsr::PolygonId id, glm::vec2* p, glm::vec2* d) {
+    const auto q = s.polygon(id);
+    const glm::vec3 a = (s.position(q[0]) + s.position(q[3])) * 0.5f;
+    const glm::vec3 b = (s.position(q[1]) + s.position(q[2])) * 0.5f;
+    *p = {a.x, a.y};
+    *d = glm::vec2(b.x, b.y) - *p;
+  };
+  for (hsr::PolygonId i = 0; i < 3; ++i) {
+    const hsr::PolygonId j = (i + 1) % 3;
+    glm::vec2 p, d, q, e;
+    centreLine(i, &p, &d);
+    centreLine(j, &q, &e);
+    // p + t d = q + u e
+    const float det = d.x * (-e.y) - d.y * (-e.x);
+    ASSERT_NE(det, 0.0f);
+    const glm::vec2 r = q - p;
+    const float t = (r.x * (-e.y) - r.y * (-e.x)) / det;
+    const float u = (d.x * r.y - d.y * r.x) / det;
+    ASSERT_TRUE(t > 0 && t < 1 && u > 0 && u < 1) << "sticks " << i << " and " << j << " cross";
+    const glm::vec2 x = p + t * d;
+    EXPECT_GT(planeZ(s, i, x), planeZ(s, j, x) + 0.05f) << "stick " << i << " over " << j;
+  }
+}
+
+TEST(BuiltinScenes, PenetratingQuadsPierceEachOther) {
+  const Scene s = hsr::makeBuiltinScene("penetrating");
+  ASSERT_EQ(s.polygonCount(), 2u);
+  for (hsr::PolygonId a = 0; a < 2; ++a) {
+    const auto q = s.polygon(a);
+    const glm::vec3 p0 = s.position(q[0]);
+    const glm::vec3 n = glm::cross(s.position(q[1]) - p0, s.position(q[2]) - p0);
+    int above = 0, below = 0;
+    for (std::uint32_t v : s.polygon(1 - a)) {
+      const float side = glm::dot(n, s.position(v) - p0);
+      above += side > 0, below += side < 0;
+    }
+    EXPECT_GT(above, 0) << a;
+    EXPECT_GT(below, 0) << a;
+  }
+}
+
+TEST(BuiltinScenes, SoupDependsOnlyOnNAndSeed) {
+  const Scene a = hsr::makeBuiltinScene("soup:50:1");
+  const Scene b = hsr::makeBuiltinScene("soup:50:2");
+  EXPECT_EQ(a.polygonCount(), 50u);
+  EXPECT_NE(std::memcmp(a.positions().data(), b.positions().data(), 150 * sizeof(glm::vec3)), 0);
+  expectIdentical(hsr::makeBuiltinScene("soup:50"), hsr::makeBuiltinScene("soup:50:1"));
+  // Inside the promised box: centres in [-1,1]^3, corners a little around them
+  for (const glm::vec3& p : a.positions())
+    EXPECT_LT(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}), 1.3f);
+}
+
+TEST(BuiltinScenes, BadSpecsThrowError) {
+  for (const char* spec :
+       {"", "nope", "Demo", "demo:1", "spheres", "spheres:", "spheres:abc", "spheres:0",
+        "spheres:-5", "spheres:+5", "spheres:1e6", "spheres:20000001", "spheres:99999999999999999999",
+        "spheres:10:3", "spheres:5G", "soup", "soup:", "soup:0:1", "soup:10:x", "soup:10:-1",
+        "soup:10:1:2", "soup:30M:1", "cyclic:"}) {
+    EXPECT_THROW(hsr::makeBuiltinScene(spec), hsr::Error) << "'" << spec << "'";
+  }
+  try {
+    hsr::makeBuiltinScene("teapot");
+    FAIL();
+  } catch (const hsr::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown scene 'teapot'"), std::string::npos) << e.what();
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Mesh import
+
+TEST(MeshImport, LoadsRealModels) {
+  for (const char* f : {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl", "OFF/Cube.off",
+                        "glTF2/BoxTextured-glTF/BoxTextured.gltf"}) {
+    const Scene s = hsr::loadMeshFile(kModels / f);
+    expectWellFormed(s, f);
+  }
+}
+
+TEST(MeshImport, PolygonsStayPolygons) {
+  const Scene s = hsr::loadMeshFile(kModels / "OFF/Cube.off");
+  ASSERT_EQ(s.polygonCount(), 6u);
+  for (hsr::PolygonId id = 0; id < 6; ++id) EXPECT_EQ(s.polygon(id).size(), 4u);
+  EXPECT_EQ(s.vertexCount(), 8u);
+}
+
+// A minimal glTF: one triangle mesh placed twice under a translated root, plus a camera.
+void writeTinyGltf(const fs::path& dir) {
+  std::string bin;
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  bin.append(reinterpret_cast<const char*>(pos), sizeof pos);
+  writeFile(dir / "tiny.bin", bin);
+  writeFile(dir / "tiny.gltf", R"({
+    "asset": {"version": "2.0"},
+    "scene": 0,
+    "scenes": [{"nodes": [0]}],
+    "nodes": [
+      {"translation": [10, 0, 0], "children": [1, 2, 3]},
+      {"mesh": 0, "scale": [2, 2, 2]},
+      {"mesh": 0, "translation": [0, 5, 0]},
+      {"camera": 0, "translation": [0, 0, 10]}
+    ],
+    "cameras": [{"type": "perspective",
+                 "perspective": {"yfov": 0.5, "aspectRatio": 2.0, "znear": 0.5, "zfar": 50}}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "buffers": [{"uri": "tiny.bin", "byteLength": 36}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                   "min": [0, 0, 0], "max": [1, 1, 0]}]
+  })");
+}
+
+TEST(MeshImport, AppliesNodeTransformsInNodeOrder) {
+  const fs::path d = tempDir();
+  writeTinyGltf(d);
+  const Scene s = hsr::loadMeshFile(d / "tiny.gltf");
+  ASSERT_EQ(s.polygonCount(), 2u);
+  ASSERT_EQ(s.objects.size(), 2u);
+  // Polygon 0: the first child (scale 2 under translation 10); polygon 1: the second
+  const auto p0 = s.polygon(0), p1 = s.polygon(1);
+  EXPECT_EQ(s.position(p0[1]), glm::vec3(12, 0, 0));
+  EXPECT_EQ(s.position(p0[2]), glm::vec3(10, 2, 0));
+  EXPECT_EQ(s.position(p1[0]), glm::vec3(10, 5, 0));
+  EXPECT_EQ(s.position(p1[2]), glm::vec3(10, 6, 0));
+  // The camera: at its node's origin, looking down its -Z, vertical fov as written
+  ASSERT_TRUE(s.camera.has_value());
+  EXPECT_EQ(s.camera->eye, glm::vec3(10, 0, 10));
+  EXPECT_EQ(s.camera->target, glm::vec3(10, 0, 9));
+  EXPECT_EQ(s.camera->up, glm::vec3(0, 1, 0));
+  EXPECT_NEAR(s.camera->fov_deg, 0.5 * 180.0 / 3.14159265358979, 1e-3);
+  EXPECT_FLOAT_EQ(s.camera->near, 0.5f);
+  EXPECT_LE(s.camera->far, 50.0f);
+  EXPECT_GT(s.camera->far, 11.0f);  // still reaches the whole scene
+  EXPECT_FALSE(s.camera->ortho);
+}
+
+// Hostile or broken input: a clean hsr::Error, or (where assimp makes sense of it) a
+// well-formed scene. Never a crash, a hang, or a non-finite position.
+void expectErrorOrWellFormed(const fs::path& p) {
+  try {
+    const Scene s = hsr::loadMeshFile(p);
+    expectWellFormed(s, p.string());
+  } catch (const hsr::Error& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
+  }
+}
+
+TEST(MeshImport, InvalidModelsNeverCrash) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(kModels / "invalid")) files.push_back(e.path());
+  ASSERT_GE(files.size(), 10u);
+  for (const char* f : {"OFF/invalid.off", "glTF2/IndexOutOfRange/AllIndicesOutOfRange.gltf",
+                        "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb"})
+    files.push_back(kModels / f);
+  for (const fs::path& p : files) expectErrorOrWellFormed(p);
+  // These two must be refused, not loaded
+  EXPECT_THROW(hsr::loadMeshFile(kModels / "invalid/OutOfMemory.off"), hsr::Error);
+  EXPECT_THROW(hsr::loadMeshFile(kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb"),
+               hsr::Error);
+}
+
+TEST(MeshImport, TruncatedBinaryStlThrows) {
+  const fs::path d = tempDir();
+  const std::string stl = readFile(kModels / "STL/Spider_binary.stl");
+  ASSERT_GT(stl.size(), 5000u);
+  writeFile(d / "truncated.stl", stl.substr(0, 5000));
+  EXPECT_THROW(hsr::loadMeshFile(d / "truncated.stl"), hsr::Error);
+  // Header says 1000 triangles, data holds 2
+  std::string shortStl(80, ' ');
+  const std::uint32_t n = 1000;
+  shortStl.append(reinterpret_cast<const char*>(&n), 4);
+  shortStl.append(100, '\0');
+  writeFile(d / "short.stl", shortStl);
+  EXPECT_THROW(hsr::loadMeshFile(d / "short.stl"), hsr::Error);
+}
+
+TEST(MeshImport, GarbageAndEmptyFilesThrowNamingTheFile) {
+  const fs::path d = tempDir();
+  writeFile(d / "garbage.obj", "this is not a mesh\njust some words\n");
+  writeFile(d / "empty.obj", "");
+  writeFile(d / "lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n");
+  writeFile(d / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+  writeFile(d / "inf.obj", "v 0 0 0\nv 1 0 0\nv 1e39 1 0\nf 1 2 3\n");
+  writeFile(d / "index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  writeFile(d / "huge.off", "OFF\n353535235358 6 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  writeFile(d / "huge.ply",
+            "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\n"
+            "property float x\nproperty float y\nproperty float z\nend_header\n");
+  for (const char* f : {"garbage.obj", "empty.obj", "lines.obj", "nan.obj", "inf.obj",
+                        "index.obj", "huge.off", "huge.ply", "missing.obj"}) {
+    try {
+      hsr::loadMeshFile(d / f);
+      ADD_FAILURE() << f << " loaded";
+    } catch (const hsr::Error& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(f), std::string::npos) << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+  }
+  EXPECT_THROW(hsr::loadMeshFile(d), hsr::Error);  // a directory
+  try {
+    hsr::loadMeshFile(d / "nan.obj");
+  } catch (const hsr::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not finite"), std::string::npos) << e.what();
+  }
+}
+
+TEST(LoadScene, ExistingFileWinsOverBuiltin) {
+  const fs::path d = tempDir() / "wins";
+  fs::create_directories(d);
+  writeFile(d / "cyclic", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  const fs::path old = fs::current_path();
+  fs::current_path(d);
+  Scene s;
+  try {
+    s = hsr::loadScene("cyclic");
+  } catch (...) {
+    fs::current_path(old);
+    throw;
+  }
+  fs::current_path(old);
+  EXPECT_EQ(s.polygonCount(), 1u);  // the file, not the three sticks
+  EXPECT_EQ(hsr::loadScene("cyclic").polygonCount(), 3u);
+  EXPECT_EQ(hsr::loadScene((kModels / "OFF/Cube.off").string()).polygonCount(), 6u);
+}
+
+TEST(LoadScene, NeitherFileNorBuiltinIsNamed) {
+  try {
+    hsr::loadScene("no_such_model.obj");
+    FAIL();
+  } catch (const hsr::Error& e) {
+    EXPECT_EQ(std::string(e.what()), "no such file or built-in scene: no_such_model.obj");
+  }
+  EXPECT_THROW(hsr::loadScene("spheres:many"), hsr::Error);
+  EXPECT_THROW(hsr::loadScene(""), hsr::Error);
+}
+
+// ---------------------------------------------------------------------------------------
+// Writers
+
+TEST(Writers, NpyParsesBack) {
+  const fs::path d = tempDir();
+  const float depth[6] = {0.0f, 0.25f, 0.5f, 0.75f, 1.0f, -2.0f};
+  const std::uint32_t ids[6] = {0, 1, 2, 0xFFFFFFFFu, 7, 123456789};
+  hsr::writeNpy(d / "depth.npy", 3, 2, depth);
+  hsr::writeNpy(d / "ids.npy", 3, 2, ids);
+  for (const auto& [file, descr, data] :
+       {std::tuple{"depth.npy", "'<f4'", static_cast<const void*>(depth)},
+        std::tuple{"ids.npy", "'<u4'", static_cast<const void*>(ids)}}) {
+    SCOPED_TRACE(file);
+    const std::string b = readFile(d / file);
+    ASSERT_GE(b.size(), 10u);
+    EXPECT_EQ(b.substr(0, 6), std::string("\x93NUMPY"));
+    EXPECT_EQ(b[6], 1);  // version 1.0
+    EXPECT_EQ(b[7], 0);
+    const std::size_t header_len =
+        static_cast<unsigned char>(b[8]) | static_cast<std::size_t>(static_cast<unsigned char>(b[9])) << 8;
+    ASSERT_LE(10 + header_len, b.size());
+    EXPECT_EQ((10 + header_len) % 64, 0u);  // numpy aligns the data
+    const std::string header = b.substr(10, header_len);
+    EXPECT_EQ(header.back(), '\n');
+    EXPECT_NE(header.find(std::string("'descr': ") + descr), std::string::npos) << header;
+    EXPECT_NE(header.find("'fortran_order': False"), std::string::npos) << header;
+    EXPECT_NE(header.find("'shape': (2, 3)"), std::string::npos) << header;  // (height, width)
+    ASSERT_EQ(b.size(), 10 + header_len + 6 * 4);
+    EXPECT_EQ(std::memcmp(b.data() + 10 + header_len, data, 24), 0);  // little-endian host
+  }
+}
+
+TEST(Writers, PngDecodesBack) {
+  const fs::path d = tempDir();
+  std::vector<std::uint8_t> rgb(5 * 3 * 3);
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<std::uint8_t>(i * 7);
+  hsr::writePng(d / "p.png", 5, 3, 3, rgb.data());
+  int w = 0, h = 0, c = 0;
+  stbi_uc* back = stbi_load((d / "p.png").string().c_str(), &w, &h, &c, 3);
+  ASSERT_NE(back, nullptr);
+  EXPECT_EQ(w, 5);
+  EXPECT_EQ(h, 3);
+  EXPECT_EQ(std::memcmp(back, rgb.data(), rgb.size()), 0);  // first row first
+  stbi_image_free(back);
+}
+
+TEST(Writers, FailedWritesThrowNamingTheFile) {
+  const fs::path bad = tempDir() / "no_such_dir" / "x.png";
+  const std::uint8_t px[3] = {1, 2, 3};
+  const float z = 0.5f;
+  for (int which = 0; which < 2; ++which) {
+    try {
+      if (which == 0) hsr::writePng(bad, 1, 1, 3, px);
+      else hsr::writeNpy(bad, 1, 1, &z);
+      ADD_FAILURE() << which;
+    } catch (const hsr::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("x.png"), std::string::npos) << e.what();
+    }
+  }
+}
+
+hsr::Frame tinyFrame() {
+  hsr::Frame f;
+  f.width = 4;
+  f.height = 1;
+  f.ids = {hsr::kNoPolygon, 0, 1, 2};
+  f.depth = {1.0f, 0.2f, 0.5f, 0.8f};
+  f.overdraw = {0, 1, 2, 4};
+  f.color = {0xFF000000u, 0xFF0000FFu, 0xFF00FF00u, 0xFFFF0000u};  // bytes R,G,B,A
+  return f;
+}
+
+TEST(Writers, DepthPictureIsLightNearDarkFarBlackBehind) {
+  const std::vector<std::uint8_t> p = hsr::depthPicture(tinyFrame());
+  ASSERT_EQ(p.size(), 12u);
+  EXPECT_EQ(p[0], 0);                 // background
+  EXPECT_EQ(p[3], 255);               // nearest
+  EXPECT_GT(p[6], p[9]);              // nearer is lighter
+  EXPECT_GT(p[9], 0);                 // farthest still visible
+  EXPECT_EQ(p[9], p[10]);             // grey
+}
+
+TEST(Writers, IdPictureIsBlackOnlyWhereNothingWasDrawn) {
+  const std::vector<std::uint8_t> p = hsr::idPicture(tinyFrame());
+  ASSERT_EQ(p.size(), 12u);
+  EXPECT_EQ(p[0] + p[1] + p[2], 0);
+  std::set<std::vector<std::uint8_t>> colours;
+  for (int k = 1; k < 4; ++k) {
+    EXPECT_GT(std::max({p[3 * k], p[3 * k + 1], p[3 * k + 2]}), 150) << "bright";
+    colours.insert({p[3 * k], p[3 * k + 1], p[3 * k + 2]});
+  }
+  EXPECT_EQ(colours.size(), 3u);
+}
+
+TEST(Writers, OverdrawPictureRampsFromBlackToWhite) {
+  const std::vector<std::uint8_t> p = hsr::overdrawPicture(tinyFrame());
+  ASSERT_EQ(p.size(), 12u);
+  EXPECT_EQ(p[0] + p[1] + p[2], 0);
+  EXPECT_GT(p[3] + p[4] + p[5], 0);
+  EXPECT_EQ(p[9] + p[10] + p[11], 3 * 255);  // the maximum is white
+}
+
+TEST(Writers, PictureByName) {
+  const hsr::Frame f = tinyFrame();
+  const std::vector<std::uint8_t> c = hsr::picture(f, "color");
+  EXPECT_EQ(c, (std::vector<std::uint8_t>{0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0, 255}));
+  EXPECT_EQ(hsr::picture(f, "depth"), hsr::depthPicture(f));
+  EXPECT_EQ(hsr::picture(f, "ids"), hsr::idPicture(f));
+  EXPECT_EQ(hsr::picture(f, "overdraw"), hsr::overdrawPicture(f));
+  EXPECT_THROW(hsr::picture(f, "smell"), hsr::Error);
+  // A frame whose buffers were not filled gives black, never a read past the end
+  hsr::Frame empty;
+  empty.width = 2;
+  empty.height = 2;
+  for (const char* k : {"color", "depth", "ids", "overdraw"})
+    EXPECT_EQ(hsr::picture(empty, k), std::vector<std::uint8_t>(12, 0)) << k;
+}
+
+TEST(Writers, StatsJsonHasEveryCounter) {
+  hsr::Frame f = tinyFrame();
+  f.stats.polygons_in = 3;
+  f.stats.fragments_tested = 42;
+  f.stats.addStage("raster", 1.5);
+  f.stats.addStage("bin", 0.5);
+  const auto j = nlohmann::json::parse(hsr::statsJson(f, "demo", "zbuffer"));
+  EXPECT_EQ(j["scene"], "demo");
+  EXPECT_EQ(j["algorithm"], "zbuffer");
+  EXPECT_EQ(j["width"], 4);
+  EXPECT_EQ(j["height"], 1);
+  EXPECT_EQ(j["polygons_in"], 3);
+  EXPECT_EQ(j["fragments_tested"], 42);
+  for (const char* k : {"triangles_in", "degenerate_dropped", "culled_frustum", "culled_backface",
+                        "clipped", "clipped_away", "triangles_rasterized", "fragments_written",
+                        "state_bytes"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  ASSERT_EQ(j["stages"].size(), 2u);
+  EXPECT_EQ(j["stages"][0]["name"], "raster");
+  EXPECT_DOUBLE_EQ(j["stages"][0]["ms"].get<double>(), 1.5);
+  EXPECT_DOUBLE_EQ(j["total_ms"].get<double>(), f.stats.totalMs());
+  // A scene named by a non-UTF-8 path still gives valid JSON
+  EXPECT_NO_THROW(nlohmann::json::parse(hsr::statsJson(f, "bad\xff.obj", "zbuffer")));
+}
+
+}  // namespace
