@@ -17,7 +17,6 @@
 #include <vector>
 
 #include <unistd.h>
-
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
@@ -81,9 +80,9 @@ void expectWellFormed(const Scene& s, const std::string& what) {
 void expectIdentical(const Scene& a, const Scene& b) {
   ASSERT_EQ(a.polygonCount(), b.polygonCount());
   ASSERT_EQ(a.vertexCount(), b.vertexCount());
-  EXPECT_EQ(std::memcmp(a.positions().data(), b.positions().data(),
-                        a.vertexCount() * sizeof(glm::vec3)),
-            0);
+  EXPECT_EQ(
+      std::memcmp(a.positions().data(), b.positions().data(), a.vertexCount() * sizeof(glm::vec3)),
+      0);
   for (hsr::PolygonId id = 0; id < a.polygonCount(); ++id) {
     ASSERT_TRUE(std::ranges::equal(a.polygon(id), b.polygon(id))) << "polygon " << id;
     ASSERT_EQ(a.material(id), b.material(id)) << "polygon " << id;
@@ -99,7 +98,8 @@ double signedVolume(const Scene& s, const hsr::Object& o) {
     const glm::dvec3 p0 = s.position(poly[0]);
     for (std::size_t k = 1; k + 1 < poly.size(); ++k)
       v += glm::dot(p0, glm::cross(glm::dvec3(s.position(poly[k])),
-                                   glm::dvec3(s.position(poly[k + 1])))) / 6.0;
+                                   glm::dvec3(s.position(poly[k + 1])))) /
+           6.0;
   }
   return v;
 }
@@ -114,8 +114,8 @@ const hsr::Object& objectNamed(const Scene& s, const std::string& name) {
 // ---------------------------------------------------------------------------------------
 // Built-in scenes
 
-const char* const kSpecs[] = {"demo", "cyclic", "penetrating", "spheres:100", "spheres:1000",
-                              "soup:100:1", "soup:7"};
+const char* const kSpecs[] = {"demo",         "cyclic",     "penetrating", "spheres:100",
+                              "spheres:1000", "soup:100:1", "soup:7"};
 
 TEST(BuiltinScenes, EveryBuiltinBuildsWellFormed) {
   for (const char* spec : kSpecs) {
@@ -268,11 +268,29 @@ TEST(BuiltinScenes, SoupDependsOnlyOnNAndSeed) {
 }
 
 TEST(BuiltinScenes, BadSpecsThrowError) {
-  for (const char* spec :
-       {"", "nope", "Demo", "demo:1", "spheres", "spheres:", "spheres:abc", "spheres:0",
-        "spheres:-5", "spheres:+5", "spheres:1e6", "spheres:20000001", "spheres:99999999999999999999",
-        "spheres:10:3", "spheres:5G", "soup", "soup:", "soup:0:1", "soup:10:x", "soup:10:-1",
-        "soup:10:1:2", "soup:30M:1", "cyclic:"}) {
+  for (const char* spec : {"",
+                           "nope",
+                           "Demo",
+                           "demo:1",
+                           "spheres",
+                           "spheres:",
+                           "spheres:abc",
+                           "spheres:0",
+                           "spheres:-5",
+                           "spheres:+5",
+                           "spheres:1e6",
+                           "spheres:20000001",
+                           "spheres:99999999999999999999",
+                           "spheres:10:3",
+                           "spheres:5G",
+                           "soup",
+                           "soup:",
+                           "soup:0:1",
+                           "soup:10:x",
+                           "soup:10:-1",
+                           "soup:10:1:2",
+                           "soup:30M:1",
+                           "cyclic:"}) {
     EXPECT_THROW(hsr::makeBuiltinScene(spec), hsr::Error) << "'" << spec << "'";
   }
   try {
@@ -374,8 +392,9 @@ TEST(MeshImport, InvalidModelsNeverCrash) {
   for (const fs::path& p : files) expectErrorOrWellFormed(p);
   // These two must be refused, not loaded
   EXPECT_THROW(hsr::loadMeshFile(kModels / "invalid/OutOfMemory.off"), hsr::Error);
-  EXPECT_THROW(hsr::loadMeshFile(kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb"),
-               hsr::Error);
+  EXPECT_THROW(
+      hsr::loadMeshFile(kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb"),
+      hsr::Error);
 }
 
 TEST(MeshImport, TruncatedBinaryStlThrows) {
@@ -405,8 +424,8 @@ TEST(MeshImport, GarbageAndEmptyFilesThrowNamingTheFile) {
   writeFile(d / "huge.ply",
             "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\n"
             "property float x\nproperty float y\nproperty float z\nend_header\n");
-  for (const char* f : {"garbage.obj", "empty.obj", "lines.obj", "nan.obj", "inf.obj",
-                        "index.obj", "huge.off", "huge.ply", "missing.obj"}) {
+  for (const char* f : {"garbage.obj", "empty.obj", "lines.obj", "nan.obj", "inf.obj", "index.obj",
+                        "huge.off", "huge.ply", "missing.obj"}) {
     try {
       hsr::loadMeshFile(d / f);
       ADD_FAILURE() << f << " loaded";
@@ -472,8 +491,8 @@ TEST(Writers, NpyParsesBack) {
     EXPECT_EQ(b.substr(0, 6), std::string("\x93NUMPY"));
     EXPECT_EQ(b[6], 1);  // version 1.0
     EXPECT_EQ(b[7], 0);
-    const std::size_t header_len =
-        static_cast<unsigned char>(b[8]) | static_cast<std::size_t>(static_cast<unsigned char>(b[9])) << 8;
+    const std::size_t header_len = static_cast<unsigned char>(b[8]) |
+                                   static_cast<std::size_t>(static_cast<unsigned char>(b[9])) << 8;
     ASSERT_LE(10 + header_len, b.size());
     EXPECT_EQ((10 + header_len) % 64, 0u);  // numpy aligns the data
     const std::string header = b.substr(10, header_len);
@@ -506,8 +525,10 @@ TEST(Writers, FailedWritesThrowNamingTheFile) {
   const float z = 0.5f;
   for (int which = 0; which < 2; ++which) {
     try {
-      if (which == 0) hsr::writePng(bad, 1, 1, 3, px);
-      else hsr::writeNpy(bad, 1, 1, &z);
+      if (which == 0)
+        hsr::writePng(bad, 1, 1, 3, px);
+      else
+        hsr::writeNpy(bad, 1, 1, &z);
       ADD_FAILURE() << which;
     } catch (const hsr::Error& e) {
       EXPECT_NE(std::string(e.what()).find("x.png"), std::string::npos) << e.what();
@@ -529,11 +550,11 @@ hsr::Frame tinyFrame() {
 TEST(Writers, DepthPictureIsLightNearDarkFarBlackBehind) {
   const std::vector<std::uint8_t> p = hsr::depthPicture(tinyFrame());
   ASSERT_EQ(p.size(), 12u);
-  EXPECT_EQ(p[0], 0);                 // background
-  EXPECT_EQ(p[3], 255);               // nearest
-  EXPECT_GT(p[6], p[9]);              // nearer is lighter
-  EXPECT_GT(p[9], 0);                 // farthest still visible
-  EXPECT_EQ(p[9], p[10]);             // grey
+  EXPECT_EQ(p[0], 0);      // background
+  EXPECT_EQ(p[3], 255);    // nearest
+  EXPECT_GT(p[6], p[9]);   // nearer is lighter
+  EXPECT_GT(p[9], 0);      // farthest still visible
+  EXPECT_EQ(p[9], p[10]);  // grey
 }
 
 TEST(Writers, IdPictureIsBlackOnlyWhereNothingWasDrawn) {
@@ -585,9 +606,9 @@ TEST(Writers, StatsJsonHasEveryCounter) {
   EXPECT_EQ(j["height"], 1);
   EXPECT_EQ(j["polygons_in"], 3);
   EXPECT_EQ(j["fragments_tested"], 42);
-  for (const char* k : {"triangles_in", "degenerate_dropped", "culled_frustum", "culled_backface",
-                        "clipped", "clipped_away", "triangles_rasterized", "fragments_written",
-                        "state_bytes"})
+  for (const char* k :
+       {"triangles_in", "degenerate_dropped", "culled_frustum", "culled_backface", "clipped",
+        "clipped_away", "triangles_rasterized", "fragments_written", "state_bytes"})
     EXPECT_TRUE(j.contains(k)) << k;
   ASSERT_EQ(j["stages"].size(), 2u);
   EXPECT_EQ(j["stages"][0]["name"], "raster");

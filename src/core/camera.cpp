@@ -2,6 +2,7 @@
 
 #include "hsr/camera.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -72,19 +73,35 @@ Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, b
   c.fov_deg = fov_deg;
   c.ortho = ortho;
   if (bounds.empty()) return c;
-  // Look from a three-quarter direction, far enough that the bounding sphere fits the
-  // narrower of the two fields of view, with 5% margin.
+  // Look from a three-quarter direction, just far enough that all 8 corners of the bounds
+  // project inside the view (with a 6% margin): for a corner at (x, y) across the view and z
+  // towards the eye, the eye distance d must satisfy |x| <= (d - z) tan(half fov x), and
+  // likewise for y.
   const float r = std::max(bounds.radius(), 1e-6f);
   const float aspect = static_cast<float>(width) / static_cast<float>(std::max(height, 1));
-  const float half_v = glm::radians(fov_deg) * 0.5f;
-  const float half_h = std::atan(std::tan(half_v) * std::min(aspect, 1.0f));
-  const float dist = r / std::sin(std::min(half_v, half_h)) * 1.05f;
+  const float tan_v = std::tan(glm::radians(fov_deg) * 0.5f);
+  const float tan_h = tan_v * aspect;
+  const glm::vec3 forward = glm::normalize(glm::vec3(0.55f, 0.45f, 1.0f));  // target -> eye
+  const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), forward));
+  const glm::vec3 up = glm::cross(forward, right);
   c.target = bounds.center();
-  c.eye = c.target + glm::normalize(glm::vec3(0.55f, 0.45f, 1.0f)) * dist;
+  float dist = 0.0f, half_w = 0.0f, half_h = 0.0f;
+  for (int k = 0; k < 8; ++k) {
+    const glm::vec3 corner((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
+                           (k & 4) ? bounds.hi.z : bounds.lo.z);
+    const glm::vec3 d = corner - c.target;
+    const float x = std::abs(glm::dot(d, right)), y = std::abs(glm::dot(d, up));
+    const float z = glm::dot(d, forward);
+    dist = std::max({dist, z + x / tan_h * 1.06f, z + y / tan_v * 1.06f});
+    half_w = std::max(half_w, x);
+    half_h = std::max(half_h, y);
+  }
+  dist = std::max(dist, r * 1e-3f);
+  c.eye = c.target + forward * dist;
   c.up = glm::vec3(0.0f, 1.0f, 0.0f);
   c.near = std::max(dist - 1.5f * r, dist * 1e-3f);
   c.far = dist + 1.5f * r;
-  c.ortho_half_height = r * 1.05f / std::min(aspect, 1.0f);
+  c.ortho_half_height = std::max({half_h, half_w / aspect, r * 1e-3f}) * 1.06f;
   return c;
 }
 

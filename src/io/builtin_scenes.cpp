@@ -52,12 +52,18 @@ glm::vec3 hsv(float h, float s, float v) {
   const float f = h - static_cast<float>(sector);
   const float p = v * (1.0f - s), q = v * (1.0f - s * f), t = v * (1.0f - s * (1.0f - f));
   switch (sector) {
-    case 0: return {v, t, p};
-    case 1: return {q, v, p};
-    case 2: return {p, v, t};
-    case 3: return {p, q, v};
-    case 4: return {t, p, v};
-    default: return {v, p, q};
+    case 0:
+      return {v, t, p};
+    case 1:
+      return {q, v, p};
+    case 2:
+      return {p, v, t};
+    case 3:
+      return {p, q, v};
+    case 4:
+      return {t, p, v};
+    default:
+      return {v, p, q};
   }
 }
 
@@ -89,8 +95,7 @@ std::uint64_t parseCount(std::string_view text, std::string_view spec, std::stri
   if (text.empty()) throw bad("is missing");
   std::uint64_t n = 0;
   for (char c : text) {
-    if (c < '0' || c > '9')
-      throw bad("'" + std::string(text) + "' is not a whole number");
+    if (c < '0' || c > '9') throw bad("'" + std::string(text) + "' is not a whole number");
     n = n * 10 + static_cast<std::uint64_t>(c - '0');
     if (n * scale > max) throw bad("is too large (at most " + std::to_string(max) + ")");
   }
@@ -119,7 +124,8 @@ void addConvexPolyhedron(Scene& scene, const std::vector<glm::vec3>& vertices,
                          const std::vector<glm::vec3>& face_normals, glm::vec3 offset,
                          std::uint32_t material) {
   std::vector<std::uint32_t> local(vertices.size());
-  for (std::size_t i = 0; i < vertices.size(); ++i) local[i] = scene.addVertex(vertices[i] + offset);
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    local[i] = scene.addVertex(vertices[i] + offset);
   for (const glm::vec3& n : face_normals) {
     // Collect the face: the vertices at the maximal distance along n
     float best = -1e30f;
@@ -150,8 +156,8 @@ void addCube(Scene& scene, float half, glm::vec3 offset, std::uint32_t material)
   for (int i = 0; i < 8; ++i)
     v.emplace_back(i & 1 ? half : -half, i & 2 ? half : -half, i & 4 ? half : -half);
   addConvexPolyhedron(scene, v,
-                      {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
-                      offset, material);
+                      {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}, offset,
+                      material);
 }
 
 // A regular dodecahedron of circumradius `radius`: 12 pentagons (polygons stay polygons).
@@ -319,11 +325,12 @@ SphereShape chooseSphere(std::uint64_t target, std::uint64_t spheres) {
   for (int stacks = 2; stacks <= 4096; ++stacks) {
     const double want = per / (2.0 * (stacks - 1));
     if (want < 2.5 && stacks > 2) break;
-    for (int slices = std::max(3, static_cast<int>(want)); slices <= std::max(3, static_cast<int>(want) + 1);
-         ++slices) {
+    for (int slices = std::max(3, static_cast<int>(want));
+         slices <= std::max(3, static_cast<int>(want) + 1); ++slices) {
       const SphereShape s{stacks, slices};
       const double total = static_cast<double>(s.triangles() * spheres);
-      const double error = std::abs(total - static_cast<double>(target)) / static_cast<double>(target);
+      const double error =
+          std::abs(total - static_cast<double>(target)) / static_cast<double>(target);
       const double roundness = std::abs(std::log(slices / (2.0 * stacks)));
       // Anything within 2% is as good as exact; then the roundest wins
       const double score = std::max(error, 0.02) * 100.0 + roundness;
@@ -338,8 +345,9 @@ Scene makeSpheres(std::uint64_t n) {
   // one along the three-quarter view direction of frameBounds, and a little aside so that it
   // peeks out. Most rays from that camera cross two spheres: a depth complexity of about 4.
   constexpr double kTrianglesPerSphere = 1500.0;  // enough spheres for frustum culling to bite
-  const int grid = n < 48 ? 0 : std::max(1, static_cast<int>(std::sqrt(n / (2.0 * kTrianglesPerSphere))));
-  const std::uint64_t spheres = grid == 0 ? 1 : 2ull * grid * grid;
+  const int layers = n < 48 ? 1 : 2;              // below 48 triangles: a single sphere
+  const int grid = std::max(1, static_cast<int>(std::sqrt(n / (layers * kTrianglesPerSphere))));
+  const std::uint64_t spheres = static_cast<std::uint64_t>(layers) * grid * grid;
   const SphereShape shape = chooseSphere(n, spheres);
 
   // The unit sphere, computed once and shared by every sphere (y is the polar axis)
@@ -367,14 +375,14 @@ Scene makeSpheres(std::uint64_t n) {
   scene.objects.reserve(spheres);
   constexpr float kRadius = 1.0f, kSpacing = 2.05f;  // nearly touching in a layer
   const float half = (grid - 1) * kSpacing * 0.5f;
-  const glm::vec3 kBehind = -2.4f * glm::normalize(glm::vec3(0.55f, 0.45f, 1.0f)) +
-                            glm::vec3(0.25f, -0.25f, 0.0f);
+  const glm::vec3 behind =
+      -2.4f * glm::normalize(glm::vec3(0.55f, 0.45f, 1.0f)) + glm::vec3(0.25f, -0.25f, 0.0f);
   for (std::uint64_t s = 0; s < spheres; ++s) {
-    const int layer = grid == 0 ? 0 : static_cast<int>(s / (grid * grid));
-    const int cell = grid == 0 ? 0 : static_cast<int>(s % (grid * grid));
-    const int row = grid == 0 ? 0 : cell / grid, col = grid == 0 ? 0 : cell % grid;
+    const int layer = static_cast<int>(s / (grid * grid));
+    const int cell = static_cast<int>(s % (grid * grid));
+    const int row = cell / grid, col = cell % grid;
     const glm::vec3 center = glm::vec3(col * kSpacing - half, row * kSpacing - half, 0.0f) +
-                             static_cast<float>(layer) * kBehind;
+                             static_cast<float>(layer) * behind;
     // Golden-ratio hues: neighbours always differ
     const std::uint32_t mat = scene.addMaterial(
         {hsv(static_cast<float>(std::fmod(s * 0.6180339887498949, 1.0)), 0.65f, 0.95f), 1.0f});
@@ -406,15 +414,23 @@ Scene makeSoup(std::uint64_t n, std::uint64_t seed) {
   // A palette of random colours rather than one material per triangle (20M materials would
   // cost more than the triangles)
   constexpr int kPalette = 64;
-  for (int i = 0; i < kPalette; ++i)
-    scene.addMaterial({hsv(rng.uniform(), rng.uniform(0.45f, 0.9f), rng.uniform(0.7f, 1.0f)), 1.0f});
+  // (Random numbers are drawn one statement at a time: the order in which a call's
+  // arguments are evaluated differs between compilers.)
+  const auto point = [&rng](float lo, float hi) {
+    const float x = rng.uniform(lo, hi);
+    const float y = rng.uniform(lo, hi);
+    const float z = rng.uniform(lo, hi);
+    return glm::vec3(x, y, z);
+  };
+  for (int i = 0; i < kPalette; ++i) {
+    const glm::vec3 h = point(0.0f, 1.0f);
+    scene.addMaterial({hsv(h.x, 0.45f + 0.45f * h.y, 0.7f + 0.3f * h.z), 1.0f});
+  }
   scene.beginObject("soup");
   for (std::uint64_t t = 0; t < n; ++t) {
-    const glm::vec3 c(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    const glm::vec3 c = point(-1.0f, 1.0f);
     std::array<std::uint32_t, 3> v{};
-    for (std::uint32_t& k : v)
-      k = scene.addVertex(c + size * glm::vec3(rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f),
-                                               rng.uniform(-0.5f, 0.5f)));
+    for (std::uint32_t& k : v) k = scene.addVertex(c + size * point(-0.5f, 0.5f));
     scene.addPolygon(v, static_cast<std::uint32_t>(rng.next() % kPalette));
   }
   return scene;

@@ -10,20 +10,20 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <new>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include <assimp/GltfMaterial.h>
-#include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 #include <glm/geometric.hpp>
 
 #include "hsr/error.hpp"
@@ -69,8 +69,6 @@ glm::vec3 transformPoint(const aiMatrix4x4& m, const aiVector3D& p) {
           static_cast<float>(m.c1 * x + m.c2 * y + m.c3 * z + m.c4)};
 }
 
-bool isIdentity(const aiMatrix4x4& m) { return m.IsIdentity(); }
-
 float clamp01(float v, float fallback) {
   return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : fallback;
 }
@@ -87,13 +85,15 @@ Material convertMaterial(const aiMaterial* m) {
     out.alpha = clamp01(c.a, 1.0f);
     have_alpha = true;
     aiString mode;
-    if (m->Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string_view(mode.C_Str()) == "OPAQUE")
+    if (m->Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS &&
+        std::string_view(mode.C_Str()) == "OPAQUE")
       out.alpha = 1.0f;
   } else if (m->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) {
     out.color = {clamp01(c.r, 0.8f), clamp01(c.g, 0.8f), clamp01(c.b, 0.8f)};
   }
   float opacity = 1.0f;
-  if (!have_alpha && m->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) out.alpha = clamp01(opacity, 1.0f);
+  if (!have_alpha && m->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS)
+    out.alpha = clamp01(opacity, 1.0f);
   // Opacity 0 is what several exporters write for "opaque" (OBJ's "d 0"); an invisible
   // material is never what a file meant to show
   if (out.alpha <= 0.0f) out.alpha = 1.0f;
@@ -153,8 +153,7 @@ std::optional<SceneCamera> gltfCamera(const aiScene* ai, const Scene& scene) {
     // Clip planes: glTF may leave zfar out (an infinite projection); fit what is missing to
     // the scene's bounds
     const Bounds b = scene.bounds();
-    const float reach = b.empty() ? 100.0f
-                                  : glm::length(b.center() - s.eye) + 1.5f * b.radius();
+    const float reach = b.empty() ? 100.0f : glm::length(b.center() - s.eye) + 1.5f * b.radius();
     s.far = cam->mClipPlaneFar;
     s.near = cam->mClipPlaneNear;
     if (!std::isfinite(s.far) || !(s.far > 0.0f)) s.far = std::max(reach, 1e-3f);
@@ -193,10 +192,7 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
     auto [node, transform] = stack.back();
     stack.pop_back();
     if (++nodes_seen > kMaxNodes) throw Error(file + ": too large (over 10M scene nodes)");
-    if (!finite(transform))
-      throw Error(file + ": node '" + std::string(node->mName.C_Str()) +
-                  "' has a non-finite transform");
-    const bool identity = isIdentity(transform);
+    const bool identity = transform.IsIdentity();
 
     for (unsigned k = 0; k < node->mNumMeshes && node->mMeshes; ++k) {
       const unsigned mesh_index = node->mMeshes[k];
@@ -249,13 +245,13 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
                         " but the mesh has " + std::to_string(mesh->mNumVertices));
           if (remap[v] == kUnset) {
             const aiVector3D& raw = mesh->mVertices[v];
-            const glm::vec3 p = identity ? glm::vec3(raw.x, raw.y, raw.z)
-                                         : transformPoint(transform, raw);
+            const glm::vec3 p =
+                identity ? glm::vec3(raw.x, raw.y, raw.z) : transformPoint(transform, raw);
             if (!finite(p))
-              throw Error(file + ": vertex " + std::to_string(v) + " of mesh " +
-                          std::to_string(mesh_index) + " is not finite" +
-                          (finite(glm::vec3(raw.x, raw.y, raw.z)) ? " after its node's transform"
-                                                                  : ""));
+              throw Error(
+                  file + ": vertex " + std::to_string(v) + " of mesh " +
+                  std::to_string(mesh_index) + " is not finite" +
+                  (finite(glm::vec3(raw.x, raw.y, raw.z)) ? " after its node's transform" : ""));
             remap[v] = scene.addVertex(p);
           }
           local.push_back(remap[v]);
@@ -424,12 +420,11 @@ Scene loadMeshFile(const fs::path& path) {
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
     // Read without post-processing, check, then post-process: no triangulation, so polygons
     // stay polygons and ids stay in file order
-    if (!importer.ReadFile(file, 0))
-      throw assimpFailure(file, importer.GetErrorString());
+    if (!importer.ReadFile(file, 0)) throw assimpFailure(file, importer.GetErrorString());
     preflight(importer.GetScene(), file);
-    const aiScene* ai = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure |
-                                                     aiProcess_RemoveComponent |
-                                                     aiProcess_JoinIdenticalVertices);
+    const aiScene* ai =
+        importer.ApplyPostProcessing(aiProcess_ValidateDataStructure | aiProcess_RemoveComponent |
+                                     aiProcess_JoinIdenticalVertices);
     if (!ai) throw assimpFailure(file, importer.GetErrorString());
     return convertScene(ai, path);
   } catch (const Error&) {

@@ -62,7 +62,14 @@ void writeNpyData(const std::filesystem::path& path, int width, int height, cons
   header.append(total - kPrefix - header.size() - 1, ' ');
   header.push_back('\n');
   const auto header_len = static_cast<std::uint16_t>(header.size());
-  const unsigned char prefix[kPrefix] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0,
+  const unsigned char prefix[kPrefix] = {0x93,
+                                         'N',
+                                         'U',
+                                         'M',
+                                         'P',
+                                         'Y',
+                                         1,
+                                         0,
                                          static_cast<unsigned char>(header_len & 0xFF),
                                          static_cast<unsigned char>(header_len >> 8)};
 
@@ -109,12 +116,24 @@ void hsvToRgb8(float h, float s, float v, std::uint8_t* out) {
   const float p = v * (1.0f - s), q = v * (1.0f - s * f), t = v * (1.0f - s * (1.0f - f));
   float r = v, g = t, b = p;
   switch (sector) {
-    case 0: r = v, g = t, b = p; break;
-    case 1: r = q, g = v, b = p; break;
-    case 2: r = p, g = v, b = t; break;
-    case 3: r = p, g = q, b = v; break;
-    case 4: r = t, g = p, b = v; break;
-    default: r = v, g = p, b = q; break;
+    case 0:
+      r = v, g = t, b = p;
+      break;
+    case 1:
+      r = q, g = v, b = p;
+      break;
+    case 2:
+      r = p, g = v, b = t;
+      break;
+    case 3:
+      r = p, g = q, b = v;
+      break;
+    case 4:
+      r = t, g = p, b = v;
+      break;
+    default:
+      r = v, g = p, b = q;
+      break;
   }
   out[0] = static_cast<std::uint8_t>(std::lround(std::clamp(r, 0.0f, 1.0f) * 255.0f));
   out[1] = static_cast<std::uint8_t>(std::lround(std::clamp(g, 0.0f, 1.0f) * 255.0f));
@@ -124,9 +143,11 @@ void hsvToRgb8(float h, float s, float v, std::uint8_t* out) {
 // Heatmap ramp for t in [0,1]: blue, green, yellow, red, white (brightness rises steadily,
 // so the order reads without the hues).
 void heat(float t, std::uint8_t* out) {
-  static constexpr float kStops[5][3] = {
-      {0.13f, 0.25f, 0.95f}, {0.10f, 0.75f, 0.30f}, {0.98f, 0.88f, 0.15f},
-      {0.95f, 0.20f, 0.12f}, {1.00f, 1.00f, 1.00f}};
+  static constexpr float kStops[5][3] = {{0.13f, 0.25f, 0.95f},
+                                         {0.10f, 0.75f, 0.30f},
+                                         {0.98f, 0.88f, 0.15f},
+                                         {0.95f, 0.20f, 0.12f},
+                                         {1.00f, 1.00f, 1.00f}};
   t = std::clamp(t, 0.0f, 1.0f) * 4.0f;
   const int i = std::min(static_cast<int>(t), 3);
   const float f = t - static_cast<float>(i);
@@ -151,8 +172,7 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
   if (static_cast<long long>(width) * channels > 0x7FFFFFFF)
     throw Error(path.string() + ": image too wide for PNG");
   errno = 0;
-  if (stbi_write_png(path.string().c_str(), width, height, channels, pixels, width * channels) ==
-      0)
+  if (stbi_write_png(path.string().c_str(), width, height, channels, pixels, width * channels) == 0)
     throw Error(path.string() + ": cannot write PNG" + systemReason());
 }
 
@@ -160,8 +180,7 @@ void writeNpy(const std::filesystem::path& path, int width, int height, const fl
   writeNpyData(path, width, height, data, "<f4");
 }
 
-void writeNpy(const std::filesystem::path& path, int width, int height,
-              const std::uint32_t* data) {
+void writeNpy(const std::filesystem::path& path, int width, int height, const std::uint32_t* data) {
   writeNpyData(path, width, height, data, "<u4");
 }
 
