@@ -150,18 +150,6 @@ struct PolygonInfo {
   bool degenerate;
 };
 
-glm::dvec3 newellNormal(const Scene& scene, std::span<const std::uint32_t> poly) {
-  glm::dvec3 n(0.0);
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const glm::dvec3 a(scene.position(poly[i]));
-    const glm::dvec3 b(scene.position(poly[(i + 1) % poly.size()]));
-    n.x += (a.y - b.y) * (a.z + b.z);
-    n.y += (a.z - b.z) * (a.x + b.x);
-    n.z += (a.x - b.x) * (a.y + b.y);
-  }
-  return n;
-}
-
 std::uint32_t packColor(glm::vec3 c, float alpha) {
   auto q = [](float v) {
     v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;

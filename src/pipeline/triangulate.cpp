@@ -12,7 +12,17 @@
 namespace hsr::detail {
 namespace {
 
-// Newell's method: a robust normal for any (even non-planar) polygon.
+double cross2(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+bool pointInTriangle(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b,
+                     const glm::dvec2& c) {
+  return cross2(a, b, p) >= 0.0 && cross2(b, c, p) >= 0.0 && cross2(c, a, p) >= 0.0;
+}
+
+}  // namespace
+
 glm::dvec3 newellNormal(const Scene& scene, std::span<const std::uint32_t> poly) {
   glm::dvec3 n(0.0);
   for (std::size_t i = 0; i < poly.size(); ++i) {
@@ -24,17 +34,6 @@ glm::dvec3 newellNormal(const Scene& scene, std::span<const std::uint32_t> poly)
   }
   return n;
 }
-
-double cross2(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-}
-
-bool pointInTriangle(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b,
-                     const glm::dvec2& c) {
-  return cross2(a, b, p) >= 0.0 && cross2(b, c, p) >= 0.0 && cross2(c, a, p) >= 0.0;
-}
-
-}  // namespace
 
 void triangulatePolygon(const Scene& scene, PolygonId id, std::vector<Triangle>& out) {
   const std::span<const std::uint32_t> poly = scene.polygon(id);
