@@ -182,8 +182,11 @@ int main(int argc, char** argv) {
       auto* bm = benchmark::RegisterBenchmark((std::string(algo) + "/" + b.label).c_str(),
                                               ours ? runZBuffer : runLlvmpipe, &b);
       bm->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
-      if (huge) bm->Iterations(3);
-      else bm->MinTime(0.3);
+      if (huge) {
+        bm->Iterations(3);  // a frame of 1M triangles takes long enough on its own
+      } else {
+        bm->MinTime(0.3);
+      }
     }
   }
 
@@ -205,11 +208,12 @@ int main(int argc, char** argv) {
     const double scene_bytes = b.scene ? static_cast<double>(b.scene->memoryBytes()) : 0.0;
     char ratio[32] = "-";
     if (ours > 0 && mesa > 0) std::snprintf(ratio, sizeof ratio, "%.2f", mesa / ours);
-    std::printf("threads=%d  %-16s %12.3f %12.3f %10s %14.2f %14.1f\n", g_threads,
-                b.label.c_str(), ours, mesa, ratio, static_cast<double>(b.state_bytes) / px,
+    std::printf("threads=%d  %-16s %12.3f %12.3f %10s %14.2f %14.1f\n", g_threads, b.label.c_str(),
+                ours, mesa, ratio, static_cast<double>(b.state_bytes) / px,
                 b.triangles ? scene_bytes / static_cast<double>(b.triangles) : 0.0);
   }
-  std::printf("(ratio = llvmpipe time / hsr time, median of repetitions: > 1 means hsr is faster)\n");
+  std::printf(
+      "(ratio = llvmpipe time / hsr time, median of repetitions: > 1 means hsr is faster)\n");
   benchmark::Shutdown();
   return 0;
 }

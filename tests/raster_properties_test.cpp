@@ -76,8 +76,8 @@ CoverageReport checkCoverage(const Frame& f, const std::vector<glm::dvec2>* outl
         what = "written outside";
       }
       if (what && r.first.empty()) {
-        r.first = std::string(what) + " at x=" + std::to_string(x) + " gl_y=" +
-                  std::to_string(gl_y) + " (count " + std::to_string(n) + ")";
+        r.first = std::string(what) + " at x=" + std::to_string(x) +
+                  " gl_y=" + std::to_string(gl_y) + " (count " + std::to_string(n) + ")";
       }
     }
   }
@@ -114,12 +114,14 @@ TEST(RasterProperties, FanCoversEachPixelOnce) {
     Rng rng(static_cast<std::uint64_t>(seed));
     // The rectangle, placed at a random sub-pixel offset; the rim walks its sides
     // counter-clockwise in random steps and always lands on the corners.
-    const float x0 = 250.0f + rng.uniform(-100.0f, 100.0f), y0 = 250.0f + rng.uniform(-100.0f, 100.0f);
+    const float x0 = 250.0f + rng.uniform(-100.0f, 100.0f),
+                y0 = 250.0f + rng.uniform(-100.0f, 100.0f);
     const glm::vec2 corners[4] = {{x0, y0}, {x0 + 500, y0}, {x0 + 500, y0 + 500}, {x0, y0 + 500}};
     std::vector<glm::vec2> rim;
     for (int side = 0; side < 4; ++side) {
       const glm::vec2 a = corners[side], b = corners[(side + 1) % 4];
-      for (float t = 0.0f; t < 500.0f; t += rng.uniform(0.0f, 1.0f)) rim.push_back(a + (b - a) * (t / 500.0f));
+      for (float t = 0.0f; t < 500.0f; t += rng.uniform(0.0f, 1.0f))
+        rim.push_back(a + (b - a) * (t / 500.0f));
     }
     const glm::vec2 centre(x0 + rng.uniform(1.0f, 499.0f), y0 + rng.uniform(1.0f, 499.0f));
     const Scene s = fan(centre, rim);
@@ -143,11 +145,13 @@ TEST(RasterProperties, ClippedFanCoversViewportOnce) {
   for (int seed = 1; seed <= seeds; ++seed) {
     SCOPED_TRACE("clipped fan seed " + std::to_string(seed));
     Rng rng(static_cast<std::uint64_t>(1000 + seed));
-    const glm::vec2 centre(rng.uniform(-0.5f * size, 1.5f * size), rng.uniform(-0.5f * size, 1.5f * size));
+    const glm::vec2 centre(rng.uniform(-0.5f * size, 1.5f * size),
+                           rng.uniform(-0.5f * size, 1.5f * size));
     const double radius = 3.0 * size;  // > the farthest corner from any such centre
     std::vector<glm::vec2> rim;
     const double step = 2.0 * kPi / 4000.0;
-    for (double a = rng.uniform(0.0f, 1.0f) * step; a < 2.0 * kPi; a += rng.uniform(0.05f, 1.95f) * step) {
+    for (double a = rng.uniform(0.0f, 1.0f) * step; a < 2.0 * kPi;
+         a += rng.uniform(0.05f, 1.95f) * step) {
       rim.push_back({static_cast<float>(centre.x + radius * std::cos(a)),
                      static_cast<float>(centre.y + radius * std::sin(a))});
     }
@@ -209,7 +213,8 @@ TEST(RasterProperties, RotatedQuadGridHasNoOverlapOrHole) {
     const float cell = rng.uniform(20.0f, 40.0f);
     for (int k = 0; k < 15; ++k) {
       const double angle = 0.5 * kPi * k / 14.0;
-      const std::string label = "grid seed " + std::to_string(seed) + " angle " + std::to_string(angle);
+      const std::string label =
+          "grid seed " + std::to_string(seed) + " angle " + std::to_string(angle);
       SCOPED_TRACE(label);
       const Frame f = render(quadGrid(centre, cell, angle), cam, countEveryFragment());
       const std::vector<glm::dvec2> outline = gridOutline(centre, cell, angle);
@@ -239,7 +244,8 @@ TEST(RasterProperties, PerspectiveQuadGridHasNoOverlapOrHole) {
     Scene tilted;
     const std::uint32_t m = tilted.addMaterial({});
     tilted.beginObject("grid");
-    for (const glm::vec3& p : s.positions()) tilted.addVertex({p.x, p.y * 0.5f, -2.05f - 1.95f * p.y / 1.28f});
+    for (const glm::vec3& p : s.positions())
+      tilted.addVertex({p.x, p.y * 0.5f, -2.05f - 1.95f * p.y / 1.28f});
     for (PolygonId id = 0; id < s.polygonCount(); ++id) {
       const auto poly = s.polygon(id);
       tilted.addPolygon(std::span<const std::uint32_t>(poly.data(), poly.size()), m);
@@ -251,7 +257,8 @@ TEST(RasterProperties, PerspectiveQuadGridHasNoOverlapOrHole) {
     for (auto [u, v] : {std::pair{-h, -h}, {h, -h}, {h, h}, {-h, h}}) {
       const double x = c * u - sn * v, y = sn * u + c * v;
       const glm::dvec4 q = glm::dmat4(mvp) * glm::dvec4(x, y * 0.5, -2.05 - 1.95 * y / 1.28, 1.0);
-      outline.push_back({(q.x / q.w * 0.5 + 0.5) * cam.width, (q.y / q.w * 0.5 + 0.5) * cam.height});
+      outline.push_back(
+          {(q.x / q.w * 0.5 + 0.5) * cam.width, (q.y / q.w * 0.5 + 0.5) * cam.height});
     }
     expectExactCover(checkCoverage(f, &outline), label);
   }

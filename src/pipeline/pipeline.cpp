@@ -27,22 +27,19 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// Guard band: x/w and y/w are clipped only where the window coordinate would leave
-// +-2^20 pixels around the centre, so snapped coordinates stay below 2^29 and every edge
-// function product fits in 64 bits. Inside it, triangles are rasterized unclipped, so
-// their edges stay exactly where the vertices put them (as Mesa's guard band does).
-constexpr float kGuardPixels = 1048576.0f;  // 2^20
-
 constexpr std::size_t kChunk = 2048;  // polygons per work item (fixed: determinism)
 
 enum ClipBit : unsigned {
   kLeft = 1, kRight = 2, kBottom = 4, kTop = 8, kNear = 16, kFar = 32,  // view volume
-  kGuardX0 = 64, kGuardX1 = 128, kGuardY0 = 256, kGuardY1 = 512,       // guard band
+  kGuardX0 = 64, kGuardX1 = 128, kGuardY0 = 256, kGuardY1 = 512,       // x/y clip band
 };
 constexpr unsigned kMustClip = kNear | kFar | kGuardX0 | kGuardX1 | kGuardY0 | kGuardY1;
 
+// Where x and y are clipped, in NDC units: |x| <= gx w, |y| <= gy w. A guard band (g > 1)
+// would leave more triangles unclipped; we clip at the viewport (g = 1) as llvmpipe does, so
+// clipped edges snap exactly as Mesa's, and snapped coordinates stay within the viewport.
 struct ClipSetup {
-  float gx, gy;  // guard band in NDC units
+  float gx, gy;
 };
 
 unsigned outcode(const glm::vec4& v, const ClipSetup& cs) {
@@ -60,18 +57,20 @@ unsigned outcode(const glm::vec4& v, const ClipSetup& cs) {
   return c;
 }
 
-// Signed distance of a clip-space point to clip plane k (>= 0 inside).
+// Signed distance of a clip-space point to clip plane k (>= 0 inside), in the order and with
+// the arithmetic of Mesa's clipper (draw_pipe_clip: right, left, top, bottom, near, far), so
+// that clipped vertices come out bit-identical to llvmpipe's.
 float planeDistance(const glm::vec4& v, int k, const ClipSetup& cs) {
   switch (k) {
-    case 0: return v.z + v.w;            // near
-    case 1: return v.w - v.z;            // far
-    case 2: return cs.gx * v.w + v.x;    // guard left
-    case 3: return cs.gx * v.w - v.x;    // guard right
-    case 4: return cs.gy * v.w + v.y;    // guard bottom
-    default: return cs.gy * v.w - v.y;   // guard top
+    case 0: return cs.gx * v.w - v.x;    // right
+    case 1: return cs.gx * v.w + v.x;    // left
+    case 2: return cs.gy * v.w - v.y;    // top
+    case 3: return cs.gy * v.w + v.y;    // bottom
+    case 4: return v.z + v.w;            // near
+    default: return v.w - v.z;           // far
   }
 }
-constexpr unsigned kPlaneBit[6] = {kNear, kFar, kGuardX0, kGuardX1, kGuardY0, kGuardY1};
+constexpr unsigned kPlaneBit[6] = {kGuardX1, kGuardX0, kGuardY1, kGuardY0, kNear, kFar};
 
 // A clip-space vertex plus whether the edge leaving it is an original polygon edge (GL's
 // edge flag: edges made by clipping are not drawn in LINE mode).
@@ -95,12 +94,14 @@ void clipPolygon(ClipPolygon& poly, unsigned planes, const ClipSetup& cs, ClipPo
       const bool ina = da >= 0.0f, inb = db >= 0.0f;
       if (ina) tmp.push_back(a);
       if (ina != inb) {
-        // Interpolate from the inside vertex so the result is independent of edge direction.
-        const ClipVertex& in = ina ? a : b;
-        const ClipVertex& out = ina ? b : a;
-        const float din = ina ? da : db, dout = ina ? db : da;
-        const float t = din / (din - dout);
-        ClipVertex v{in.p + t * (out.p - in.p), false};
+        // Interpolate from the endpoint nearer the plane (the inside one on a tie), as Mesa's
+        // clipper does: independent of edge direction, and bit-identical to llvmpipe.
+        const bool from_a = std::abs(da) < std::abs(db) || (std::abs(da) == std::abs(db) && ina);
+        const ClipVertex& near_v = from_a ? a : b;
+        const ClipVertex& far_v = from_a ? b : a;
+        const float dnear = from_a ? da : db, dfar = from_a ? db : da;
+        const float t = dnear / (dnear - dfar);
+        ClipVertex v{near_v.p + t * (far_v.p - near_v.p), false};
         // Entering the inside keeps the original edge's flag; the new edge along the plane
         // (from the exit point to the next entry) is not an original edge.
         v.edge = ina ? false : a.edge;
@@ -516,7 +517,7 @@ void findOutline(const Context& ctx, PreparedScene& out) {
   ClipPolygon seg, tmp;
   for (const auto& [pid, key] : order) {
     const EdgeUse& e = edges.at(key);
-    // Clip the segment against near/far/guard as a degenerate polygon (a, b, a).
+    // Clip the segment against near, far and the x/y band.
     glm::vec4 pa = ctx.clip[e.a], pb = ctx.clip[e.b];
     const unsigned ca = outcode(pa, ctx.cs), cb = outcode(pb, ctx.cs);
     if (ca & cb & (kLeft | kRight | kBottom | kTop | kNear | kFar)) continue;
@@ -574,8 +575,9 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   const glm::mat4 mvp = camera.projection() * camera.view();
   std::vector<std::uint8_t>& object_state = scratch.object_state;
   object_state.assign(scene.objects.size(), 1);
-  const ClipSetup cs{kGuardPixels * 2.0f / static_cast<float>(camera.width),
-                     kGuardPixels * 2.0f / static_cast<float>(camera.height)};
+  // No guard band: x/y are clipped at the viewport, as llvmpipe does (its draw module runs
+  // with guard_band_xy off), so edges of clipped triangles snap exactly as Mesa's do.
+  const ClipSetup cs{1.0f, 1.0f};
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const Bounds& b = scene.objects[o].bounds;
     if (b.empty()) continue;
