@@ -227,7 +227,8 @@ struct Context {
   const std::vector<glm::vec4>& clip;            // clip-space vertex positions
   const std::vector<VertexOut>& verts;           // per-vertex outcodes and window positions
   const std::vector<std::uint8_t>& object_state;  // 0 culled, 1 inside, 2 crosses
-  std::vector<glm::vec3> material_rgb;           // per material, clamped
+  std::vector<glm::vec3> material_rgb;           // per material: rgb * 255, clamped
+  std::vector<std::uint32_t> material_alpha;     // per material: alpha byte << 24
 };
 
 // Facing and culling of one window-space triangle; then emitTriangle.
@@ -268,8 +269,9 @@ void emitTriangle(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
   t.yr = a.y;
   t.z0 = a.z;
   if (det != 0.0) {
-    t.dzdx = static_cast<float>((dz1 * dy2 - dz2 * dy1) / det);
-    t.dzdy = static_cast<float>((dx1 * dz2 - dx2 * dz1) / det);
+    const double inv = 1.0 / det;
+    t.dzdx = static_cast<float>((dz1 * dy2 - dz2 * dy1) * inv);
+    t.dzdy = static_cast<float>((dx1 * dz2 - dx2 * dz1) * inv);
   } else {
     t.dzdx = t.dzdy = 0.0f;
   }
@@ -337,15 +339,20 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
   }
   // Headlight Lambert, two-sided, 20% ambient (as polygonInfo).
   const std::uint32_t m = ctx.scene.material(id);
-  const glm::vec3 rgb = m < ctx.material_rgb.size() ? ctx.material_rgb[m] : glm::vec3(0.8f);
-  const float alpha = m < ctx.scene.materials.size() ? ctx.scene.materials[m].alpha : 1.0f;
+  const bool known = m < ctx.material_rgb.size();
+  const glm::vec3 rgb255 = known ? ctx.material_rgb[m] : glm::vec3(0.8f * 255.0f);
+  const std::uint32_t alpha = known ? ctx.material_alpha[m] : 0xFF000000u;
   float lambert = 1.0f;
   if (ctx.options.shade) {
     const float vl2 = glm::dot(v, v);
     lambert = vl2 > 0.0f ? std::min(std::abs(d) / std::sqrt(len2 * vl2), 1.0f) : 1.0f;
     lambert = 0.2f + 0.8f * lambert;
   }
-  const PolygonInfo info{d > 0.0f ? 1 : -1, packColor(rgb * lambert, alpha), alpha < 1.0f, false};
+  // Both factors lie in [0, 1], so each channel lies in [0, 255]: round half up.
+  const std::uint32_t rgba = static_cast<std::uint32_t>(rgb255.r * lambert + 0.5f) |
+                             (static_cast<std::uint32_t>(rgb255.g * lambert + 0.5f) << 8) |
+                             (static_cast<std::uint32_t>(rgb255.b * lambert + 0.5f) << 16) | alpha;
+  const PolygonInfo info{d > 0.0f ? 1 : -1, rgba, alpha != 0xFF000000u, false};
   const WindowVertex w[3] = {a.w, b.w, c.w};
   emitTriangle(ctx, w, id, info, out, orientation, front);
   return true;
@@ -617,8 +624,12 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   // Cull, clip, project and snap, in fixed chunks of polygons joined in order.
   t0 = Clock::now();
   Context ctx{scene, camera, options, mvp, glm::normalize(camera.target - camera.eye), cs,
-              vp, clip, verts, object_state, {}};
-  for (const Material& m : scene.materials) ctx.material_rgb.push_back(m.color);
+              vp, clip, verts, object_state, {}, {}};
+  for (const Material& m : scene.materials) {
+    const std::uint32_t rgba = packColor(m.color, m.alpha);  // clamps, and NaN -> 0
+    ctx.material_rgb.push_back(glm::vec3(rgba & 0xFF, (rgba >> 8) & 0xFF, (rgba >> 16) & 0xFF));
+    ctx.material_alpha.push_back(rgba & 0xFF000000u);
+  }
   const std::size_t n = scene.polygonCount();
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   std::vector<ChunkOut>& parts = scratch.parts;
