@@ -182,6 +182,24 @@ inline int spanOpaque4(float* depth, PolygonId* ids, std::uint32_t* rgba, std::u
 }
 #endif
 
+// One fragment: the depth test, then depth (if the mask allows), id and colour; a
+// transparent polygon blends its colour and leaves depth and id alone.
+template <DepthFunc F>
+inline void writeFragment(const ScreenTriangle& t, const Buffers& fb, std::size_t idx, float z,
+                          bool depth_mask, Counters& c) {
+  const float zc = std::clamp(z, 0.0f, 1.0f);  // GL clamps window depth to [0,1]
+  if (!depthPasses<F>(zc, fb.depth[idx])) return;
+  c.written++;
+  fb.overdraw[idx]++;
+  if (t.transparent) {
+    fb.rgba[idx] = blend(t.rgba, fb.rgba[idx]);
+    return;
+  }
+  if (depth_mask) fb.depth[idx] = zc;
+  fb.ids[idx] = t.id;
+  fb.rgba[idx] = t.rgba;
+}
+
 // One triangle clipped to one tile: the notes' scan conversion with incremental depth.
 template <DepthFunc F>
 void rasterTriangle(const ScreenTriangle& t, const PixelBox& tile, const Buffers& fb,
@@ -192,22 +210,28 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& tile, const Buffers
   if (j0 > j1 || i0 > i1) return;
   for (EdgeSetup& e : s.edge) e.row += e.step_y * (j0 - tile.y0);
   const bool transparent = t.transparent != 0;
-  const bool narrow = i1 - i0 < 8;  // few columns: test pixels directly, no divisions
+  if (i1 - i0 < 8) {
+    // Few columns (most triangles of a dense mesh): walk the bounding box, stepping the three
+    // edge functions and the depth incrementally; no divisions, no multiplications.
+    for (int j = j0; j <= j1; ++j, nextRow(s)) {
+      std::int64_t e0 = s.edge[0].row + s.edge[0].step_x * i0;
+      std::int64_t e1 = s.edge[1].row + s.edge[1].step_x * i0;
+      std::int64_t e2 = s.edge[2].row + s.edge[2].step_x * i0;
+      float z = t.z0 + t.dzdy * (static_cast<float>(j) - t.yr) +
+                t.dzdx * (static_cast<float>(i0) - t.xr);
+      std::size_t idx = static_cast<std::size_t>(j) * fb.width + i0;
+      for (int i = i0; i <= i1; ++i, ++idx, z += t.dzdx, e0 += s.edge[0].step_x,
+               e1 += s.edge[1].step_x, e2 += s.edge[2].step_x) {
+        if ((e0 | e1 | e2) < 0) continue;  // outside some edge (sign bit set)
+        c.tested++;
+        writeFragment<F>(t, fb, idx, z, depth_mask, c);
+      }
+    }
+    return;
+  }
   for (int j = j0; j <= j1; ++j, nextRow(s)) {
     int lo = i0, hi = i1;
-    if (narrow) {
-      // Trim the row's ends by evaluating the three edge functions at each column.
-      auto inside = [&](int i) {
-        return s.edge[0].row + s.edge[0].step_x * i >= 0 &&
-               s.edge[1].row + s.edge[1].step_x * i >= 0 &&
-               s.edge[2].row + s.edge[2].step_x * i >= 0;
-      };
-      while (lo <= hi && !inside(lo)) ++lo;
-      while (hi >= lo && !inside(hi)) --hi;
-      if (lo > hi) continue;
-    } else if (!spanOfRow(s, &lo, &hi)) {
-      continue;
-    }
+    if (!spanOfRow(s, &lo, &hi)) continue;
     // Depth at the span's first pixel from the plane, then one add per pixel.
     float z = t.z0 + t.dzdy * (static_cast<float>(j) - t.yr) +
               t.dzdx * (static_cast<float>(lo) - t.xr);
@@ -225,19 +249,7 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& tile, const Buffers
       z = _mm_cvtss_f32(z4);  // the tail continues from the next lane's depth
     }
 #endif
-    for (; i <= hi; ++i, ++idx, z += t.dzdx) {
-      const float zc = std::clamp(z, 0.0f, 1.0f);  // GL clamps window depth to [0,1]
-      if (!depthPasses<F>(zc, fb.depth[idx])) continue;
-      c.written++;
-      fb.overdraw[idx]++;
-      if (transparent) {
-        fb.rgba[idx] = blend(t.rgba, fb.rgba[idx]);
-        continue;
-      }
-      if (depth_mask) fb.depth[idx] = zc;
-      fb.ids[idx] = t.id;
-      fb.rgba[idx] = t.rgba;
-    }
+    for (; i <= hi; ++i, ++idx, z += t.dzdx) writeFragment<F>(t, fb, idx, z, depth_mask, c);
   }
 }
 
