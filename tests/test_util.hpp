@@ -7,26 +7,12 @@
 
 #include "hsr/camera.hpp"
 #include "hsr/render.hpp"
+#include "core/random.hpp"
 #include "hsr/scene.hpp"
 
 namespace hsr::testing {
 
-// SplitMix64: tiny, deterministic on every platform (std distributions are not).
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : s_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  float uniform(float lo, float hi) { return lo + static_cast<float>(uniform()) * (hi - lo); }
-
- private:
-  std::uint64_t s_;
-};
+using Rng = hsr::detail::SplitMix64;
 
 // Channel c (0 = R, 1 = G, 2 = B) of pixel k of a frame's packed RGBA colour.
 inline int channel(const Frame& f, std::size_t k, int c) { return (f.color[k] >> (8 * c)) & 0xFF; }

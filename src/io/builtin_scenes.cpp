@@ -18,6 +18,7 @@
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/scene.hpp"
+#include "core/random.hpp"
 
 namespace hsr {
 namespace {
@@ -26,24 +27,6 @@ constexpr double kPi = 3.14159265358979323846;
 // The largest N accepted by spheres:N and soup:N:SEED (about 1.5 GiB of scene at the top).
 constexpr std::uint64_t kMaxBuiltinTriangles = 20'000'000;
 
-// SplitMix64 (Steele, Lea & Flood 2014): tiny and identical everywhere, unlike the
-// std::*_distribution classes whose output differs between standard libraries.
-class SplitMix64 {
- public:
-  explicit SplitMix64(std::uint64_t seed) : s_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  // Uniform in [0, 1) with 24 random bits: exact in float, no rounding up to 1.
-  float uniform() { return static_cast<float>(next() >> 40) * 0x1.0p-24f; }
-  float uniform(float lo, float hi) { return lo + uniform() * (hi - lo); }
-
- private:
-  std::uint64_t s_;
-};
 
 // HSV (all in [0,1]) to linear RGB, for evenly spread bright colours.
 glm::vec3 hsv(float h, float s, float v) {
@@ -409,7 +392,7 @@ Scene makeSoup(std::uint64_t n, std::uint64_t seed) {
   // about 0.3 long for up to 1000 triangles, shrinking as 1/sqrt(N) beyond that so that the
   // depth complexity (about N times the projected area) stays that of 1000 triangles.
   const float size = 0.45f * static_cast<float>(std::min(1.0, std::sqrt(1000.0 / n)));
-  SplitMix64 rng(seed);
+  detail::SplitMix64 rng(seed);
   Scene scene;
   // A palette of random colours rather than one material per triangle (20M materials would
   // cost more than the triangles)
