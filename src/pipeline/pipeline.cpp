@@ -120,6 +120,7 @@ struct Viewport {
 struct WindowVertex {
   float x, y, z;          // float window coords, pixel centres at integers, y down
   std::int64_t fx, fy;    // snapped
+  bool ok;                // finite and within 2^22 pixels (false: drop the primitive)
 };
 
 WindowVertex toWindow(const glm::vec4& c, const Viewport& vp) {
@@ -132,8 +133,12 @@ WindowVertex toWindow(const glm::vec4& c, const Viewport& vp) {
   // Pixel centres at integers (GL samples at x + 0.5), then 8 sub-pixel bits, round to nearest.
   v.x = xw - 0.5f;
   v.y = yw - 0.5f;
-  v.fx = std::lrint(v.x * static_cast<float>(kSubpixelOne));
-  v.fy = std::lrint(v.y * static_cast<float>(kSubpixelOne));
+  // Only finite, bounded values are converted to integers (anything else would be undefined
+  // behaviour); clipping keeps real primitives far inside this bound.
+  constexpr float kLimit = 4194304.0f;  // 2^22 pixels
+  v.ok = std::abs(v.x) < kLimit && std::abs(v.y) < kLimit && std::isfinite(v.z);
+  v.fx = v.ok ? std::lrint(v.x * static_cast<float>(kSubpixelOne)) : 0;
+  v.fy = v.ok ? std::lrint(v.y * static_cast<float>(kSubpixelOne)) : 0;
   return v;
 }
 
@@ -211,6 +216,7 @@ bool culled(CullMode mode, bool front) {
 // Output of one chunk of polygons.
 struct ChunkOut {
   std::vector<ScreenTriangle> triangles;
+  std::vector<WindowVertex> window_scratch;  // a clipped polygon's projected vertices
   std::vector<ScreenLine> lines, points;
   std::uint64_t degenerate = 0, culled_frustum = 0, culled_backface = 0, clipped = 0,
                 clipped_away = 0, triangles_in = 0;
@@ -371,6 +377,12 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
   if (vi.size() == 3 && ctx.options.polygon_mode == PolygonMode::Fill &&
       fastTriangle(ctx, id, vi, out))
     return;
+  for (std::uint32_t v : vi) {
+    if (ctx.verts[v].code & kNonFinite) {
+      out.degenerate++;
+      return;
+    }
+  }
   const PolygonInfo info = polygonInfo(scene, id, ctx.camera, ctx.view_dir, ctx.options.shade);
   if (info.degenerate) {
     out.degenerate++;
@@ -409,7 +421,13 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
       return;
     }
     std::vector<WindowVertex> wv(poly.size());
-    for (std::size_t i = 0; i < poly.size(); ++i) wv[i] = toWindow(poly[i].p, ctx.vp);
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      wv[i] = toWindow(poly[i].p, ctx.vp);
+      if (!wv[i].ok) {
+        out.clipped_away++;
+        return;
+      }
+    }
     if (ctx.options.facing_test == FacingTest::WindowArea && ctx.options.cull != CullMode::None) {
       std::int64_t area = 0;  // doubled y-down area (shoelace)
       for (std::size_t i = 0; i < wv.size(); ++i) {
@@ -450,7 +468,8 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
     if (!crossing) {
       const WindowVertex w[3] = {toWindow(c[0], ctx.vp), toWindow(c[1], ctx.vp),
                                  toWindow(c[2], ctx.vp)};
-      cullAndEmit(ctx, w, id, info, out);
+      if (w[0].ok && w[1].ok && w[2].ok) cullAndEmit(ctx, w, id, info, out);
+      else out.clipped_away++;
       continue;
     }
     out.clipped++;
@@ -461,13 +480,20 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
       continue;
     }
     // The clipped polygon is convex: a fan from its first vertex, as GL's clipper emits.
-    const WindowVertex w0 = toWindow(poly[0].p, ctx.vp);
-    WindowVertex prev = toWindow(poly[1].p, ctx.vp);
-    for (std::size_t k = 2; k < poly.size(); ++k) {
-      const WindowVertex cur = toWindow(poly[k].p, ctx.vp);
-      const WindowVertex w[3] = {w0, prev, cur};
+    std::vector<WindowVertex>& wv = out.window_scratch;
+    wv.clear();
+    bool ok = true;
+    for (const ClipVertex& cv : poly) {
+      wv.push_back(toWindow(cv.p, ctx.vp));
+      ok = ok && wv.back().ok;
+    }
+    if (!ok) {
+      out.clipped_away++;
+      continue;
+    }
+    for (std::size_t k = 2; k < wv.size(); ++k) {
+      const WindowVertex w[3] = {wv[0], wv[k - 1], wv[k]};
       cullAndEmit(ctx, w, id, info, out);
-      prev = cur;
     }
   }
 }
@@ -524,6 +550,7 @@ void findOutline(const Context& ctx, PreparedScene& out) {
   ClipPolygon seg, tmp;
   for (const auto& [pid, key] : order) {
     const EdgeUse& e = edges.at(key);
+    if ((ctx.verts[e.a].code | ctx.verts[e.b].code) & kNonFinite) continue;
     // Clip the segment against near, far and the x/y band.
     glm::vec4 pa = ctx.clip[e.a], pb = ctx.clip[e.b];
     const unsigned ca = outcode(pa, ctx.cs), cb = outcode(pb, ctx.cs);
@@ -538,6 +565,7 @@ void findOutline(const Context& ctx, PreparedScene& out) {
     }
     if (!visible) continue;
     const WindowVertex a = toWindow(pa, ctx.vp), b = toWindow(pb, ctx.vp);
+    if (!a.ok || !b.ok) continue;
     out.outline.push_back({a.x, a.y, a.z, b.x, b.y, b.z, pid, 0xFF000000u, e.other});
   }
 }
@@ -615,8 +643,16 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
       clip[v] = mvp * glm::vec4(p, 1.0f);
       VertexOut& out_v = verts[v];
       out_v.code = outcode(clip[v], cs);
-      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) out_v.code |= kNonFinite;
-      if (!(out_v.code & (kMustClip | kNonFinite))) out_v.w = toWindow(clip[v], vp);
+      // Non-finite input, or finite input the transform took beyond float's range: such a
+      // vertex is never projected (its polygons are dropped as degenerate).
+      const glm::vec4& c = clip[v];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) ||
+          !std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !std::isfinite(c.w))
+        out_v.code |= kNonFinite;
+      if (!(out_v.code & (kMustClip | kNonFinite))) {
+        out_v.w = toWindow(clip[v], vp);
+        if (!out_v.w.ok) out_v.code |= kNonFinite;
+      }
     }
   });
   out.stats.addStage("transform", msSince(t0));
