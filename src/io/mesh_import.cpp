@@ -6,6 +6,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -29,6 +34,11 @@
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/scene.hpp"
+
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace hsr {
 namespace {
@@ -393,20 +403,22 @@ void preflight(const aiScene* ai, const std::string& file) {
 
 }  // namespace
 
-Scene loadMeshFile(const fs::path& path) {
-  const std::string file = path.string();
-  // The file itself: exists, is a regular file (not a directory or a FIFO that would block),
-  // not empty, not absurdly large
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) throw Error(file + ": no such file");
-  if (fs::is_directory(status)) throw Error(file + ": is a directory, not a mesh file");
-  if (!fs::is_regular_file(status)) throw Error(file + ": not a regular file");
-  const std::uintmax_t bytes = fs::file_size(path, ec);
-  if (ec) throw Error(file + ": cannot read its size: " + ec.message());
-  if (bytes == 0) throw Error(file + ": file is empty");
-  if (bytes > kMaxFileBytes) throw Error(file + ": too large (over 2 GiB)");
+#if defined(__SANITIZE_ADDRESS__)
+#define HSR_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define HSR_ASAN 1
+#endif
+#endif
+#ifndef HSR_ASAN
+#define HSR_ASAN 0
+#endif
 
+namespace {
+
+// The importer proper (assimp), run inside the isolated child process.
+Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes) {
+  const std::string file = path.string();
   try {
     checkDeclaredCounts(path, bytes);
     Assimp::Importer importer;  // no logger is attached: assimp stays quiet
@@ -436,6 +448,228 @@ Scene loadMeshFile(const fs::path& path) {
   } catch (...) {
     throw Error(file + ": assimp could not read it: unknown error");
   }
+}
+
+// ---- Isolation --------------------------------------------------------------------------
+// assimp is third-party C++ that reads untrusted bytes, and some malformed files crash it
+// (found by fuzzing: a binary PLY with a bodiless element segfaults inside its reader). So
+// the import runs in a forked child process that sends the scene back through a pipe; a
+// crash, a hang or runaway memory there becomes one clear hsr::Error here, never a crash.
+
+constexpr int kImportTimeoutSeconds = 120;
+
+void putU32(std::string& out, std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
+void putF32(std::string& out, float v) { out.append(reinterpret_cast<const char*>(&v), 4); }
+void putStr(std::string& out, const std::string& v) {
+  putU32(out, static_cast<std::uint32_t>(v.size()));
+  out += v;
+}
+
+std::string serializeScene(const Scene& s) {
+  std::string out;
+  putStr(out, s.name);
+  putU32(out, static_cast<std::uint32_t>(s.materials.size()));
+  for (const Material& m : s.materials) {
+    putF32(out, m.color.r);
+    putF32(out, m.color.g);
+    putF32(out, m.color.b);
+    putF32(out, m.alpha);
+  }
+  putU32(out, s.camera ? 1u : 0u);
+  if (s.camera) {
+    const SceneCamera& c = *s.camera;
+    for (const glm::vec3& v : {c.eye, c.target, c.up})
+      for (int k = 0; k < 3; ++k) putF32(out, v[k]);
+    putF32(out, c.fov_deg);
+    putU32(out, c.ortho ? 1u : 0u);
+    putF32(out, c.ortho_half_height);
+    putF32(out, c.near);
+    putF32(out, c.far);
+  }
+  putU32(out, static_cast<std::uint32_t>(s.objects.size()));
+  for (const Object& o : s.objects) {
+    putStr(out, o.name);
+    putU32(out, o.vertex_count);
+    for (std::uint32_t v = o.first_vertex; v < o.first_vertex + o.vertex_count; ++v)
+      for (int k = 0; k < 3; ++k) putF32(out, s.position(v)[k]);
+    putU32(out, o.polygon_count);
+    for (PolygonId id = o.first_polygon; id < o.first_polygon + o.polygon_count; ++id) {
+      const auto poly = s.polygon(id);
+      putU32(out, s.material(id));
+      putU32(out, static_cast<std::uint32_t>(poly.size()));
+      for (std::uint32_t v : poly) putU32(out, v - o.first_vertex);
+    }
+  }
+  return out;
+}
+
+class Reader {
+ public:
+  explicit Reader(std::string_view data) : data_(data) {}
+  std::uint32_t u32() { std::uint32_t v; take(&v, 4); return v; }
+  float f32() { float v; take(&v, 4); return v; }
+  std::string str() {
+    const std::uint32_t n = u32();
+    if (n > data_.size() - pos_) throw Error("corrupt scene from the importer process");
+    std::string v(data_.substr(pos_, n));
+    pos_ += n;
+    return v;
+  }
+
+ private:
+  void take(void* dst, std::size_t n) {
+    if (n > data_.size() - pos_) throw Error("corrupt scene from the importer process");
+    std::memcpy(dst, data_.data() + pos_, n);
+    pos_ += n;
+  }
+  std::string_view data_;
+  std::size_t pos_ = 0;
+};
+
+Scene deserializeScene(std::string_view data) {
+  Reader r(data);
+  Scene s;
+  s.name = r.str();
+  const std::uint32_t materials = r.u32();
+  for (std::uint32_t i = 0; i < materials; ++i) {
+    Material m;
+    m.color.r = r.f32();
+    m.color.g = r.f32();
+    m.color.b = r.f32();
+    m.alpha = r.f32();
+    s.materials.push_back(m);
+  }
+  if (r.u32()) {
+    SceneCamera c;
+    for (glm::vec3* v : {&c.eye, &c.target, &c.up})
+      for (int k = 0; k < 3; ++k) (*v)[k] = r.f32();
+    c.fov_deg = r.f32();
+    c.ortho = r.u32() != 0;
+    c.ortho_half_height = r.f32();
+    c.near = r.f32();
+    c.far = r.f32();
+    s.camera = c;
+  }
+  const std::uint32_t objects = r.u32();
+  std::vector<std::uint32_t> local;
+  for (std::uint32_t o = 0; o < objects; ++o) {
+    s.beginObject(r.str());
+    const std::uint32_t verts = r.u32();
+    for (std::uint32_t v = 0; v < verts; ++v) {
+      glm::vec3 p;
+      for (int k = 0; k < 3; ++k) p[k] = r.f32();
+      s.addVertex(p);
+    }
+    const std::uint32_t polys = r.u32();
+    for (std::uint32_t i = 0; i < polys; ++i) {
+      const std::uint32_t material = r.u32();
+      const std::uint32_t n = r.u32();
+      local.clear();
+      for (std::uint32_t k = 0; k < n; ++k) local.push_back(r.u32());
+      s.addPolygon(local, material);
+    }
+  }
+  return s;
+}
+
+bool writeAll(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+Scene importIsolated(const fs::path& path, std::uintmax_t bytes) {
+  const std::string file = path.string();
+  int fds[2];
+  if (::pipe(fds) != 0) return importWithAssimp(path, bytes);  // no pipe: in process
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return importWithAssimp(path, bytes);  // no fork: in process
+  }
+  if (pid == 0) {
+    // Child: import, answer 'S' + scene or 'E' + message, and leave without running any
+    // destructor or exit handler of the parent's state.
+    ::close(fds[0]);
+#if !HSR_ASAN  // ASan reserves terabytes of shadow address space: no limit there
+    const rlimit limit{std::uint64_t(16) << 30, std::uint64_t(16) << 30};  // 16 GiB of address space
+    ::setrlimit(RLIMIT_AS, &limit);
+#endif
+    std::string answer;
+    try {
+      answer = "S" + serializeScene(importWithAssimp(path, bytes));
+    } catch (const Error& e) {
+      answer = std::string("E") + e.what();
+    } catch (const std::bad_alloc&) {
+      answer = "E" + file + ": too large for memory";
+    } catch (...) {
+      answer = "E" + file + ": assimp could not read it: unknown error";
+    }
+    writeAll(fds[1], answer.data(), answer.size());
+    ::_exit(0);
+  }
+  // Parent: read the whole answer (with a deadline), then reap the child.
+  ::close(fds[1]);
+  std::string answer;
+  char buf[1 << 16];
+  bool timed_out = false;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kImportTimeoutSeconds);
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now()).count();
+    if (left <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left, 1000)));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) continue;
+    const ssize_t n = ::read(fds[0], buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // EOF: the child closed its end (answered, or died)
+    answer.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(fds[0]);
+  if (timed_out) ::kill(pid, SIGKILL);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (timed_out)
+    throw Error(file + ": the importer did not finish within " +
+                std::to_string(kImportTimeoutSeconds) + " s; refused");
+  if (WIFSIGNALED(status))
+    throw Error(file + ": the importer (assimp) crashed on this file (signal " +
+                std::to_string(WTERMSIG(status)) + "); refused as malformed");
+  if (answer.empty()) throw Error(file + ": the importer (assimp) ended without an answer");
+  if (answer[0] == 'E') throw Error(answer.substr(1));
+  return deserializeScene(std::string_view(answer).substr(1));
+}
+
+}  // namespace
+
+Scene loadMeshFile(const fs::path& path) {
+  const std::string file = path.string();
+  // The file itself: exists, is a regular file (not a directory or a FIFO that would block),
+  // not empty, not absurdly large
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) throw Error(file + ": no such file");
+  if (fs::is_directory(status)) throw Error(file + ": is a directory, not a mesh file");
+  if (!fs::is_regular_file(status)) throw Error(file + ": not a regular file");
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (ec) throw Error(file + ": cannot read its size: " + ec.message());
+  if (bytes == 0) throw Error(file + ": file is empty");
+  if (bytes > kMaxFileBytes) throw Error(file + ": too large (over 2 GiB)");
+
+  return importIsolated(path, bytes);
 }
 
 Scene loadScene(std::string_view spec) {
