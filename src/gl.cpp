@@ -18,6 +18,7 @@ Context::Context(const Camera& camera) : camera_(camera) {
   state_.depth_test = false;  // OpenGL's default: GL_DEPTH_TEST disabled
   state_.cull = CullMode::None;
   state_.shade = true;
+  state_.clear_color = {0.0f, 0.0f, 0.0f};  // glClearColor's default
   detail::clearFrame(frame_, camera_.width, camera_.height, state_);
 }
 
@@ -69,7 +70,7 @@ void Context::draw(const Scene& scene) {
            : cull_face_ == FRONT ? CullMode::Front
            : cull_face_ == BACK  ? CullMode::Back
                                  : CullMode::FrontAndBack;
-  tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency());
+  tbb::task_arena arena(detail::workerThreads(o.threads));
   arena.execute([&] {
     const detail::PreparedScene prepared = detail::prepare(scene, camera_, o);
     detail::drawZBuffer(detail::AlgorithmInput{scene, camera_, o, prepared, nullptr}, frame_);

@@ -26,7 +26,7 @@ struct Args {
   std::string scene = "demo";
   std::string size = "800x600";
   std::string eye, target, up;
-  float fov = -1.0f;  // -1: 45, or the scene file's camera
+  std::string fov;  // empty: 45, or the scene file's camera
   bool ortho = false;
   std::string near, far;  // empty: fitted to the scene
   std::string cull = "none", front_face = "ccw", polygon_mode = "fill", depth_func = "less";
@@ -82,16 +82,16 @@ std::string sceneLabel(const std::string& spec) {
 hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene) {
   int w = 0, h = 0;
   parseSize(a.size, &w, &h);
-  if (!std::isfinite(a.fov)) throw hsr::Error("--fov is not finite");
-  const bool fov_given = a.fov != -1.0f;
-  if (fov_given && !(a.fov > 0.0f && a.fov < 180.0f))
+  const bool fov_given = !a.fov.empty();
+  const float fov = fov_given ? parseFloat(a.fov, "--fov") : 45.0f;
+  if (!(fov > 0.0f && fov < 180.0f))
     throw hsr::Error(fmt::format("--fov must be in (0, 180) degrees (got {})", a.fov));
   hsr::Camera cam = scene.camera ? hsr::frameScene(scene, w, h)
                                  : hsr::frameBounds(scene.bounds(), w, h,
-                                                    fov_given ? a.fov : 45.0f, a.ortho);
+                                                    fov, a.ortho);
   cam.width = w;
   cam.height = h;
-  if (fov_given) cam.fov_deg = a.fov;
+  if (fov_given) cam.fov_deg = fov;
   if (a.ortho) cam.ortho = true;
   if (!a.eye.empty()) cam.eye = parseVec3(a.eye, "--eye");
   if (!a.target.empty()) cam.target = parseVec3(a.target, "--target");

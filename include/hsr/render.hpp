@@ -36,7 +36,7 @@ struct RenderOptions {
   bool shade = true;         // headlight Lambert; false = flat material colour
   glm::vec3 clear_color{0.94f, 0.94f, 0.92f};  // light paper, so outlines read
   float clear_depth = 1.0f;
-  int threads = 0;  // 0 = all hardware threads; results are identical for any value
+  int threads = 0;  // 0 = all hardware threads (more are clamped); results are identical for any
 };
 
 struct StageTime {

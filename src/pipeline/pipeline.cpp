@@ -77,6 +77,7 @@ constexpr unsigned kPlaneBit[6] = {kGuardX1, kGuardX0, kGuardY1, kGuardY0, kNear
 struct ClipVertex {
   glm::vec4 p;
   bool edge;
+  bool original = true;  // an input vertex, not one made by clipping (POINT mode draws these)
 };
 using ClipPolygon = std::vector<ClipVertex>;
 
@@ -101,7 +102,7 @@ void clipPolygon(ClipPolygon& poly, unsigned planes, const ClipSetup& cs, ClipPo
         const ClipVertex& far_v = from_a ? b : a;
         const float dnear = from_a ? da : db, dfar = from_a ? db : da;
         const float t = dnear / (dnear - dfar);
-        ClipVertex v{near_v.p + t * (far_v.p - near_v.p), false};
+        ClipVertex v{near_v.p + t * (far_v.p - near_v.p), false, false};
         // Entering the inside keeps the original edge's flag; the new edge along the plane
         // (from the exit point to the next entry) is not an original edge.
         v.edge = ina ? false : a.edge;
@@ -194,8 +195,9 @@ PolygonInfo polygonInfo(const Scene& scene, PolygonId id, const Camera& camera,
   float lambert = 1.0f;
   if (shade) {
     const double vl2 = glm::dot(v, v);
-    lambert = vl2 > 0.0 ? static_cast<float>(std::abs(d) / std::sqrt(len2 * vl2)) : 1.0f;
-    lambert = 0.2f + 0.8f * std::min(lambert, 1.0f);
+    const double cosine = std::abs(d) / std::sqrt(len2 * vl2);
+    lambert = cosine >= 0.0 && cosine <= 1.0 ? static_cast<float>(cosine) : 1.0f;
+    lambert = 0.2f + 0.8f * lambert;
   }
   info.rgba = packColor(mat.color * lambert, mat.alpha);
   info.transparent = mat.alpha < 1.0f;
@@ -316,11 +318,13 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
   const VertexOut& c = ctx.verts[vi[2]];
   const unsigned any = a.code | b.code | c.code;
   if (any & (kMustClip | kNonFinite)) return false;
-  // Zero-area triangles in world space are degenerate data: dropped and counted.
-  const glm::vec3 p0 = ctx.scene.position(vi[0]);
-  const glm::vec3 n = glm::cross(ctx.scene.position(vi[1]) - p0, ctx.scene.position(vi[2]) - p0);
-  const float len2 = glm::dot(n, n);
-  if (!(len2 > 0.0f) || !std::isfinite(len2)) {
+  // Zero-area triangles in world space are degenerate data: dropped and counted. In double,
+  // so that no finite float triangle over- or underflows into "degenerate" (as polygonInfo).
+  const glm::dvec3 p0(ctx.scene.position(vi[0]));
+  const glm::dvec3 n = glm::cross(glm::dvec3(ctx.scene.position(vi[1])) - p0,
+                                  glm::dvec3(ctx.scene.position(vi[2])) - p0);
+  const double len2 = glm::dot(n, n);
+  if (!(len2 > 0.0) || !std::isfinite(len2)) {
     out.degenerate++;
     return true;
   }
@@ -329,8 +333,8 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
     return true;
   }
   // Facing: OpenGL's window-space area, or the notes' N . (eye - P).
-  const glm::vec3 v = ctx.camera.ortho ? -ctx.view_dir : ctx.camera.eye - p0;
-  const float d = glm::dot(n, v);
+  const glm::dvec3 v = ctx.camera.ortho ? -glm::dvec3(ctx.view_dir) : glm::dvec3(ctx.camera.eye) - p0;
+  const double d = glm::dot(n, v);
   const std::int64_t fx[3] = {a.w.fx, b.w.fx, c.w.fx};
   const std::int64_t fy[3] = {a.w.fy, b.w.fy, c.w.fy};
   const int orientation = windowOrientation(fx, fy);
@@ -338,7 +342,7 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
   const bool ccw_front = ctx.options.front_face == FrontFace::Ccw;
   const bool front = ctx.options.facing_test == FacingTest::WindowArea
                          ? (orientation > 0) == ccw_front
-                         : (d > 0.0f) == ccw_front;
+                         : (d > 0.0) == ccw_front;
   if (culled(ctx.options.cull, front)) {
     out.culled_backface++;
     return true;
@@ -350,15 +354,17 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
   const std::uint32_t alpha = known ? ctx.material_alpha[m] : 0xFF000000u;
   float lambert = 1.0f;
   if (ctx.options.shade) {
-    const float vl2 = glm::dot(v, v);
-    lambert = vl2 > 0.0f ? std::min(std::abs(d) / std::sqrt(len2 * vl2), 1.0f) : 1.0f;
+    const double vl2 = glm::dot(v, v);
+    const double cosine = std::abs(d) / std::sqrt(len2 * vl2);
+    // Any overflow (inf/inf) or 0/0 reads as facing the light.
+    lambert = cosine >= 0.0 && cosine <= 1.0 ? static_cast<float>(cosine) : 1.0f;
     lambert = 0.2f + 0.8f * lambert;
   }
   // Both factors lie in [0, 1], so each channel lies in [0, 255]: round half up.
   const std::uint32_t rgba = static_cast<std::uint32_t>(rgb255.r * lambert + 0.5f) |
                              (static_cast<std::uint32_t>(rgb255.g * lambert + 0.5f) << 8) |
                              (static_cast<std::uint32_t>(rgb255.b * lambert + 0.5f) << 16) | alpha;
-  const PolygonInfo info{d > 0.0f ? 1 : -1, rgba, alpha != 0xFF000000u, false};
+  const PolygonInfo info{d > 0.0 ? 1 : -1, rgba, alpha != 0xFF000000u, false};
   const WindowVertex w[3] = {a.w, b.w, c.w};
   emitTriangle(ctx, w, id, info, out, orientation, front);
   return true;
@@ -446,7 +452,7 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
       const WindowVertex& b = wv[(i + 1) % wv.size()];
       if (mode == PolygonMode::Line) {
         if (poly[i].edge) out.lines.push_back({a.x, a.y, a.z, b.x, b.y, b.z, id, info.rgba});
-      } else if (poly[i].edge || i == 0) {
+      } else if (poly[i].original) {
         out.points.push_back({a.x, a.y, a.z, a.x, a.y, a.z, id, info.rgba});
       }
     }
@@ -503,17 +509,25 @@ void processPolygon(const Context& ctx, PolygonId id, ChunkOut& out,
 // (STL) still find their neighbours.
 void findOutline(const Context& ctx, PreparedScene& out) {
   const Scene& scene = ctx.scene;
-  std::unordered_map<std::uint64_t, std::uint32_t> weld;
+  // Keyed on the exact position (with -0 read as +0), so equal positions always weld.
+  struct Key {
+    std::uint32_t b[3];
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      return (std::uint64_t(k.b[0]) * 0x9E3779B97F4A7C15ull) ^
+             (std::uint64_t(k.b[1]) * 0xC2B2AE3D27D4EB4Full) ^
+             (std::uint64_t(k.b[2]) * 0x165667B19E3779F9ull);
+    }
+  };
+  std::unordered_map<Key, std::uint32_t, KeyHash> weld;
   std::vector<std::uint32_t> canon(scene.vertexCount());
   for (std::uint32_t v = 0; v < scene.vertexCount(); ++v) {
-    const glm::vec3& p = scene.position(v);
-    std::uint32_t bits[3];
-    std::memcpy(bits, &p, sizeof bits);
-    const std::uint64_t h = (std::uint64_t(bits[0]) * 0x9E3779B97F4A7C15ull) ^
-                            (std::uint64_t(bits[1]) * 0xC2B2AE3D27D4EB4Full) ^
-                            (std::uint64_t(bits[2]) * 0x165667B19E3779F9ull);
-    auto [it, fresh] = weld.try_emplace(h, v);
-    canon[v] = (!fresh && scene.position(it->second) == p) ? it->second : v;
+    const glm::vec3 p = scene.position(v) + glm::vec3(0.0f);  // -0 + 0 = +0
+    Key key;
+    std::memcpy(key.b, &p, sizeof key.b);
+    canon[v] = weld.try_emplace(key, v).first->second;
   }
   struct EdgeUse {
     PolygonId first;

@@ -45,6 +45,10 @@ struct AlgorithmEntry {
 
 const std::vector<AlgorithmEntry>& algorithmTable();
 
+// Worker threads for a request: 0 = all; more than the machine has is clamped to what it has
+// (results do not depend on the count, so nothing is lost). Throws hsr::Error when < 0.
+int workerThreads(int requested);
+
 // Sizes and clears the buffers (colour = clear colour, depth = clear depth, no ids, overdraw
 // 0), reusing their memory; stats are reset.
 void clearFrame(Frame& frame, int width, int height, const RenderOptions& options);

@@ -9,6 +9,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/info.h>
 #include <tbb/task_arena.h>
 
 #include "hsr/error.hpp"
@@ -25,6 +26,12 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
        &renderZBuffer},
   };
   return table;
+}
+
+int workerThreads(int requested) {
+  if (requested < 0) throw Error("threads must be >= 0 (got " + std::to_string(requested) + ")");
+  const int available = tbb::info::default_concurrency();
+  return requested == 0 ? available : std::min(requested, available);
 }
 
 void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
@@ -79,9 +86,7 @@ void render(const Scene& scene, const Camera& camera, const RenderOptions& optio
     for (const auto& e : detail::algorithmTable()) names += (names.empty() ? "" : ", ") + std::string(e.info.name);
     throw Error("unknown algorithm '" + options.algorithm + "' (known: " + names + ")");
   }
-  if (options.threads < 0) throw Error("threads must be >= 0");
-  const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
+  tbb::task_arena arena(detail::workerThreads(options.threads));
   if (!frame.scratch.ptr) frame.scratch.ptr = std::make_shared<detail::RenderCache>();
   auto& cache = *static_cast<detail::RenderCache*>(frame.scratch.ptr.get());
   // Scratch made by another algorithm is dropped (each algorithm owns its scratch type).

@@ -261,7 +261,21 @@ void rasterLine(const ScreenLine& l, const PixelBox& tile, const Buffers& fb, bo
   const float dx = l.x1 - l.x0, dy = l.y1 - l.y0;
   const float len = std::max(std::abs(dx), std::abs(dy));
   const int steps = std::isfinite(len) ? static_cast<int>(std::min(std::ceil(len), 1e6f)) : 0;
-  for (int k = 0; k <= steps; ++k) {
+  // Only the steps that can land in this tile (3 px of margin for rounding and the pen):
+  // each tile walks its own piece of the line, the same steps as a walk of the whole line.
+  int k0 = 0, k1 = steps;
+  auto limit = [&](float a, float d, int lo, int hi) {
+    if (d == 0.0f || steps == 0) return;
+    double ka = (static_cast<double>(lo) - 3.0 - a) * steps / d;
+    double kb = (static_cast<double>(hi) + 3.0 - a) * steps / d;
+    if (ka > kb) std::swap(ka, kb);
+    k0 = std::max(k0, static_cast<int>(std::max(std::floor(ka), -1.0)));
+    k1 = std::min(k1, static_cast<int>(std::min(std::ceil(kb), static_cast<double>(steps))));
+  };
+  limit(l.x0, dx, tile.x0, tile.x1);
+  limit(l.y0, dy, tile.y0, tile.y1);
+  k0 = std::max(k0, 0);
+  for (int k = k0; k <= k1; ++k) {
     const float t = steps == 0 ? 0.0f : static_cast<float>(k) / static_cast<float>(steps);
     const int i = static_cast<int>(std::lround(l.x0 + dx * t));
     const int j = static_cast<int>(std::lround(l.y0 + dy * t));
