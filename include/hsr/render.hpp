@@ -49,10 +49,12 @@ struct Stats {
   std::uint64_t triangles_in = 0;          // after triangulating polygons
   std::uint64_t degenerate_dropped = 0;    // zero-area, repeated or non-finite vertices
   std::uint64_t culled_frustum = 0;        // polygons of objects outside the view volume
-  std::uint64_t culled_backface = 0;       // triangles removed by the cull mode
+  std::uint64_t culled_backface = 0;       // removed by the cull mode: triangles after clipping
+                                           // (polygons in LINE/POINT mode)
   std::uint64_t clipped = 0;               // triangles that crossed a clip plane
   std::uint64_t clipped_away = 0;          // triangles entirely outside after clipping
-  std::uint64_t triangles_rasterized = 0;  // triangles handed to the visibility algorithm
+  std::uint64_t triangles_rasterized = 0;  // primitives handed to the visibility algorithm
+                                           // (triangles, or lines / points in those modes)
   std::uint64_t fragments_tested = 0;      // pixel samples that reached the depth test
   std::uint64_t fragments_written = 0;     // samples that passed and were written
   std::uint64_t state_bytes = 0;           // memory held by the algorithm's state
