@@ -51,6 +51,16 @@ constexpr std::uint64_t kMaxVertices = 50'000'000;
 constexpr std::uint64_t kMaxPolygons = 50'000'000;
 constexpr std::uint64_t kMaxNodes = 10'000'000;  // a node tree this big is an attack
 
+// The import's size limits, checked in 64 bits before anything is allocated for the meshes.
+void checkSizeLimits(const std::string& file, std::uint64_t vertices, std::uint64_t polygons) {
+  if (vertices > kMaxVertices)
+    throw Error(file + ": too large (over " + std::to_string(kMaxVertices / 1000000) +
+                "M vertices)");
+  if (polygons > kMaxPolygons)
+    throw Error(file + ": too large (over " + std::to_string(kMaxPolygons / 1000000) +
+                "M polygons)");
+}
+
 // The first line of an assimp message, trimmed (some span several lines).
 std::string firstLine(std::string_view s) {
   s = s.substr(0, s.find_first_of("\r\n"));
@@ -215,12 +225,7 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
       // Size limits, in 64 bits, before any allocation
       vertices_total += mesh->mNumVertices;
       polygons_total += mesh->mNumFaces;
-      if (vertices_total > kMaxVertices)
-        throw Error(file + ": too large (over " + std::to_string(kMaxVertices / 1000000) +
-                    "M vertices)");
-      if (polygons_total > kMaxPolygons)
-        throw Error(file + ": too large (over " + std::to_string(kMaxPolygons / 1000000) +
-                    "M polygons)");
+      checkSizeLimits(file, vertices_total, polygons_total);
 
       std::uint32_t material = mesh->mMaterialIndex;
       if (material >= scene.materials.size()) {
@@ -374,12 +379,7 @@ void preflight(const aiScene* ai, const std::string& file) {
     if (!mesh) continue;
     vertices += mesh->mNumVertices;
     faces += mesh->mNumFaces;
-    if (vertices > kMaxVertices)
-      throw Error(file + ": too large (over " + std::to_string(kMaxVertices / 1000000) +
-                  "M vertices)");
-    if (faces > kMaxPolygons)
-      throw Error(file + ": too large (over " + std::to_string(kMaxPolygons / 1000000) +
-                  "M polygons)");
+    checkSizeLimits(file, vertices, faces);
     if (mesh->mNumVertices > 0 && !mesh->mVertices)
       throw Error(file + ": mesh " + std::to_string(m) + " has no vertex positions");
     for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
