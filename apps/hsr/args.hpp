@@ -1,0 +1,45 @@
+#pragma once
+// The command line's view arguments (scene, size, camera, render state): the CLI11 options and
+// their conversion into a Camera and RenderOptions. Shared by the `hsr` command and the
+// fuzz_args fuzz target, so that what is fuzzed is exactly what users type.
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "hsr/camera.hpp"
+#include "hsr/render.hpp"
+#include "hsr/scene.hpp"
+
+namespace hsr::cli {
+
+// The parsed command line (strings are converted by makeCamera / makeOptions).
+struct Args {
+  std::string scene = "demo";
+  std::string size = "800x600";
+  std::string eye, target, up;
+  std::string fov;  // empty: 45, or the scene file's camera
+  bool ortho = false;
+  std::string near, far;  // empty: fitted to the scene
+  std::string cull = "none", front_face = "ccw", polygon_mode = "fill", depth_func = "less";
+  std::string facing = "window";
+  bool no_depth_test = false, no_depth_mask = false, outline = false, flat = false;
+  std::string algorithm = "zbuffer";
+  std::string outputs = "color";
+  std::string output_file;
+  std::string raw_dir, stats_file, sheet_file;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// Adds SCENE and the view options (--size, --eye, ..., --threads) to a CLI11 (sub)command.
+void addViewOptions(CLI::App* app, Args& a);
+
+// The camera the arguments describe for SCENE (fitted to it where not given); throws
+// hsr::Error with one line for malformed or inconsistent values.
+hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene);
+
+// The render state the arguments describe; throws hsr::Error on unknown names.
+hsr::RenderOptions makeOptions(const Args& a);
+
+}  // namespace hsr::cli
