@@ -72,6 +72,50 @@ float planeDistance(const glm::vec4& v, int k, const ClipSetup& cs) {
 }
 constexpr unsigned kPlaneBit[6] = {kGuardX1, kGuardX0, kGuardY1, kGuardY0, kNear, kFar};
 
+// Where the edge from `near` (distance dnear to plane k) to `far` (dfar) crosses plane k.
+// Ordinary edges use Mesa's float arithmetic, so clipped vertices stay bit-identical to
+// llvmpipe's. An edge with an endpoint more than 2^12 viewports away (|x|, |y| or |z| beyond
+// 4096 |w|) is computed in double instead: in float, w - x loses w entirely once |x| >> |w|,
+// and a triangle spanning 1e10 units clipped up to 32 pixels off (TESTING.md row 14; the test
+// Degenerate.HugeCoordinatesClipCorrectly).
+glm::vec4 clipIntersection(const glm::vec4& near_p, const glm::vec4& far_p, float dnear,
+                           float dfar, int k, const ClipSetup& cs) {
+  constexpr float kFar = 4096.0f;
+  const auto huge = [&](const glm::vec4& p) {
+    const float m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return !(m <= kFar * std::abs(p.w));
+  };
+  if (!huge(near_p) && !huge(far_p)) {
+    const float t = dnear / (dnear - dfar);
+    return near_p + t * (far_p - near_p);
+  }
+  const glm::dvec4 a(near_p), b(far_p);
+  const auto dist = [&](const glm::dvec4& v) {
+    const double gx = cs.gx, gy = cs.gy;
+    switch (k) {
+      case 0: return gx * v.w - v.x;
+      case 1: return gx * v.w + v.x;
+      case 2: return gy * v.w - v.y;
+      case 3: return gy * v.w + v.y;
+      case 4: return v.z + v.w;
+      default: return v.w - v.z;
+    }
+  };
+  const double da = dist(a), db = dist(b);
+  const double t = da / (da - db);
+  glm::dvec4 v = a + t * (b - a);
+  // Exactly on the plane (the interpolation may miss it by a rounding step)
+  switch (k) {
+    case 0: v.x = cs.gx * v.w; break;
+    case 1: v.x = -cs.gx * v.w; break;
+    case 2: v.y = cs.gy * v.w; break;
+    case 3: v.y = -cs.gy * v.w; break;
+    case 4: v.z = -v.w; break;
+    default: v.z = v.w; break;
+  }
+  return glm::vec4(v);
+}
+
 // A clip-space vertex plus whether the edge leaving it is an original polygon edge (GL's
 // edge flag: edges made by clipping are not drawn in LINE mode).
 struct ClipVertex {
@@ -100,9 +144,8 @@ void clipPolygon(ClipPolygon& poly, unsigned planes, const ClipSetup& cs, ClipPo
         const bool from_a = std::abs(da) < std::abs(db) || (std::abs(da) == std::abs(db) && ina);
         const ClipVertex& near_v = from_a ? a : b;
         const ClipVertex& far_v = from_a ? b : a;
-        const float dnear = from_a ? da : db, dfar = from_a ? db : da;
-        const float t = dnear / (dnear - dfar);
-        ClipVertex v{near_v.p + t * (far_v.p - near_v.p), false, false};
+        ClipVertex v{clipIntersection(near_v.p, far_v.p, from_a ? da : db, from_a ? db : da, k, cs),
+                     false, false};
         // Entering the inside keeps the original edge's flag; the new edge along the plane
         // (from the exit point to the next entry) is not an original edge.
         v.edge = ina ? false : a.edge;
@@ -250,6 +293,18 @@ void emitTriangle(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
   // Order the vertices so the y-down area is positive (every edge function > 0 inside).
   int o[3] = {0, 1, 2};
   if (orientation > 0) std::swap(o[1], o[2]);  // CCW in y-up is negative area in y-down
+  // Start the cycle at the topmost, then leftmost snapped vertex, so the depth plane below is
+  // computed from the same reference vertex in the same order however the triangle was
+  // submitted: identical triangles get bit-identical depths and the depth test's tie rule
+  // (first submitted wins under LESS) holds for them in any vertex order (TESTING.md row 6).
+  {
+    int first = 0;
+    for (int k = 1; k < 3; ++k) {
+      if (fy[o[k]] < fy[o[first]] || (fy[o[k]] == fy[o[first]] && fx[o[k]] < fx[o[first]]))
+        first = k;
+    }
+    std::rotate(o, o + first, o + 3);
+  }
   ScreenTriangle t;
   for (int k = 0; k < 3; ++k) {
     t.x[k] = static_cast<std::int32_t>(fx[o[k]]);
