@@ -14,9 +14,14 @@ namespace hsr {
 // Loads SCENE: an existing file wins; otherwise a built-in name. Throws hsr::Error with a
 // one-line reason (missing file, unreadable format, empty scene, non-finite coordinates...).
 Scene loadScene(std::string_view spec);
+// How long a mesh import may take: assimp runs in a child process that is killed after
+// timeout_seconds (the file is then refused with one line).
+struct ImportLimits {
+  int timeout_seconds = 120;
+};
 // Mesh files: anything assimp reads. Polygons stay polygons (no triangulation), node
 // transforms are applied, ids follow node order then face order. Safe on untrusted input.
-Scene loadMeshFile(const std::filesystem::path& path);
+Scene loadMeshFile(const std::filesystem::path& path, const ImportLimits& limits = {});
 
 struct BuiltinScene {
   std::string_view name;     // e.g. "spheres:N"

@@ -36,9 +36,27 @@
 #include "hsr/scene.hpp"
 
 #include <poll.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define HSR_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define HSR_ASAN 1
+#endif
+#endif
+#ifndef HSR_ASAN
+#define HSR_ASAN 0
+#endif
+#if HSR_ASAN
+#include <sanitizer/common_interface_defs.h>
+#endif
+#ifndef HSR_FUZZING
+#define HSR_FUZZING 0
+#endif
 
 namespace hsr {
 namespace {
@@ -318,10 +336,40 @@ Error assimpFailure(const std::string& file, std::string_view message) {
 // Some importers size their arrays from counts in the file's header before reading the data
 // (OFF and PLY do): a header that claims more elements than the file has bytes would make them
 // allocate and clear gigabytes for nothing (invalid/OutOfMemory.off: 16 GB, minutes). Such a
-// header is refused here, before assimp sees it.
+// header is refused here, before assimp sees it. So are two inputs that assimp 5.2 misreads
+// silently (fuzz/seeds/): an OBJ number too long for its reader, and PLY data that ends
+// before the header's elements do or holds a list longer than what follows it.
 void checkDeclaredCounts(const fs::path& path, std::uintmax_t bytes) {
   std::string ext = path.extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext == ".obj") {
+    // assimp reads a number's integer part and its exponent as 64-bit integers and, when one
+    // overflows (2^64 or more: 20 digits and up), returns 0 for the whole number: "v 1e99999
+    // ..." or a 100-digit coordinate would load as 0. Digits after the point are safe (it
+    // reads 15 of them). Only vertex lines (v, vt, vn, vp) hold such numbers.
+    std::ifstream obj(path, std::ios::binary);
+    std::string row;
+    for (std::uint64_t line_no = 1; std::getline(obj, row); ++line_no) {
+      const std::size_t first = row.find_first_not_of(" \t");
+      if (first == std::string::npos || row[first] != 'v') continue;
+      for (std::size_t i = first; i < row.size();) {
+        if (!std::isdigit(static_cast<unsigned char>(row[i]))) {
+          ++i;
+          continue;
+        }
+        const std::size_t run = i;
+        while (i < row.size() && std::isdigit(static_cast<unsigned char>(row[i]))) ++i;
+        std::uint64_t value = 0;
+        if ((run == 0 || row[run - 1] != '.') && parseCount(row.substr(run, i - run), &value) &&
+            value == ~0ull)
+          throw Error(path.string() + ": line " + std::to_string(line_no) + ": the number " +
+                      row.substr(run, std::min<std::size_t>(i - run, 24)) +
+                      (i - run > 24 ? "..." : "") + " (" + std::to_string(i - run) +
+                      " digits) is too long for the OBJ reader");
+      }
+    }
+    return;
+  }
   if (ext != ".off" && ext != ".ply") return;
   std::ifstream in(path, std::ios::binary);
   std::string head(64 * 1024, '\0');
@@ -355,14 +403,146 @@ void checkDeclaredCounts(const fs::path& path, std::uintmax_t bytes) {
     // PLY: "element NAME COUNT" lines up to end_header; every element takes at least a byte
     std::string line;
     std::uint64_t total = 0;
+    // Then the data is walked (nothing stored): assimp 5.2 repeats the last ASCII line for
+    // every element the data lacks, reads past the end of binary data, and allocates a list's
+    // length before reading it (2^32 - 1 entries: tens of GB). Each property is its size in
+    // bytes, a list also the size of its length; unknown types leave the walk to assimp.
+    struct Property {
+      int size = 0, count_size = 0;  // count_size > 0: a list of `size`-byte items
+    };
+    struct Element {
+      std::string name;
+      std::uint64_t count = 0;
+      std::vector<Property> props;
+    };
+    std::vector<Element> elements;
+    std::string format;
+    bool walkable = false;
+    const auto typeSize = [](const std::string& t) {
+      if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+      if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+      if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" ||
+          t == "float32")
+        return 4;
+      if (t == "double" || t == "float64") return 8;
+      return 0;
+    };
+    bool known = true;
     while (std::getline(text, line)) {
-      if (line.rfind("end_header", 0) == 0) break;
+      if (line.rfind("end_header", 0) == 0) {
+        walkable = known;
+        break;
+      }
       std::istringstream words(line);
-      std::string keyword, name, count;
+      std::string keyword, name, count, item;
       std::uint64_t n = 0;
       if (words >> keyword >> name >> count && keyword == "element" && parseCount(count, &n)) {
         total = n > ~0ull - total ? ~0ull : total + n;
         if (total > bytes) refuse(total, "elements (vertices, faces...)");
+        elements.push_back({name, n, {}});
+      } else if (keyword == "element") {
+        known = false;
+      } else if (keyword == "format") {
+        format = name;
+      } else if (keyword == "property" && !elements.empty()) {
+        Property p;
+        if (name == "list" && words >> item) {
+          p.count_size = typeSize(count);
+          p.size = typeSize(item);
+          known = known && p.count_size > 0 && count != "float" && count != "float32" &&
+                  count != "double" && count != "float64";
+        } else {
+          p.size = typeSize(name);
+        }
+        known = known && p.size > 0;
+        elements.back().props.push_back(p);
+      }
+    }
+    const std::streamoff data_start = walkable ? static_cast<std::streamoff>(text.tellg()) : -1;
+    if (data_start < 0) return;
+    in.clear();
+    if (!in.seekg(data_start)) return;
+    const std::string file = path.string();
+    if (format == "ascii") {
+      // One line per element, as assimp reads them (blank lines skipped); a list's length
+      // must not exceed the values after it on its line
+      std::uint64_t lines = 0;
+      for (const Element& e : elements) {
+        for (std::uint64_t i = 0; i < e.count; ++i) {
+          do {
+            if (!std::getline(in, line))
+              throw Error(file + ": its header declares " + std::to_string(total) +
+                          " elements but its data has only " + std::to_string(lines) + " lines");
+          } while (line.find_first_not_of(" \t\r") == std::string::npos);
+          ++lines;
+          std::istringstream values(line);
+          std::vector<std::string> tokens;
+          for (std::string token; values >> token;) tokens.push_back(std::move(token));
+          std::size_t at = 0;
+          for (const Property& p : e.props) {
+            std::uint64_t length = 0;
+            if (p.count_size == 0 || at >= tokens.size() || !parseCount(tokens[at], &length)) {
+              ++at;
+              continue;
+            }
+            if (length > tokens.size() - at - 1)
+              throw Error(file + ": " + e.name + " " + std::to_string(i) + " has a list of " +
+                          tokens[at] + " entries but its line holds " +
+                          std::to_string(tokens.size() - at - 1) + " values");
+            at += 1 + length;
+          }
+        }
+      }
+    } else if (format == "binary_little_endian" || format == "binary_big_endian") {
+      const bool big = format == "binary_big_endian";
+      std::uint64_t left = bytes > static_cast<std::uintmax_t>(data_start) ? bytes - data_start : 0;
+      std::streambuf& buf = *in.rdbuf();
+      char skipped[4096];
+      const auto skip = [&](std::uint64_t n) {
+        left -= n;
+        if (n > sizeof skipped) {
+          buf.pubseekoff(static_cast<std::streamoff>(n), std::ios::cur, std::ios::in);
+          return;
+        }
+        buf.sgetn(skipped, static_cast<std::streamsize>(n));
+      };
+      for (const Element& e : elements) {
+        std::uint64_t row = 0;  // bytes of an element without lists
+        bool lists = false;
+        for (const Property& p : e.props) {
+          row += static_cast<std::uint64_t>(p.size);
+          lists = lists || p.count_size > 0;
+        }
+        const auto ends = [&](std::uint64_t i) {
+          return Error(file + ": its data ends inside " + e.name + " " + std::to_string(i) +
+                       " (the header declares " + std::to_string(e.count) + ")");
+        };
+        if (!lists) {
+          if (row > 0 && e.count > left / row) throw ends(left / row);
+          skip(e.count * row);
+          continue;
+        }
+        for (std::uint64_t i = 0; i < e.count; ++i) {
+          for (const Property& p : e.props) {
+            if (p.count_size == 0) {
+              if (static_cast<std::uint64_t>(p.size) > left) throw ends(i);
+              skip(static_cast<std::uint64_t>(p.size));
+              continue;
+            }
+            unsigned char raw[4] = {0, 0, 0, 0};
+            if (static_cast<std::uint64_t>(p.count_size) > left) throw ends(i);
+            left -= static_cast<std::uint64_t>(p.count_size);
+            buf.sgetn(reinterpret_cast<char*>(raw), p.count_size);
+            std::uint64_t length = 0;
+            for (int k = 0; k < p.count_size; ++k)
+              length |= static_cast<std::uint64_t>(raw[big ? p.count_size - 1 - k : k]) << (8 * k);
+            if (length > left / static_cast<std::uint64_t>(p.size))
+              throw Error(file + ": " + e.name + " " + std::to_string(i) + " has a list of " +
+                          std::to_string(length) + " entries but only " + std::to_string(left) +
+                          " bytes follow");
+            skip(length * static_cast<std::uint64_t>(p.size));
+          }
+        }
       }
     }
   }
@@ -403,23 +583,29 @@ void preflight(const aiScene* ai, const std::string& file) {
 
 }  // namespace
 
-#if defined(__SANITIZE_ADDRESS__)
-#define HSR_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define HSR_ASAN 1
-#endif
-#endif
-#ifndef HSR_ASAN
-#define HSR_ASAN 0
-#endif
 
 namespace {
+
+// assimp 5.2's PLY reader never returns on a header without an "end_header" line (found by
+// fuzzing: it spins until the import's deadline). A PLY header is short text: one without
+// end_header in its first 64 KiB is refused here.
+void checkPlyHeaderEnds(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  // By content, as assimp recognises PLY whatever the extension
+  const bool ply = head.rfind("ply\n", 0) == 0 || head.rfind("ply\r", 0) == 0;
+  if (ply && head.find("end_header") == std::string::npos)
+    throw Error(path.string() + ": its PLY header has no end_header line" +
+                (head.size() == 64 * 1024 ? " in its first 64 KiB" : ""));
+}
 
 // The importer proper (assimp), run inside the isolated child process.
 Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes) {
   const std::string file = path.string();
   try {
+    checkPlyHeaderEnds(path);
     checkDeclaredCounts(path, bytes);
     Assimp::Importer importer;  // no logger is attached: assimp stays quiet
     // Keep only what we use, so that identical positions join into shared vertices
@@ -455,8 +641,6 @@ Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes) {
 // (found by fuzzing: a binary PLY with a bodiless element segfaults inside its reader). So
 // the import runs in a forked child process that sends the scene back through a pipe; a
 // crash, a hang or runaway memory there becomes one clear hsr::Error here, never a crash.
-
-constexpr int kImportTimeoutSeconds = 120;
 
 void putU32(std::string& out, std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
 void putF32(std::string& out, float v) { out.append(reinterpret_cast<const char*>(&v), 4); }
@@ -583,8 +767,61 @@ bool writeAll(int fd, const char* data, std::size_t size) {
   return true;
 }
 
-Scene importIsolated(const fs::path& path, std::uintmax_t bytes) {
+#if HSR_FUZZING
+// Fuzzing: libFuzzer steers by the coverage counters of the process it runs in, and the
+// import layer's own code (preflight, conversion) runs in the child. The child copies its
+// counters (the linker's __sancov_cntrs section) into shared memory; the parent merges them.
+extern "C" {
+extern std::uint8_t __start___sancov_cntrs[] __attribute__((weak));
+extern std::uint8_t __stop___sancov_cntrs[] __attribute__((weak));
+}
+
+class SharedCoverage {
+ public:
+  SharedCoverage() {
+    if (__start___sancov_cntrs && +__stop___sancov_cntrs > +__start___sancov_cntrs)
+      size_ = static_cast<std::size_t>(__stop___sancov_cntrs - __start___sancov_cntrs);
+    if (size_ > 0) {
+      void* p = ::mmap(nullptr, size_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+      shared_ = p == MAP_FAILED ? nullptr : static_cast<std::uint8_t*>(p);
+    }
+  }
+  ~SharedCoverage() {
+    if (shared_) ::munmap(shared_, size_);
+  }
+  SharedCoverage(const SharedCoverage&) = delete;
+  SharedCoverage& operator=(const SharedCoverage&) = delete;
+  void publishFromChild() const {
+    if (shared_) std::memcpy(shared_, __start___sancov_cntrs, size_);
+  }
+  void mergeIntoParent() const {
+    if (!shared_) return;
+    for (std::size_t i = 0; i < size_; ++i)
+      __start___sancov_cntrs[i] = std::max(__start___sancov_cntrs[i], shared_[i]);
+  }
+
+ private:
+  std::size_t size_ = 0;
+  std::uint8_t* shared_ = nullptr;
+};
+#endif
+
+// In the child: a crash inside assimp must end the child quietly by its signal (the parent
+// reports it), not run the sanitizers' or libFuzzer's crash handlers as if the whole
+// program had crashed.
+void childCrashesBySignal() {
+  for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(sig, SIG_DFL);
+#if HSR_ASAN
+  __sanitizer_set_death_callback(nullptr);
+#endif
+}
+
+Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLimits& limits) {
   const std::string file = path.string();
+  const int timeout_seconds = std::max(limits.timeout_seconds, 1);
+#if HSR_FUZZING
+  const SharedCoverage coverage;
+#endif
   int fds[2];
   if (::pipe(fds) != 0) return importWithAssimp(path, bytes);  // no pipe: in process
   std::fflush(nullptr);
@@ -598,6 +835,7 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes) {
     // Child: import, answer 'S' + scene or 'E' + message, and leave without running any
     // destructor or exit handler of the parent's state.
     ::close(fds[0]);
+    childCrashesBySignal();
 #if !HSR_ASAN  // ASan reserves terabytes of shadow address space: no limit there
     const rlimit limit{std::uint64_t(16) << 30, std::uint64_t(16) << 30};  // 16 GiB of address space
     ::setrlimit(RLIMIT_AS, &limit);
@@ -612,6 +850,9 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes) {
     } catch (...) {
       answer = "E" + file + ": assimp could not read it: unknown error";
     }
+#if HSR_FUZZING
+    coverage.publishFromChild();
+#endif
     writeAll(fds[1], answer.data(), answer.size());
     ::_exit(0);
   }
@@ -620,7 +861,7 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes) {
   std::string answer;
   char buf[1 << 16];
   bool timed_out = false;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kImportTimeoutSeconds);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_seconds);
   for (;;) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
         deadline - std::chrono::steady_clock::now()).count();
@@ -642,9 +883,12 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+#if HSR_FUZZING
+  if (WIFEXITED(status)) coverage.mergeIntoParent();
+#endif
   if (timed_out)
     throw Error(file + ": the importer did not finish within " +
-                std::to_string(kImportTimeoutSeconds) + " s; refused");
+                std::to_string(timeout_seconds) + " s; refused");
   if (WIFSIGNALED(status))
     throw Error(file + ": the importer (assimp) crashed on this file (signal " +
                 std::to_string(WTERMSIG(status)) + "); refused as malformed");
@@ -655,7 +899,7 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes) {
 
 }  // namespace
 
-Scene loadMeshFile(const fs::path& path) {
+Scene loadMeshFile(const fs::path& path, const ImportLimits& limits) {
   const std::string file = path.string();
   // The file itself: exists, is a regular file (not a directory or a FIFO that would block),
   // not empty, not absurdly large
@@ -669,7 +913,7 @@ Scene loadMeshFile(const fs::path& path) {
   if (bytes == 0) throw Error(file + ": file is empty");
   if (bytes > kMaxFileBytes) throw Error(file + ": too large (over 2 GiB)");
 
-  return importIsolated(path, bytes);
+  return importIsolated(path, bytes, limits);
 }
 
 Scene loadScene(std::string_view spec) {
