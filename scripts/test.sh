@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Install, build and pass every test: the Release suite, then the same suite under ASan+UBSan.
+# Install, build and pass every test: the Release suite, the same suite under ASan+UBSan, then
+# every libFuzzer target for HSR_FUZZ_SECONDS (default 60) each.
 # HSR_TEST_INTENSITY: 1 (default, CI) or 3 for long local runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,3 +14,5 @@ scripts/build.sh build-asan -DHSR_SANITIZE=ON -DHSR_BUILD_BENCH=OFF -DCMAKE_BUIL
 # Mesa's own allocations are not ours to track: leak checking stays off for the oracle.
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j2
+echo "== libFuzzer: ${HSR_FUZZ_SECONDS:-60} s per target from the committed corpus =="
+scripts/fuzz.sh "${HSR_FUZZ_SECONDS:-60}"

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# libFuzzer under ASan+UBSan (clang 14), one target per input path we own:
+#   fuzz_obj fuzz_ply fuzz_stl fuzz_off fuzz_gltf  each mesh format through hsr::loadMeshFile
+#   fuzz_scene                                     bytes -> scene -> render at up to 64x64
+#   fuzz_args                                      the CLI's scene and camera arguments
+# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]
+#        scripts/fuzz.sh --merge [TARGET...]   minimise the working corpus into fuzz/corpus/
+# Each target starts from its committed corpus (fuzz/corpus/TARGET), the known-bug seeds of
+# its format (fuzz/seeds/*.EXT) and, for mesh formats, Debian's assimp test models; what it
+# finds goes to build-fuzz/corpus/TARGET (the tree stays clean). Any crash, leak, timeout
+# or out-of-memory fails the run; the input is kept in build-fuzz/artifacts/TARGET/.
+# A line per target is appended to build-fuzz/fuzz-log.tsv: target, seconds, CPU seconds
+# (the target and its import children), executions, coverage, corpus size, result.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+all=(fuzz_obj fuzz_ply fuzz_stl fuzz_off fuzz_gltf fuzz_scene fuzz_args)
+merge=0
+seconds=60
+if [ "${1:-}" = "--merge" ]; then merge=1; shift; elif [[ "${1:-}" =~ ^[0-9]+$ ]]; then seconds=$1; shift; fi
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
+
+scripts/install-deps.sh
+echo "== libFuzzer build (clang, ASan+UBSan) =="
+CC=clang-14 CXX=clang++-14 scripts/build.sh build-fuzz -DHSR_BUILD_FUZZ=ON -DHSR_SANITIZE=ON \
+  -DHSR_BUILD_TESTS=OFF -DHSR_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+
+# libassimp leaks inside its ASCII STL reader (not ours): suppressed for LSan only.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=0}
+export LSAN_OPTIONS=suppressions=$PWD/fuzz/lsan.supp
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+flags=(-max_len=65536 -rss_limit_mb=512 -timeout=10 -print_final_stats=1)
+
+seed_dirs() {  # extra read-only seed directories for a target
+  local t=$1 ext=${1#fuzz_} d=build-fuzz/seeds/$1
+  rm -rf "$d" && mkdir -p "$d"
+  case $t in fuzz_scene|fuzz_args) ;; *)
+    find fuzz/seeds -maxdepth 1 -type f -iname "*.$ext" -exec cp {} "$d/" \; 2>/dev/null || true
+    [ "$ext" = gltf ] && find fuzz/seeds -maxdepth 1 -type f -iname "*.glb" -exec cp {} "$d/" \; || true
+    # Debian's assimp test models of this format, those under the length limit
+    find /usr/share/assimp/models -type f -iname "*.$ext" -size -64k -exec cp {} "$d/" \; 2>/dev/null || true
+  esac
+  echo "$d"
+}
+
+status=0
+for t in "${targets[@]}"; do
+  mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" "fuzz/corpus/$t"
+  seeds=$(seed_dirs "$t")
+  if [ $merge -eq 1 ]; then
+    echo "== $t: minimising into fuzz/corpus/$t =="
+    tmp=$(mktemp -d)
+    "build-fuzz/$t" -merge=1 "${flags[@]}" "$tmp" "fuzz/corpus/$t" "build-fuzz/corpus/$t" \
+      > "build-fuzz/$t-merge.log" 2>&1
+    rm -rf "fuzz/corpus/$t" && mv "$tmp" "fuzz/corpus/$t" && chmod 755 "fuzz/corpus/$t"
+    echo "   $(ls "fuzz/corpus/$t" | wc -l) files, $(du -sh "fuzz/corpus/$t" | cut -f1)"
+    continue
+  fi
+  echo "== $t: ${seconds} s =="
+  log=build-fuzz/$t.log
+  start=$(date +%s)
+  rc=0
+  # CPU time of the fuzzer and its import children (bash's `time` counts reaped descendants)
+  TIMEFORMAT='%U %S'
+  { time { "build-fuzz/$t" -max_total_time="$seconds" "${flags[@]}" \
+             -artifact_prefix="build-fuzz/artifacts/$t/" \
+             "build-fuzz/corpus/$t" "fuzz/corpus/$t" "$seeds" > "$log" 2>&1 || rc=$?; }; } \
+    2> "build-fuzz/$t.time"
+  cpu=$(awk '{ printf "%.0f", $1 + $2 }' "build-fuzz/$t.time")
+  wall=$(( $(date +%s) - start ))
+  execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | awk '{print $2}' | tail -1)
+  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}')
+  corp=$(ls "build-fuzz/corpus/$t" | wc -l)
+  result=ok
+  [ "$rc" -ne 0 ] && result="FINDING (exit $rc)" && status=1
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$t" "$wall" "${cpu:-?}" "${execs:-?}" "${cov:-?}" "$corp" "$result" \
+    | tee -a build-fuzz/fuzz-log.tsv
+  if [ "$rc" -ne 0 ]; then
+    grep -E "ERROR|SUMMARY|Test unit written|==[0-9]+==" "$log" | head -20
+  fi
+done
+exit $status
