@@ -121,7 +121,9 @@ bool ruleCulls(CullMode mode, bool front) {
   return false;
 }
 
-TEST(ConformanceCulling, Matrix32WithBothFacingTests) {
+class ConformanceCulling : public testing::EveryAlgorithm {};
+
+TEST_P(ConformanceCulling, Matrix32WithBothFacingTests) {
   const std::uint64_t seed = 0xC0111u;
   const int n = 12;  // 288 triangles, each about 100-200 pixels
   const CullMesh mesh = makeCullMesh(seed, n);
@@ -165,7 +167,7 @@ TEST(ConformanceCulling, Matrix32WithBothFacingTests) {
             if (!ruleCulls(modes[cm], front)) expected.insert(static_cast<PolygonId>(i));
           }
           for (int ft = 0; ft < 2; ++ft) {
-            RenderOptions o;
+            RenderOptions o = options();
             o.cull = modes[cm];
             o.front_face = ff == 0 ? FrontFace::Ccw : FrontFace::Cw;
             o.facing_test = ft == 0 ? FacingTest::WindowArea : FacingTest::EyePlane;
@@ -230,8 +232,8 @@ struct NearResult {
 
 // Renders one scene (depth test off, so Frame::overdraw counts every fragment) and checks the
 // invariants every case must keep.
-Frame renderNear(const Scene& scene, NearResult& r) {
-  RenderOptions o;
+Frame renderNear(const std::string& algorithm, const Scene& scene, NearResult& r) {
+  RenderOptions o = testing::optionsFor(algorithm);
   o.depth_test = false;
   o.threads = 2;
   Frame f = render(scene, nearCamera(), o);
@@ -321,7 +323,9 @@ void compareWithAnalytic(const Frame& f, const std::vector<glm::vec3>& poly, Nea
 
 // Triangles with 1, 2 or 3 vertices at w <= 0 (behind the eye or on its plane, some exactly at
 // w = 0) and the rest in front with w in [0.2, 16].
-TEST(ConformanceNearPlane, BehindTheEye) {
+class ConformanceNearPlane : public testing::EveryAlgorithm {};
+
+TEST_P(ConformanceNearPlane, BehindTheEye) {
   const std::uint64_t seed = 0xBE41Du;
   Rng rng(seed);
   const int per_k = 300 * testing::testIntensity();
@@ -350,7 +354,7 @@ TEST(ConformanceNearPlane, BehindTheEye) {
       scene.addMaterial({});
       scene.addPolygonVertices({t[0], t[1], t[2]}, 0);
       const std::uint64_t drawn_before = r.drawn;
-      const Frame f = renderNear(scene, r);
+      const Frame f = renderNear(GetParam(), scene, r);
       cases++;
       const std::string ctx = "seed " + std::to_string(seed) + ", " + std::to_string(behind) +
                               " behind, triangle " + str(t);
@@ -381,7 +385,7 @@ TEST(ConformanceNearPlane, BehindTheEye) {
 
 // Huge quads: a floor under the eye reaching behind it and past the far plane, and a plane
 // through the eye itself (which projects to a line: nothing > 1 px from it may be drawn).
-TEST(ConformanceNearPlane, HugeQuadsPastAndThroughTheEye) {
+TEST_P(ConformanceNearPlane, HugeQuadsPastAndThroughTheEye) {
   struct Case {
     const char* name;
     std::vector<glm::vec3> quad;
@@ -409,7 +413,7 @@ TEST(ConformanceNearPlane, HugeQuadsPastAndThroughTheEye) {
       scene.addMaterial({});
       scene.addPolygonVertices(std::span<const glm::vec3>(q), 0);
       NearResult one;
-      const Frame f = renderNear(scene, one);
+      const Frame f = renderNear(GetParam(), scene, one);
       compareWithAnalytic(f, q, one, c.name);
       std::printf("[conformance near] %s%s: %llu pixels drawn, %llu unambiguous compared, "
                   "%llu mismatched, %llu overdrawn\n",
@@ -427,7 +431,7 @@ TEST(ConformanceNearPlane, HugeQuadsPastAndThroughTheEye) {
 // left/right, y beyond bottom/top, z beyond far or behind the eye), the other vertices in
 // front with w in [0.2, 16]. No crash, no NaN, depth in [0,1], fans written exactly once; and
 // a triangle whose three vertices lie behind the eye, or beyond one same side plane, draws 0.
-TEST(ConformanceNearPlane, Far30000Beyond26Directions) {
+TEST_P(ConformanceNearPlane, Far30000Beyond26Directions) {
   const std::uint64_t seed = 0x30000u;
   Rng rng(seed);
   std::vector<glm::vec3> dirs;
@@ -456,7 +460,7 @@ TEST(ConformanceNearPlane, Far30000Beyond26Directions) {
     scene.addMaterial({});
     scene.addPolygonVertices({t[0], t[1], t[2]}, 0);
     const std::uint64_t drawn_before = r.drawn, bad_before = r.bad_depth, over_before = r.overdraw;
-    renderNear(scene, r);
+    renderNear(GetParam(), scene, r);
     cases[out_count]++;
     const std::string ctx = "seed " + std::to_string(seed) + ", " + std::to_string(out_count) +
                             " out, triangle " + str(t);
@@ -520,6 +524,9 @@ TEST(ConformanceNearPlane, Far30000Beyond26Directions) {
   EXPECT_GT(must_be_empty, 0u);
   EXPECT_GT(r.drawn, 0u);
 }
+
+HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(ConformanceCulling);
+HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(ConformanceNearPlane);
 
 }  // namespace
 }  // namespace hsr

@@ -98,7 +98,7 @@ bool refCoverage(const GridTri& t, int width, int height, std::vector<std::uint8
 // Rendering through hsr.
 
 // One object per triangle (z = 0, facing the camera either way), depth test off, no culling.
-Frame renderTris(const std::vector<GridTri>& tris) {
+Frame renderTris(const std::vector<GridTri>& tris, const std::string& algorithm) {
   Scene scene;
   for (std::size_t i = 0; i < tris.size(); ++i) {
     const GridTri& t = tris[i];
@@ -108,7 +108,7 @@ Frame renderTris(const std::vector<GridTri>& tris) {
                              0);
   }
   scene.addMaterial({});
-  RenderOptions o;
+  RenderOptions o = testing::optionsFor(algorithm);
   o.depth_test = false;
   o.cull = CullMode::None;
   o.frustum_cull = false;
@@ -123,8 +123,8 @@ struct Totals {
 
 // Renders a batch of triangles whose pixel sets are disjoint and compares the whole image
 // pixel by pixel with the reference's id image. Returns the number of differing pixels.
-std::uint64_t compareBatch(const std::vector<GridTri>& tris, Totals& tot, const std::string& ctx,
-                           int* reports_left) {
+std::uint64_t compareBatch(const std::string& algorithm, const std::vector<GridTri>& tris,
+                           Totals& tot, const std::string& ctx, int* reports_left) {
   std::vector<PolygonId> ref(static_cast<std::size_t>(kSize) * kSize, kNoPolygon);
   std::vector<std::uint8_t> cov(ref.size());
   for (std::size_t i = 0; i < tris.size(); ++i) {
@@ -141,7 +141,7 @@ std::uint64_t compareBatch(const std::vector<GridTri>& tris, Totals& tot, const 
       ref[k] = static_cast<PolygonId>(i);
     }
   }
-  const Frame f = renderTris(tris);
+  const Frame f = renderTris(tris, algorithm);
   std::uint64_t diff = 0;
   for (std::size_t k = 0; k < ref.size(); ++k) {
     tot.pixels_compared++;
@@ -165,7 +165,7 @@ std::uint64_t compareBatch(const std::vector<GridTri>& tris, Totals& tot, const 
 // ---------------------------------------------------------------------------------------------
 
 // The reference itself, on cases worked out by hand (so that it is not merely self-consistent).
-TEST(ConformanceRaster, ReferenceHandWorkedCases) {
+TEST(ConformanceReference, HandWorkedCases) {
   constexpr int W = 8, H = 8;
   std::vector<std::uint8_t> cov(W * H);
   auto count = [&] {
@@ -201,7 +201,9 @@ TEST(ConformanceRaster, ReferenceHandWorkedCases) {
 }
 
 // 4 triangles x 9 shifts of (-1/16, 0, +1/16) px in x and y, each in both windings.
-TEST(ConformanceRaster, FixedCasesBitExact) {
+class ConformanceRaster : public testing::EveryAlgorithm {};
+
+TEST_P(ConformanceRaster, FixedCasesBitExact) {
   // In 1/16 px, GL y up: (0) a left edge and a bottom edge through rows/columns of pixel
   // centres, (1) a top edge and a right edge through pixel centres (so the fill rule decides
   // on whole rows and columns), (2) a slope-1 sliver whose long edge runs through centres,
@@ -227,8 +229,8 @@ TEST(ConformanceRaster, FixedCasesBitExact) {
         std::swap(r.y[1], r.y[2]);
         const std::string ctx = "fixed case " + std::to_string(i) + " shift (" +
                                 std::to_string(sx) + "/16, " + std::to_string(sy) + "/16)";
-        compareBatch({t}, tot, ctx, &reports_left);
-        compareBatch({r}, tot, ctx + " reversed", &reports_left);
+        compareBatch(GetParam(), {t}, tot, ctx, &reports_left);
+        compareBatch(GetParam(), {r}, tot, ctx + " reversed", &reports_left);
       }
     }
   }
@@ -245,7 +247,7 @@ TEST(ConformanceRaster, FixedCasesBitExact) {
 // random winding. Triangles of one size are batched into disjoint square cells of the 256x256
 // image (a cell of side C >= 2^k holds one triangle; pixel centres never lie on cell borders,
 // so no two triangles can share a pixel).
-TEST(ConformanceRaster, RandomTrianglesBitExact) {
+TEST_P(ConformanceRaster, RandomTrianglesBitExact) {
   const std::uint64_t seed = 0x5EED0003ull;
   Rng rng(seed);
   const int total = 10000 * testing::testIntensity();
@@ -283,7 +285,7 @@ TEST(ConformanceRaster, RandomTrianglesBitExact) {
         made++;
       }
       const std::string ctx = "seed " + std::to_string(seed) + ", size 2^" + std::to_string(k);
-      compareBatch(batch, tot, ctx, &reports_left);
+      compareBatch(GetParam(), batch, tot, ctx, &reports_left);
     }
   }
   std::printf("[conformance raster] random (seed %llu): %llu triangles (%llu ccw, %llu cw; "
@@ -297,6 +299,8 @@ TEST(ConformanceRaster, RandomTrianglesBitExact) {
   EXPECT_GT(tot.cw, 0u);
   EXPECT_EQ(tot.differing, 0u) << "seed " << seed;
 }
+
+HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(ConformanceRaster);
 
 }  // namespace
 }  // namespace hsr

@@ -25,8 +25,8 @@ constexpr double kPi = 3.14159265358979323846;
 // to 1/256 px moves edges by up to ~0.003 px, and float transforms add a little more.
 constexpr double kMargin = 0.01;
 
-RenderOptions countEveryFragment() {
-  RenderOptions o;
+RenderOptions countEveryFragment(const std::string& algorithm) {
+  RenderOptions o = testing::optionsFor(algorithm);
   o.depth_test = false;  // every fragment writes: overdraw counts all of them
   o.frustum_cull = false;
   o.threads = 2;
@@ -105,7 +105,9 @@ Scene fan(const glm::vec2& centre, const std::vector<glm::vec2>& rim) {
   return s;
 }
 
-TEST(RasterProperties, FanCoversEachPixelOnce) {
+class RasterProperties : public testing::EveryAlgorithm {};
+
+TEST_P(RasterProperties, FanCoversEachPixelOnce) {
   const int size = 1000;
   const Camera cam = pixelCamera(size, size);
   const int seeds = 10 * testing::testIntensity();
@@ -125,7 +127,7 @@ TEST(RasterProperties, FanCoversEachPixelOnce) {
     }
     const glm::vec2 centre(x0 + rng.uniform(1.0f, 499.0f), y0 + rng.uniform(1.0f, 499.0f));
     const Scene s = fan(centre, rim);
-    const Frame f = render(s, cam, countEveryFragment());
+    const Frame f = render(s, cam, countEveryFragment(GetParam()));
     std::vector<glm::dvec2> outline;
     for (const glm::vec2& c : corners) outline.push_back({c.x, c.y});
     const CoverageReport r = checkCoverage(f, &outline);
@@ -138,7 +140,7 @@ TEST(RasterProperties, FanCoversEachPixelOnce) {
 
 // Row 1, clipped: the centre anywhere in [-0.5W, 1.5W]^2 (often off screen), the rim on a circle
 // that encloses the viewport, so every pixel of the viewport is covered exactly once.
-TEST(RasterProperties, ClippedFanCoversViewportOnce) {
+TEST_P(RasterProperties, ClippedFanCoversViewportOnce) {
   const int size = 1000;
   const Camera cam = pixelCamera(size, size);
   const int seeds = 10 * testing::testIntensity();
@@ -156,7 +158,7 @@ TEST(RasterProperties, ClippedFanCoversViewportOnce) {
                      static_cast<float>(centre.y + radius * std::sin(a))});
     }
     const Scene s = fan(centre, rim);
-    const Frame f = render(s, cam, countEveryFragment());
+    const Frame f = render(s, cam, countEveryFragment(GetParam()));
     const CoverageReport r = checkCoverage(f, nullptr);
     std::printf("raster clipped fan seed %d: %zu triangles, %llu written twice, %llu holes\n", seed,
                 rim.size(), static_cast<unsigned long long>(r.overlaps),
@@ -205,7 +207,7 @@ std::vector<glm::dvec2> gridOutline(glm::vec2 centre, float cell, double angle) 
   return out;
 }
 
-TEST(RasterProperties, RotatedQuadGridHasNoOverlapOrHole) {
+TEST_P(RasterProperties, RotatedQuadGridHasNoOverlapOrHole) {
   const Camera cam = pixelCamera(256, 256);
   for (int seed = 1; seed <= 3 * testing::testIntensity(); ++seed) {
     Rng rng(static_cast<std::uint64_t>(2000 + seed));
@@ -216,7 +218,7 @@ TEST(RasterProperties, RotatedQuadGridHasNoOverlapOrHole) {
       const std::string label =
           "grid seed " + std::to_string(seed) + " angle " + std::to_string(angle);
       SCOPED_TRACE(label);
-      const Frame f = render(quadGrid(centre, cell, angle), cam, countEveryFragment());
+      const Frame f = render(quadGrid(centre, cell, angle), cam, countEveryFragment(GetParam()));
       const std::vector<glm::dvec2> outline = gridOutline(centre, cell, angle);
       expectExactCover(checkCoverage(f, &outline), label);
     }
@@ -225,7 +227,7 @@ TEST(RasterProperties, RotatedQuadGridHasNoOverlapOrHole) {
 
 // Row 2 with perspective: the same grid on a plane tilted away from a perspective camera, so
 // the projected w of its vertices spans about [0.1, 4].
-TEST(RasterProperties, PerspectiveQuadGridHasNoOverlapOrHole) {
+TEST_P(RasterProperties, PerspectiveQuadGridHasNoOverlapOrHole) {
   Camera cam;
   cam.width = 256;
   cam.height = 256;
@@ -250,7 +252,7 @@ TEST(RasterProperties, PerspectiveQuadGridHasNoOverlapOrHole) {
       const auto poly = s.polygon(id);
       tilted.addPolygon(std::span<const std::uint32_t>(poly.data(), poly.size()), m);
     }
-    const Frame f = render(tilted, cam, countEveryFragment());
+    const Frame f = render(tilted, cam, countEveryFragment(GetParam()));
     // Outline: the projected outer corners (straight edges stay straight under projection).
     const double c = std::cos(angle), sn = std::sin(angle), h = 2.0 * 0.45;
     std::vector<glm::dvec2> outline;
@@ -266,7 +268,7 @@ TEST(RasterProperties, PerspectiveQuadGridHasNoOverlapOrHole) {
 
 // Row 2: one quad far larger than a 64x64 viewport, rotated through many angles: every pixel
 // is written exactly once (the shared diagonal crosses the viewport).
-TEST(RasterProperties, HugeQuadCoversViewportOnce) {
+TEST_P(RasterProperties, HugeQuadCoversViewportOnce) {
   const Camera cam = pixelCamera(64, 64);
   Rng rng(3001);
   const int angles = 180 * testing::testIntensity();
@@ -286,10 +288,12 @@ TEST(RasterProperties, HugeQuadCoversViewportOnce) {
     }
     s.addPolygon({0, 1, 2}, m);
     s.addPolygon({0, 2, 3}, m);
-    const Frame f = render(s, cam, countEveryFragment());
+    const Frame f = render(s, cam, countEveryFragment(GetParam()));
     expectExactCover(checkCoverage(f, nullptr), label);
   }
 }
+
+HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(RasterProperties);
 
 }  // namespace
 }  // namespace hsr

@@ -4,6 +4,9 @@
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
 
 #include "hsr/camera.hpp"
 #include "hsr/render.hpp"
@@ -40,4 +43,30 @@ inline Camera pixelCamera(int w, int h) {
   return c;
 }
 
+// The registry's algorithm names. Tests of properties every algorithm must keep are
+// value-parameterised over it (class Suite : public EveryAlgorithm, TEST_P, and
+// HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(Suite)): adding a line to the registry table adds the
+// new algorithm to every such test, named Suite.Test/ALGORITHM.
+inline std::vector<std::string> algorithmNames() {
+  std::vector<std::string> names;
+  for (const AlgorithmInfo& a : algorithms()) names.emplace_back(a.name);
+  return names;
+}
+
+// Default render state with the algorithm under test.
+inline RenderOptions optionsFor(const std::string& algorithm) {
+  RenderOptions o;
+  o.algorithm = algorithm;
+  return o;
+}
+
+class EveryAlgorithm : public ::testing::TestWithParam<std::string> {
+ protected:
+  RenderOptions options() const { return optionsFor(GetParam()); }
+};
+
 }  // namespace hsr::testing
+
+#define HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(Suite)                                      \
+  INSTANTIATE_TEST_SUITE_P(, Suite, ::testing::ValuesIn(::hsr::testing::algorithmNames()), \
+                           [](const ::testing::TestParamInfo<std::string>& i) { return i.param; })

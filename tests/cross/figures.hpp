@@ -1,0 +1,54 @@
+#pragma once
+// Small helpers for the cross-checking tests: how counts scale with HSR_TEST_INTENSITY, the
+// "[ figures ]" lines that feed the README's Reliability table, and buffer hashes.
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "test_util.hpp"
+
+namespace hsr::testing {
+
+// Multiplier for a test's counts: 1 at intensity 1 (CI), about 3 at 2, 10 at 3, 100 at 5.
+inline int countScale() {
+  const int i = testIntensity();
+  return static_cast<int>(std::lround(std::pow(10.0, (i - 1) / 2.0)));
+}
+
+// 13107200 -> "13,107,200".
+inline std::string grouped(std::uint64_t v) {
+  std::string s = std::to_string(v);
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
+  return s;
+}
+
+// Percentage with enough digits to show small fractions: 0.0001%.
+inline std::string percent(std::uint64_t part, std::uint64_t whole) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f%%", whole ? 100.0 * double(part) / double(whole) : 0.0);
+  return buf;
+}
+
+// One line for the README's Reliability table.
+inline void printFigures(const std::string& line) {
+  std::printf("[ figures ] %s\n", line.c_str());
+  std::fflush(stdout);
+}
+
+// FNV-1a, 64 bits, over the bytes of a buffer (floats by their bit patterns).
+template <class T>
+std::uint64_t fnv1a64(const std::vector<T>& v) {
+  std::uint64_t h = 0xCBF29CE484222325ull;
+  const unsigned char* p = reinterpret_cast<const unsigned char*>(v.data());
+  for (std::size_t i = 0; i < v.size() * sizeof(T); ++i) {
+    h ^= p[i];
+    h *= 0x100000001B3ull;
+  }
+  return h;
+}
+
+}  // namespace hsr::testing
