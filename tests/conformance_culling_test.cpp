@@ -328,7 +328,7 @@ class ConformanceNearPlane : public testing::EveryAlgorithm {};
 TEST_P(ConformanceNearPlane, BehindTheEye) {
   const std::uint64_t seed = 0xBE41Du;
   Rng rng(seed);
-  const int per_k = 300 * testing::testIntensity();
+  const int per_k = 300 * testing::countScale();
   const double tan_half = std::tan(glm::radians(30.0));
   NearResult r;
   std::uint64_t cases = 0, fully_behind_drawn = 0, partly_drawn_cases = 0;

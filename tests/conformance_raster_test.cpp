@@ -250,7 +250,7 @@ TEST_P(ConformanceRaster, FixedCasesBitExact) {
 TEST_P(ConformanceRaster, RandomTrianglesBitExact) {
   const std::uint64_t seed = 0x5EED0003ull;
   Rng rng(seed);
-  const int total = 10000 * testing::testIntensity();
+  const int total = 10000 * testing::countScale();
   Totals tot;
   int reports_left = 20;
   std::uint64_t degenerate_skipped = 0;

@@ -207,7 +207,7 @@ std::int64_t randInt(Rng& rng, std::int64_t lo, std::int64_t hi) {
 // dropped before rasterization and counted in Stats::degenerate_dropped, and draws 0 pixels
 // in every polygon mode and cull mode. A normal triangle beside them draws as usual.
 TEST(Degenerate, ZeroAreaCollinearTrianglesDrawNothingAndAreCounted) {
-  const int seeds = 3 * testing::testIntensity();
+  const int seeds = 3 * testing::countScale();
   std::uint64_t polygons = 0;
   for (int seed = 1; seed <= seeds; ++seed) {
     SCOPED_TRACE("collinear seed " + std::to_string(seed));
@@ -264,7 +264,7 @@ TEST(Degenerate, ZeroAreaRepeatedVertexTrianglesDrawNothingAndAreCounted) {
   s.beginObject("repeats");
   std::uint32_t zero_area = 0;
   std::vector<Tri> spanning;  // the triangles that the non-degenerate polygons span
-  for (int i = 0; i < 100 * testing::testIntensity(); ++i) {
+  for (int i = 0; i < 100 * testing::countScale(); ++i) {
     const auto point = [&] {
       return glm::vec3(randInt(rng, 256, 65280) / 256.0f, randInt(rng, 256, 65280) / 256.0f,
                        randInt(rng, -512, 512) / 256.0f);
@@ -351,7 +351,7 @@ std::int64_t extendedGcd(std::int64_t a, std::int64_t b, std::int64_t* x, std::i
 // runs exactly through a row, a column or a diagonal of pixel centres, so the fill rule
 // decides every centre on it.
 TEST(Degenerate, NeedleTrianglesDrawExactlyTheCentresInside) {
-  const int scenes = 4 * testing::testIntensity();
+  const int scenes = 4 * testing::countScale();
   std::uint64_t needles = 0, covered = 0, at_least_1e6 = 0;
   double min_aspect = 1e300, max_aspect = 0;
   for (int n = 0; n < scenes; ++n) {
@@ -429,7 +429,7 @@ TEST(Degenerate, NeedleTrianglesDrawExactlyTheCentresInside) {
 // to about 4e-8 of the far coordinates (measured: 0.04 px at +-5e5 px), so centres within
 // 0.05 px of an edge are not judged; the axis-aligned family has none, so it is exact.
 TEST(Degenerate, MillionPixelNeedlesAreClippedExactly) {
-  const int count = 40 * testing::testIntensity();
+  const int count = 40 * testing::countScale();
   Rng rng(0x1E6'0005u);
   std::uint64_t judged = 0, ambiguous = 0, inside = 0;
   for (int i = 0; i < count; ++i) {
@@ -489,7 +489,7 @@ TEST(Degenerate, MillionPixelNeedlesAreClippedExactly) {
 // on a top or left edge): 0 or 1 pixel, never more. Cases include a vertex on the centre and
 // an edge through it.
 TEST(Degenerate, SubPixelTrianglesDrawZeroOrOnePixelByTheCentreRule) {
-  const int scenes = 3 * testing::testIntensity();
+  const int scenes = 3 * testing::countScale();
   std::uint64_t total = 0, drew = 0;
   for (int n = 0; n < scenes; ++n) {
     SCOPED_TRACE("sub-pixel seed " + std::to_string(n));
@@ -534,7 +534,7 @@ TEST(Degenerate, SubPixelTrianglesDrawZeroOrOnePixelByTheCentreRule) {
 // exactly once (the fill rule is exact on shared edges, however small the triangles) and
 // none outside.
 TEST(Degenerate, SubPixelFanCoversEachCentreExactlyOnce) {
-  const int scenes = 3 * testing::testIntensity();
+  const int scenes = 3 * testing::countScale();
   std::uint64_t triangles = 0, centres = 0;
   for (int n = 0; n < scenes; ++n) {
     SCOPED_TRACE("sub-pixel fan seed " + std::to_string(n));
@@ -775,7 +775,7 @@ std::vector<Tri> tJunction(glm::dvec2 a, glm::dvec2 b, glm::dvec2 m, glm::dvec2 
 // gives each pixel centre on the line to exactly one side. (The library does not weld
 // T-junctions; exactness comes from the snapping and the fill rule.)
 TEST(Degenerate, TJunctionVertexOnTheEdgeLeavesNoCrack) {
-  const int cases = 150 * testing::testIntensity();
+  const int cases = 150 * testing::countScale();
   Rng rng(0x7'0010u);
   std::uint64_t on_line = 0;
   for (int i = 0; i < cases; ++i) {
@@ -830,7 +830,7 @@ TEST(Degenerate, TJunctionVertexOnTheEdgeLeavesNoCrack) {
 // defect is a pixel centre inside or on the sliver; all other centres are written exactly
 // once, and the drawing is exactly the reference in every case.
 TEST(Degenerate, TJunctionVertexOffTheEdgeCracksOnlyInsideTheSliver) {
-  const int cases = 120 * testing::testIntensity();
+  const int cases = 120 * testing::countScale();
   Rng rng(0x7'0011u);
   std::uint64_t cracks = 0, doubles = 0, crack_cases = 0, double_cases = 0;
   for (int i = 0; i < cases; ++i) {
@@ -898,7 +898,7 @@ TEST(Degenerate, TJunctionVertexOffTheEdgeCracksOnlyInsideTheSliver) {
 // face writes a pixel twice), and with the depth test the pixel shows one of those faces,
 // a nearest one.
 TEST(Degenerate, NonManifoldEdgeEachFaceWritesItsPixelsOnce) {
-  const int cases = 40 * testing::testIntensity();
+  const int cases = 40 * testing::countScale();
   Rng rng(0xB00C'0012u);
   for (int i = 0; i < cases; ++i) {
     SCOPED_TRACE("book " + std::to_string(i));
@@ -1034,7 +1034,7 @@ TEST(Degenerate, FlippedFacesAreCulledExactlyWhenTheCullRuleSays) {
 // and with LEQUAL the last submitted does; this holds for shared or separate vertices, on
 // sloped planes too.
 TEST(Degenerate, DuplicateTrianglesFirstSubmittedWinsWithLess) {
-  const int cases = 60 * testing::testIntensity();
+  const int cases = 60 * testing::countScale();
   Rng rng(0xD0B'0014u);
   for (int i = 0; i < cases; ++i) {
     SCOPED_TRACE("duplicates " + std::to_string(i));
@@ -1070,7 +1070,7 @@ TEST(Degenerate, DuplicateTrianglesFirstSubmittedWinsWithLess) {
 // list rotated (b, c, a) or reversed is the same surface, so with LESS the first submitted
 // keeps every pixel (TESTING.md row 6: the tie rule, never a mix of the rule and noise).
 TEST(Degenerate, DuplicateTrianglesInAnyVertexOrderFirstSubmittedWins) {
-  const int cases = 60 * testing::testIntensity();
+  const int cases = 60 * testing::countScale();
   Rng rng(0xD0B'0015u);
   std::uint64_t noisy_cases = 0, noisy_pixels = 0, pixels = 0;
   for (int i = 0; i < cases; ++i) {

@@ -29,7 +29,7 @@ float mostlySane(Rng& rng, float scale) {
 class Garbage : public testing::EveryAlgorithm {};
 
 TEST_P(Garbage, RandomBitPatternScenesNeverCrash) {
-  const int scenes = 1000 * testing::testIntensity();  // TESTING.md row 13: 1,000 in CI
+  const int scenes = 1000 * testing::countScale();  // TESTING.md row 13: 1,000 in CI
   std::uint64_t dropped = 0, drawn = 0;
   for (int n = 0; n < scenes; ++n) {
     SCOPED_TRACE("garbage scene seed " + std::to_string(n));

@@ -33,7 +33,7 @@ Scene randomSoup(std::uint64_t seed, int n, float spread) {
 // is not edge-on, in perspective and in parallel projection.
 TEST(Pipeline, EyePlaneAndWindowAreaFacingAgree) {
   for (bool ortho : {false, true}) {
-    const Scene s = randomSoup(ortho ? 11 : 7, 2000 * testing::testIntensity(), 3.0f);
+    const Scene s = randomSoup(ortho ? 11 : 7, 2000 * testing::countScale(), 3.0f);
     Camera cam = frameBounds(s.bounds(), 320, 240, 50.0f, ortho);
     const glm::mat4 mvp = cam.projection() * cam.view();
     int compared = 0, edge_on = 0;

@@ -110,7 +110,7 @@ class RasterProperties : public testing::EveryAlgorithm {};
 TEST_P(RasterProperties, FanCoversEachPixelOnce) {
   const int size = 1000;
   const Camera cam = pixelCamera(size, size);
-  const int seeds = 10 * testing::testIntensity();
+  const int seeds = 10 * testing::countScale();
   for (int seed = 1; seed <= seeds; ++seed) {
     SCOPED_TRACE("fan seed " + std::to_string(seed));
     Rng rng(static_cast<std::uint64_t>(seed));
@@ -143,7 +143,7 @@ TEST_P(RasterProperties, FanCoversEachPixelOnce) {
 TEST_P(RasterProperties, ClippedFanCoversViewportOnce) {
   const int size = 1000;
   const Camera cam = pixelCamera(size, size);
-  const int seeds = 10 * testing::testIntensity();
+  const int seeds = 10 * testing::countScale();
   for (int seed = 1; seed <= seeds; ++seed) {
     SCOPED_TRACE("clipped fan seed " + std::to_string(seed));
     Rng rng(static_cast<std::uint64_t>(1000 + seed));
@@ -209,7 +209,7 @@ std::vector<glm::dvec2> gridOutline(glm::vec2 centre, float cell, double angle) 
 
 TEST_P(RasterProperties, RotatedQuadGridHasNoOverlapOrHole) {
   const Camera cam = pixelCamera(256, 256);
-  for (int seed = 1; seed <= 3 * testing::testIntensity(); ++seed) {
+  for (int seed = 1; seed <= 3 * testing::countScale(); ++seed) {
     Rng rng(static_cast<std::uint64_t>(2000 + seed));
     const glm::vec2 centre(128.0f + rng.uniform(-4.0f, 4.0f), 128.0f + rng.uniform(-4.0f, 4.0f));
     const float cell = rng.uniform(20.0f, 40.0f);
@@ -271,7 +271,7 @@ TEST_P(RasterProperties, PerspectiveQuadGridHasNoOverlapOrHole) {
 TEST_P(RasterProperties, HugeQuadCoversViewportOnce) {
   const Camera cam = pixelCamera(64, 64);
   Rng rng(3001);
-  const int angles = 180 * testing::testIntensity();
+  const int angles = 180 * testing::countScale();
   for (int k = 0; k < angles; ++k) {
     const double angle = 0.5 * kPi * k / angles + rng.uniform(0.0f, 1e-3f);
     const glm::vec2 centre(32.0f + rng.uniform(-20.0f, 20.0f), 32.0f + rng.uniform(-20.0f, 20.0f));

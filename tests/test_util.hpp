@@ -2,6 +2,7 @@
 // Small helpers shared by the tests: deterministic random numbers and scene builders.
 
 #include <cstdint>
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -20,11 +21,16 @@ using Rng = hsr::detail::SplitMix64;
 // Channel c (0 = R, 1 = G, 2 = B) of pixel k of a frame's packed RGBA colour.
 inline int channel(const Frame& f, std::size_t k, int c) { return (f.color[k] >> (8 * c)) & 0xFF; }
 
-// HSR_TEST_INTENSITY: 1 in CI (default), 3 for long local runs.
+// HSR_TEST_INTENSITY: 1 in CI (default), 3 for long local runs (10x the cases), 5 for 100x.
 inline int testIntensity() {
   const char* v = std::getenv("HSR_TEST_INTENSITY");
   const int i = v ? std::atoi(v) : 1;
-  return i < 1 ? 1 : i;
+  return i < 1 ? 1 : (i > 9 ? 9 : i);
+}
+
+// Multiplier for a test's case counts: 1 at intensity 1 (CI), about 3 at 2, 10 at 3, 100 at 5.
+inline int countScale() {
+  return static_cast<int>(std::lround(std::pow(10.0, (testIntensity() - 1) / 2.0)));
 }
 
 // An orthographic camera on which world x,y in [0,w]x[0,h] map to window pixels (y up),

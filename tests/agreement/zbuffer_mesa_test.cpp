@@ -323,7 +323,7 @@ TEST(ZBufferMesaAgreement, RandomSoups) {
   const Size sizes[] = {{256, 256}, {317, 211}, {256, 256}, {640, 480}, {211, 127}};
   const CullMode culls[] = {CullMode::None, CullMode::Back, CullMode::Front,
                             CullMode::FrontAndBack};
-  const int soups = 24 * testing::testIntensity();
+  const int soups = 24 * testing::countScale();
   Agreement total;
   for (int seed = 1; seed <= soups; ++seed) {
     SCOPED_TRACE("soup seed " + std::to_string(seed));

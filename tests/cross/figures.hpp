@@ -1,5 +1,5 @@
 #pragma once
-// Small helpers for the cross-checking tests: how counts scale with HSR_TEST_INTENSITY, the
+// Small helpers for the cross-checking tests: the
 // "[ figures ]" lines that feed the README's Reliability table, and buffer hashes.
 
 #include <cmath>
@@ -12,12 +12,6 @@
 #include "test_util.hpp"
 
 namespace hsr::testing {
-
-// Multiplier for a test's counts: 1 at intensity 1 (CI), about 3 at 2, 10 at 3, 100 at 5.
-inline int countScale() {
-  const int i = testIntensity();
-  return static_cast<int>(std::lround(std::pow(10.0, (i - 1) / 2.0)));
-}
 
 // 13107200 -> "13,107,200".
 inline std::string grouped(std::uint64_t v) {
