@@ -34,32 +34,15 @@ using testing::pixelCamera;
 using testing::Rng;
 
 // "[ figures ]" for the README's Reliability table: Degenerate tests run and passed.
-class Figures : public ::testing::Environment {
- public:
-  void TearDown() override {
-    const ::testing::UnitTest& u = *::testing::UnitTest::GetInstance();
-    int run = 0, passed = 0;
-    for (int i = 0; i < u.total_test_suite_count(); ++i) {
-      const ::testing::TestSuite& suite = *u.GetTestSuite(i);
-      if (std::string_view(suite.name()) != "Degenerate") continue;
-      for (int j = 0; j < suite.total_test_count(); ++j) {
-        const ::testing::TestInfo& t = *suite.GetTestInfo(j);
-        if (!t.should_run()) continue;
-        ++run;
-        passed += t.result()->Passed() ? 1 : 0;
-      }
-    }
-    if (run == 0) return;
-    std::string names;
-    for (const AlgorithmInfo& a : algorithms()) names += (names.empty() ? "" : ", ") + std::string(a.name);
-    std::printf("[ figures ] row 14 degenerate catalogue: %d cases run, %d passed, each on %zu "
-                "algorithm(s) (%s)\n",
-                run, passed, algorithms().size(), names.c_str());
-    std::fflush(stdout);
-  }
-};
-[[maybe_unused]] ::testing::Environment* const kFigures =
-    ::testing::AddGlobalTestEnvironment(new Figures);
+[[maybe_unused]] ::testing::Environment* const kFigures = testing::printFiguresAtEnd([] {
+  const testing::SuiteTally t = testing::tallySuite("Degenerate");
+  if (t.run == 0) return;
+  std::string names;
+  for (const AlgorithmInfo& a : algorithms()) names += (names.empty() ? "" : ", ") + std::string(a.name);
+  std::printf("[ figures ] row 14 degenerate catalogue: %d cases run, %d passed, each on %zu "
+              "algorithm(s) (%s)\n",
+              t.run, t.passed, algorithms().size(), names.c_str());
+});
 
 constexpr int kSize = 256;  // most cases render at kSize x kSize with the pixel camera
 

@@ -27,6 +27,7 @@
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/scene.hpp"
+#include "test_util.hpp"
 
 namespace {
 
@@ -60,29 +61,12 @@ const char* const kSeedFiles[] = {
 };
 
 // "[ figures ]" for the README's Reliability table: LoaderSeed tests run and passed.
-class Figures : public ::testing::Environment {
- public:
-  void TearDown() override {
-    const ::testing::UnitTest& u = *::testing::UnitTest::GetInstance();
-    int run = 0, passed = 0;
-    for (int i = 0; i < u.total_test_suite_count(); ++i) {
-      const ::testing::TestSuite& suite = *u.GetTestSuite(i);
-      if (std::string_view(suite.name()) != "LoaderSeed") continue;
-      for (int j = 0; j < suite.total_test_count(); ++j) {
-        const ::testing::TestInfo& t = *suite.GetTestInfo(j);
-        if (!t.should_run()) continue;
-        ++run;
-        passed += t.result()->Passed() ? 1 : 0;
-      }
-    }
-    if (run == 0) return;
-    std::printf("[ figures ] row 16 loader known-bug seeds: %zu seed files, %d cases run, %d passed\n",
-                std::size(kSeedFiles), run, passed);
-    std::fflush(stdout);
-  }
-};
-[[maybe_unused]] ::testing::Environment* const kFigures =
-    ::testing::AddGlobalTestEnvironment(new Figures);
+[[maybe_unused]] ::testing::Environment* const kFigures = hsr::testing::printFiguresAtEnd([] {
+  const hsr::testing::SuiteTally t = hsr::testing::tallySuite("LoaderSeed");
+  if (t.run == 0) return;
+  std::printf("[ figures ] row 16 loader known-bug seeds: %zu seed files, %d cases run, %d passed\n",
+              std::size(kSeedFiles), t.run, t.passed);
+});
 
 fs::path seed(const char* name) {
   const fs::path p = kSeeds / name;

@@ -3,8 +3,11 @@
 
 #include <cstdint>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -31,6 +34,43 @@ inline int testIntensity() {
 // Multiplier for a test's case counts: 1 at intensity 1 (CI), about 3 at 2, 10 at 3, 100 at 5.
 inline int countScale() {
   return static_cast<int>(std::lround(std::pow(10.0, (testIntensity() - 1) / 2.0)));
+}
+
+// Tests of one suite that ran so far, and how many of them passed: for the "[ figures ]"
+// lines that the README's Reliability table quotes.
+struct SuiteTally {
+  int run = 0;
+  int passed = 0;
+};
+inline SuiteTally tallySuite(std::string_view suite_name) {
+  const ::testing::UnitTest& u = *::testing::UnitTest::GetInstance();
+  SuiteTally tally;
+  for (int i = 0; i < u.total_test_suite_count(); ++i) {
+    const ::testing::TestSuite& suite = *u.GetTestSuite(i);
+    if (std::string_view(suite.name()) != suite_name) continue;
+    for (int j = 0; j < suite.total_test_count(); ++j) {
+      const ::testing::TestInfo& t = *suite.GetTestInfo(j);
+      if (!t.should_run()) continue;
+      ++tally.run;
+      tally.passed += t.result()->Passed() ? 1 : 0;
+    }
+  }
+  return tally;
+}
+
+// Runs `print` once, after every test of the program has run (a gtest environment's
+// teardown): where a file prints the figures of its whole suite.
+template <class Print>
+::testing::Environment* printFiguresAtEnd(Print print) {
+  struct AtEnd : ::testing::Environment {
+    explicit AtEnd(Print p) : print(std::move(p)) {}
+    void TearDown() override {
+      print();
+      std::fflush(stdout);
+    }
+    Print print;
+  };
+  return ::testing::AddGlobalTestEnvironment(new AtEnd(std::move(print)));
 }
 
 // An orthographic camera on which world x,y in [0,w]x[0,h] map to window pixels (y up),
