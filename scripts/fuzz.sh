@@ -6,8 +6,9 @@
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]
 #        scripts/fuzz.sh --merge [TARGET...]   minimise the working corpus into fuzz/corpus/
 # Each target starts from its committed corpus (fuzz/corpus/TARGET), the known-bug seeds of
-# its format (fuzz/seeds/*.EXT) and, for mesh formats, Debian's assimp test models; what it
-# finds goes to build-fuzz/corpus/TARGET (the tree stays clean). Any crash, leak, timeout
+# its format (fuzz/seeds/*.EXT; fuzz/seeds/args/ and scene/ for the two others) and, for mesh
+# formats, Debian's assimp test models; what it finds goes to build-fuzz/corpus/TARGET (the
+# tree stays clean). Any crash, leak, timeout
 # or out-of-memory fails the run; the input is kept in build-fuzz/artifacts/TARGET/.
 # A line per target is appended to build-fuzz/fuzz-log.tsv: target, seconds, CPU seconds
 # (the target and its import children), executions, coverage, corpus size, result.
@@ -36,7 +37,10 @@ flags=(-max_len=65536 -rss_limit_mb=512 -timeout=10 -print_final_stats=1)
 seed_dirs() {  # extra read-only seed directories for a target
   local t=$1 ext=${1#fuzz_} d=build-fuzz/seeds/$1
   rm -rf "$d" && mkdir -p "$d"
-  case $t in fuzz_scene|fuzz_args) ;; *)
+  case $t in
+  fuzz_scene|fuzz_args)  # findings kept as literal inputs: fuzz/seeds/args/, fuzz/seeds/scene/
+    find "fuzz/seeds/$ext" -maxdepth 1 -type f -exec cp {} "$d/" \; 2>/dev/null || true ;;
+  *)
     find fuzz/seeds -maxdepth 1 -type f -iname "*.$ext" -exec cp {} "$d/" \; 2>/dev/null || true
     [ "$ext" = gltf ] && find fuzz/seeds -maxdepth 1 -type f -iname "*.glb" -exec cp {} "$d/" \; || true
     # Debian's assimp test models of this format, those under the length limit

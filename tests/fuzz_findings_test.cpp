@@ -1,6 +1,7 @@
 // Fuzzing findings (scripts/fuzz.sh), each kept as a named regression test with the literal
 // input the fuzzer produced. Earlier: MeshImport.BinaryPlyThatCrashesAssimpIsRefused.
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -73,6 +74,34 @@ TEST(FuzzFindings, PlyHeaderWithoutEndHeaderIsRefusedAtOnce) {
   const std::string smallest =
       loadError("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n", ".ply");
   EXPECT_NE(smallest.find("no end_header line"), std::string::npos) << smallest;
+}
+
+// fuzz_args, campaign (about 20 CPU-minutes in): the 9-byte argument "soup:739K" ran out of
+// the fuzzer's 512 MB. The harness guessed a spec's size from its digits (739) and missed
+// the k suffix the library reads (739,000 triangles). Now the library takes the ceiling
+// itself: makeBuiltinScene(spec, max_triangles) counts with its own parser and refuses
+// beyond it before building anything; the harness and the CLI cannot disagree with it.
+std::string builtinError(std::string_view spec, std::uint64_t max_triangles) {
+  try {
+    (void)makeBuiltinScene(spec, max_triangles);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(FuzzFindings, ArgsSceneCountSuffixIsCountedByTheLibrary) {
+  const std::string literal = builtinError("soup:739K", 4096);  // the fuzzer's input
+  EXPECT_NE(literal.find("at most 4096"), std::string::npos) << literal;
+  for (const char* spec : {"soup:5k", "soup:5K:3", "spheres:1M", "soup:4097"})
+    EXPECT_NE(builtinError(spec, 4096).find("too large"), std::string::npos) << spec;
+  // At the ceiling: built, with exactly that many triangles
+  EXPECT_EQ(builtinError("soup:4096", 4096), "");
+  EXPECT_EQ(makeBuiltinScene("soup:4k:9", 4096).triangleCount(), 4000u);
+  // The default ceiling is the CLI's (20M): the suffix counts there too
+  EXPECT_NE(builtinError("soup:21M", kMaxBuiltinTriangles).find("at most 20000000"),
+            std::string::npos);
+  EXPECT_EQ(makeBuiltinScene("soup:739K").triangleCount(), 739000u);
 }
 
 }  // namespace

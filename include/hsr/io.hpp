@@ -1,6 +1,7 @@
 #pragma once
 // Scene sources (mesh files through assimp, built-in scenes) and writers (PNG, NPY, JSON).
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -28,8 +29,11 @@ struct BuiltinScene {
   std::string_view summary;
 };
 const std::vector<BuiltinScene>& builtinScenes();
-// Built-ins: demo, cyclic, penetrating, spheres:N, soup:N:SEED. Deterministic.
-Scene makeBuiltinScene(std::string_view spec);
+// Built-ins: demo, cyclic, penetrating, spheres:N, soup:N:SEED (N: digits with an optional
+// k or M suffix). Deterministic. An N above max_triangles is refused (hsr::Error), before
+// anything is built.
+inline constexpr std::uint64_t kMaxBuiltinTriangles = 20'000'000;
+Scene makeBuiltinScene(std::string_view spec, std::uint64_t max_triangles = kMaxBuiltinTriangles);
 
 // Writers. Images are written top row first. All throw hsr::Error on I/O failure.
 void writePng(const std::filesystem::path& path, int width, int height, int channels,

@@ -25,7 +25,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 // The largest N accepted by spheres:N and soup:N:SEED (about 1.5 GiB of scene at the top).
-constexpr std::uint64_t kMaxBuiltinTriangles = 20'000'000;
 
 
 // HSV (all in [0,1]) to linear RGB, for evenly spread bright colours.
@@ -432,9 +431,10 @@ const std::vector<BuiltinScene>& builtinScenes() {
   return kScenes;
 }
 
-Scene makeBuiltinScene(std::string_view spec) {
+Scene makeBuiltinScene(std::string_view spec, std::uint64_t max_triangles) {
   const std::vector<std::string_view> parts = splitSpec(spec);
   const std::string_view name = parts[0];
+  const std::uint64_t max_n = std::min(max_triangles, kMaxBuiltinTriangles);
   const auto takesNoParameters = [&] {
     if (parts.size() != 1)
       throw Error("scene '" + std::string(name) + "' takes no parameters (got '" +
@@ -453,13 +453,13 @@ Scene makeBuiltinScene(std::string_view spec) {
   } else if (name == "spheres") {
     if (parts.size() != 2)
       throw Error("scene '" + std::string(spec) + "': expected spheres:N, e.g. spheres:100000");
-    const std::uint64_t n = parseCount(parts[1], spec, "N", kMaxBuiltinTriangles);
+    const std::uint64_t n = parseCount(parts[1], spec, "N", max_n);
     if (n == 0) throw Error("scene '" + std::string(spec) + "': N must be at least 1");
     scene = makeSpheres(n);
   } else if (name == "soup") {
     if (parts.size() != 2 && parts.size() != 3)
       throw Error("scene '" + std::string(spec) + "': expected soup:N:SEED, e.g. soup:1000:7");
-    const std::uint64_t n = parseCount(parts[1], spec, "N", kMaxBuiltinTriangles);
+    const std::uint64_t n = parseCount(parts[1], spec, "N", max_n);
     if (n == 0) throw Error("scene '" + std::string(spec) + "': N must be at least 1");
     const std::uint64_t seed = parts.size() == 3 ? parseSeed(parts[2], spec) : 1;
     scene = makeSoup(n, seed);
