@@ -2,7 +2,9 @@
 // format's extension (HSR_FUZZ_EXT) -> hsr::loadMeshFile (size checks, the isolated assimp
 // child, preflight, conversion) -> render at 64x64 with outlines. Any crash, hang, leak or
 // sanitizer report in this process is a finding; hsr::Error is the expected answer to bad
-// input, and so is a crash of assimp inside the import's child process (contained, refused).
+// input, and so is a crash of assimp inside the import's child process (contained, refused)
+// or an import past the child's memory limit. A sanitizer or libFuzzer report from inside
+// the child aborts this process (mesh_import.cpp): a finding too, with this input.
 
 #include <cstddef>
 #include <cstdint>

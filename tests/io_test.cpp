@@ -618,6 +618,105 @@ TEST(Writers, StatsJsonHasEveryCounter) {
   EXPECT_NO_THROW(nlohmann::json::parse(hsr::statsJson(f, "bad\xff.obj", "zbuffer")));
 }
 
+// A binary PLY with three vertices (given as raw float bits) and one triangle, its header
+// lines ended by `eol`.
+std::string binaryPly(const std::string& eol, const std::uint32_t (&bits)[9], bool big_endian) {
+  std::string ply = "ply" + eol + "format binary_" + (big_endian ? "big" : "little") +
+                    "_endian 1.0" + eol + "element vertex 3" + eol + "property float x" + eol +
+                    "property float y" + eol + "property float z" + eol + "element face 1" +
+                    eol + "property list uchar int vertex_indices" + eol + "end_header" + eol;
+  const auto put = [&](std::uint32_t v, int n) {
+    for (int k = 0; k < n; ++k)
+      ply.push_back(static_cast<char>(v >> (8 * (big_endian ? n - 1 - k : k))));
+  };
+  for (std::uint32_t b : bits) put(b, 4);
+  put(3, 1);
+  for (std::uint32_t i : {0u, 1u, 2u}) put(i, 4);
+  return ply;
+}
+
+// assimp 5.2 drops a 0x0A byte right after a binary PLY's header (meant for the '\n' of a
+// "\r\n") and then reads every value a byte off: found reading its PLY parser while bounding
+// the header counts. 1 binary PLY in 256 with "\n" headers starts so. The import inserts the
+// '\r' that makes assimp read it right; headers ended by "\r\n" or "\r" are read as written.
+TEST(MeshImport, BinaryPlyWhoseDataStartsWithByte0x0ALoadsExactly) {
+  const fs::path d = tempDir();
+  // The first x is 1.0000012f: its low byte (first in little-endian order) is 0x0A
+  const std::uint32_t bits[9] = {0x3F80000Au, 0, 0, 0x40000000u, 0, 0, 0, 0x40400000u, 0};
+  // Big-endian: the first byte is the sign and exponent; 0x0A... is about 6.2e-33
+  const std::uint32_t big_bits[9] = {0x0A80000Fu, 0, 0, 0x40000000u, 0, 0, 0, 0x40400000u, 0};
+  const std::uint32_t plain_bits[9] = {0x3F800001u, 0, 0, 0x40000000u, 0, 0, 0, 0x40400000u, 0};
+  struct Case {
+    const char* name;
+    std::string bytes;
+    const std::uint32_t* bits;
+  } cases[] = {{"lf_little.ply", binaryPly("\n", bits, false), bits},
+               {"crlf_little.ply", binaryPly("\r\n", bits, false), bits},
+               {"lf_big.ply", binaryPly("\n", big_bits, true), big_bits},
+               // Header lines ended by a bare '\r' (old Mac files): the data is read where it
+               // starts. (Were it to start with 0x0A it would read as "\r\n": ambiguous.)
+               {"cr_little.ply", binaryPly("\r", plain_bits, false), plain_bits}};
+  for (const Case& c : cases) {
+    writeFile(d / c.name, c.bytes);
+    const Scene s = hsr::loadMeshFile(d / c.name);
+    ASSERT_EQ(s.polygonCount(), 1u) << c.name;
+    const auto poly = s.polygon(0);
+    ASSERT_EQ(poly.size(), 3u) << c.name;
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) {
+        float expected;
+        std::memcpy(&expected, &c.bits[3 * v + k], 4);
+        EXPECT_EQ(s.position(poly[v])[k], expected) << c.name << " vertex " << v << " axis " << k;
+      }
+  }
+}
+
+// ImportLimits::memory_bytes: an import that needs more is refused with one line that says
+// so (the child's address space, and under ASan its heap, are limited; a failed allocation
+// inside assimp ends as this refusal, never as a crash or an abort).
+TEST(MeshImport, ImportOverItsMemoryLimitIsRefused) {
+  // 2.8 KB that assimp subdivides into about 120 MB of meshes; a free heap this process
+  // already holds is the child's to use too, so the limit is set far below the need
+  const fs::path model = kModels / "AC/sample_subdiv.ac";
+  hsr::ImportLimits tight;
+  tight.memory_bytes = 16 << 20;
+  try {
+    hsr::loadMeshFile(model, tight);
+    ADD_FAILURE() << "sample_subdiv.ac loaded within 16 MiB";
+  } catch (const hsr::Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("sample_subdiv.ac: importing it needs more than 16 MiB"),
+              std::string::npos)
+        << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  // The automatic limit for a file this size (1 GiB) lets it load
+  EXPECT_GT(hsr::loadMeshFile(model).polygonCount(), 1000u);
+
+  // One large allocation instead of many small ones (under ASan the two fail differently:
+  // the heap watch, or the address-space limit inside the sanitizer's allocator): a binary
+  // STL of 1M triangles, for which assimp allocates 36 MB of positions at once
+  const fs::path stl = tempDir() / "million.stl";
+  {
+    std::string bytes(84 + 50 * 1'000'000ull, '\0');
+    const std::uint32_t n = 1'000'000;
+    std::memcpy(&bytes[80], &n, 4);
+    for (std::uint32_t t = 0; t < n; ++t) {
+      const float v[9] = {float(t), 0, 0, float(t) + 1, 0, 0, float(t), 1, 0};
+      std::memcpy(&bytes[84 + 50 * t + 12], v, sizeof v);
+    }
+    writeFile(stl, bytes);
+  }
+  try {
+    hsr::loadMeshFile(stl, tight);
+    ADD_FAILURE() << "million.stl loaded within 16 MiB";
+  } catch (const hsr::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("million.stl: importing it needs more than 16 MiB"),
+              std::string::npos)
+        << e.what();
+  }
+  fs::remove(stl);
+}
 
 // Found by fuzzing (fuzz/fuzz_scene.cpp): a binary PLY whose element has no count segfaults
 // inside Debian's assimp 5.2 PLY reader. The import runs in a child process, so it is

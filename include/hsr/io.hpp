@@ -15,10 +15,14 @@ namespace hsr {
 // Loads SCENE: an existing file wins; otherwise a built-in name. Throws hsr::Error with a
 // one-line reason (missing file, unreadable format, empty scene, non-finite coordinates...).
 Scene loadScene(std::string_view spec);
-// How long a mesh import may take: assimp runs in a child process that is killed after
-// timeout_seconds (the file is then refused with one line).
+// What a mesh import may spend. assimp runs in a child process that is killed after
+// timeout_seconds, and may use memory_bytes beyond what this process holds when it starts;
+// past either limit the file is refused with one line. memory_bytes = 0 sizes it by the file:
+// 256 bytes per byte on disk (a dense OBJ needs 140), at least 1 GiB, at most 16 GiB; for
+// glTF, the files beside it (its buffers) count as its size too.
 struct ImportLimits {
   int timeout_seconds = 120;
+  std::uint64_t memory_bytes = 0;
 };
 // Mesh files: anything assimp reads. Polygons stay polygons (no triangulation), node
 // transforms are applied, ids follow node order then face order. Safe on untrusted input.

@@ -14,10 +14,9 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
+#include <initializer_list>
 #include <new>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -34,6 +33,7 @@
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/scene.hpp"
+#include "io/import_preflight.hpp"
 
 #include <poll.h>
 #include <sys/mman.h>
@@ -53,6 +53,12 @@
 #endif
 #if HSR_ASAN
 #include <sanitizer/common_interface_defs.h>
+// From the sanitizer runtime's allocator interface (clang ships its header, GCC 12 does not)
+extern "C" {
+std::size_t __sanitizer_get_current_allocated_bytes();
+int __sanitizer_install_malloc_and_free_hooks(
+    void (*malloc_hook)(const volatile void*, std::size_t), void (*free_hook)(const volatile void*));
+}
 #endif
 #ifndef HSR_FUZZING
 #define HSR_FUZZING 0
@@ -309,20 +315,11 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
   return scene;
 }
 
-// A decimal count in a file header, saturating at 2^64 - 1 so that absurd counts stay absurd.
-bool parseCount(const std::string& token, std::uint64_t* out) {
-  if (token.empty() || token.find_first_not_of("0123456789") != std::string::npos) return false;
-  std::uint64_t n = 0;
-  for (char c : token)
-    n = n > (~0ull - 9) / 10 ? ~0ull : n * 10 + static_cast<std::uint64_t>(c - '0');
-  *out = n;
-  return true;
-}
-
-// One line for a failed import, from assimp's error string or exception message.
-Error assimpFailure(const std::string& file, std::string_view message) {
-  if (message.find("bad_alloc") != std::string_view::npos)
-    return Error(file + ": out of memory while reading it (a corrupt count in the file?)");
+// One line for a failed import, from assimp's error string or exception message (assimp
+// catches std::bad_alloc itself and reports it as text).
+Error assimpFailure(const std::string& file, std::string_view message,
+                    const std::string& over_budget) {
+  if (message.find("bad_alloc") != std::string_view::npos) return Error(over_budget);
   // assimp often repeats the full path; once at the front of the line is enough
   std::string line = firstLine(message);
   const std::string name = fs::path(file).filename().string();
@@ -331,221 +328,6 @@ Error assimpFailure(const std::string& file, std::string_view message) {
     at += name.size();
   }
   return Error(file + ": assimp could not read it: " + line);
-}
-
-// Some importers size their arrays from counts in the file's header before reading the data
-// (OFF and PLY do): a header that claims more elements than the file has bytes would make them
-// allocate and clear gigabytes for nothing (invalid/OutOfMemory.off: 16 GB, minutes). Such a
-// header is refused here, before assimp sees it. So are two inputs that assimp 5.2 misreads
-// silently (fuzz/seeds/): an OBJ number too long for its reader, and PLY data that ends
-// before the header's elements do or holds a list longer than what follows it.
-void checkDeclaredCounts(const fs::path& path, std::uintmax_t bytes) {
-  std::string ext = path.extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  if (ext == ".obj") {
-    // assimp reads a number's integer part and its exponent as 64-bit integers and, when one
-    // overflows (2^64 or more: 20 digits and up), returns 0 for the whole number: "v 1e99999
-    // ..." or a 100-digit coordinate would load as 0. Digits after the point are safe (it
-    // reads 15 of them). Only vertex lines (v, vt, vn, vp) hold such numbers.
-    std::ifstream obj(path, std::ios::binary);
-    std::string row;
-    for (std::uint64_t line_no = 1; std::getline(obj, row); ++line_no) {
-      const std::size_t first = row.find_first_not_of(" \t");
-      if (first == std::string::npos || row[first] != 'v') continue;
-      for (std::size_t i = first; i < row.size();) {
-        if (!std::isdigit(static_cast<unsigned char>(row[i]))) {
-          ++i;
-          continue;
-        }
-        const std::size_t run = i;
-        while (i < row.size() && std::isdigit(static_cast<unsigned char>(row[i]))) ++i;
-        std::uint64_t value = 0;
-        if ((run == 0 || row[run - 1] != '.') && parseCount(row.substr(run, i - run), &value) &&
-            value == ~0ull)
-          throw Error(path.string() + ": line " + std::to_string(line_no) + ": the number " +
-                      row.substr(run, std::min<std::size_t>(i - run, 24)) +
-                      (i - run > 24 ? "..." : "") + " (" + std::to_string(i - run) +
-                      " digits) is too long for the OBJ reader");
-      }
-    }
-    return;
-  }
-  if (ext != ".off" && ext != ".ply") return;
-  std::ifstream in(path, std::ios::binary);
-  std::string head(64 * 1024, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
-  std::istringstream text(head);
-  const auto refuse = [&](std::uint64_t claimed, const char* what) {
-    throw Error(path.string() + ": its header claims " + std::to_string(claimed) + " " + what +
-                " but the file has only " + std::to_string(bytes) + " bytes");
-  };
-  if (ext == ".off") {
-    // [ST][C][N][4][n]OFF, comments from '#', then the vertex and face counts; every vertex
-    // and face takes a line of at least 4 bytes
-    std::vector<std::string> tokens;
-    std::string line;
-    while (tokens.size() < 3 && std::getline(text, line)) {
-      line = line.substr(0, line.find('#'));
-      std::istringstream words(line);
-      std::string w;
-      while (tokens.size() < 3 && words >> w) tokens.push_back(w);
-    }
-    std::size_t first = 0;
-    if (!tokens.empty() && std::isalpha(static_cast<unsigned char>(tokens[0][0]))) first = 1;
-    std::uint64_t vertices = 0, faces = 0;
-    if (tokens.size() < first + 2 || !parseCount(tokens[first], &vertices) ||
-        !parseCount(tokens[first + 1], &faces))
-      return;  // not a header we understand: assimp will say what is wrong
-    if (vertices > bytes / 4 + 16) refuse(vertices, "vertices");
-    if (faces > bytes / 4 + 16) refuse(faces, "faces");
-  } else {
-    // PLY: "element NAME COUNT" lines up to end_header; every element takes at least a byte
-    std::string line;
-    std::uint64_t total = 0;
-    // Then the data is walked (nothing stored): assimp 5.2 repeats the last ASCII line for
-    // every element the data lacks, reads past the end of binary data, and allocates a list's
-    // length before reading it (2^32 - 1 entries: tens of GB). Each property is its size in
-    // bytes, a list also the size of its length; unknown types leave the walk to assimp.
-    struct Property {
-      int size = 0, count_size = 0;  // count_size > 0: a list of `size`-byte items
-    };
-    struct Element {
-      std::string name;
-      std::uint64_t count = 0;
-      std::vector<Property> props;
-    };
-    std::vector<Element> elements;
-    std::string format;
-    bool walkable = false;
-    const auto typeSize = [](const std::string& t) {
-      if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-      if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-      if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" ||
-          t == "float32")
-        return 4;
-      if (t == "double" || t == "float64") return 8;
-      return 0;
-    };
-    bool known = true;
-    while (std::getline(text, line)) {
-      if (line.rfind("end_header", 0) == 0) {
-        walkable = known;
-        break;
-      }
-      std::istringstream words(line);
-      std::string keyword, name, count, item;
-      std::uint64_t n = 0;
-      if (words >> keyword >> name >> count && keyword == "element" && parseCount(count, &n)) {
-        total = n > ~0ull - total ? ~0ull : total + n;
-        if (total > bytes) refuse(total, "elements (vertices, faces...)");
-        elements.push_back({name, n, {}});
-      } else if (keyword == "element") {
-        known = false;
-      } else if (keyword == "format") {
-        format = name;
-      } else if (keyword == "property" && !elements.empty()) {
-        Property p;
-        if (name == "list" && words >> item) {
-          p.count_size = typeSize(count);
-          p.size = typeSize(item);
-          known = known && p.count_size > 0 && count != "float" && count != "float32" &&
-                  count != "double" && count != "float64";
-        } else {
-          p.size = typeSize(name);
-        }
-        known = known && p.size > 0;
-        elements.back().props.push_back(p);
-      }
-    }
-    const std::streamoff data_start = walkable ? static_cast<std::streamoff>(text.tellg()) : -1;
-    if (data_start < 0) return;
-    in.clear();
-    if (!in.seekg(data_start)) return;
-    const std::string file = path.string();
-    if (format == "ascii") {
-      // One line per element, as assimp reads them (blank lines skipped); a list's length
-      // must not exceed the values after it on its line
-      std::uint64_t lines = 0;
-      for (const Element& e : elements) {
-        for (std::uint64_t i = 0; i < e.count; ++i) {
-          do {
-            if (!std::getline(in, line))
-              throw Error(file + ": its header declares " + std::to_string(total) +
-                          " elements but its data has only " + std::to_string(lines) + " lines");
-          } while (line.find_first_not_of(" \t\r") == std::string::npos);
-          ++lines;
-          std::istringstream values(line);
-          std::vector<std::string> tokens;
-          for (std::string token; values >> token;) tokens.push_back(std::move(token));
-          std::size_t at = 0;
-          for (const Property& p : e.props) {
-            std::uint64_t length = 0;
-            if (p.count_size == 0 || at >= tokens.size() || !parseCount(tokens[at], &length)) {
-              ++at;
-              continue;
-            }
-            if (length > tokens.size() - at - 1)
-              throw Error(file + ": " + e.name + " " + std::to_string(i) + " has a list of " +
-                          tokens[at] + " entries but its line holds " +
-                          std::to_string(tokens.size() - at - 1) + " values");
-            at += 1 + length;
-          }
-        }
-      }
-    } else if (format == "binary_little_endian" || format == "binary_big_endian") {
-      const bool big = format == "binary_big_endian";
-      std::uint64_t left = bytes > static_cast<std::uintmax_t>(data_start) ? bytes - data_start : 0;
-      std::streambuf& buf = *in.rdbuf();
-      char skipped[4096];
-      const auto skip = [&](std::uint64_t n) {
-        left -= n;
-        if (n > sizeof skipped) {
-          buf.pubseekoff(static_cast<std::streamoff>(n), std::ios::cur, std::ios::in);
-          return;
-        }
-        buf.sgetn(skipped, static_cast<std::streamsize>(n));
-      };
-      for (const Element& e : elements) {
-        std::uint64_t row = 0;  // bytes of an element without lists
-        bool lists = false;
-        for (const Property& p : e.props) {
-          row += static_cast<std::uint64_t>(p.size);
-          lists = lists || p.count_size > 0;
-        }
-        const auto ends = [&](std::uint64_t i) {
-          return Error(file + ": its data ends inside " + e.name + " " + std::to_string(i) +
-                       " (the header declares " + std::to_string(e.count) + ")");
-        };
-        if (!lists) {
-          if (row > 0 && e.count > left / row) throw ends(left / row);
-          skip(e.count * row);
-          continue;
-        }
-        for (std::uint64_t i = 0; i < e.count; ++i) {
-          for (const Property& p : e.props) {
-            if (p.count_size == 0) {
-              if (static_cast<std::uint64_t>(p.size) > left) throw ends(i);
-              skip(static_cast<std::uint64_t>(p.size));
-              continue;
-            }
-            unsigned char raw[4] = {0, 0, 0, 0};
-            if (static_cast<std::uint64_t>(p.count_size) > left) throw ends(i);
-            left -= static_cast<std::uint64_t>(p.count_size);
-            buf.sgetn(reinterpret_cast<char*>(raw), p.count_size);
-            std::uint64_t length = 0;
-            for (int k = 0; k < p.count_size; ++k)
-              length |= static_cast<std::uint64_t>(raw[big ? p.count_size - 1 - k : k]) << (8 * k);
-            if (length > left / static_cast<std::uint64_t>(p.size))
-              throw Error(file + ": " + e.name + " " + std::to_string(i) + " has a list of " +
-                          std::to_string(length) + " entries but only " + std::to_string(left) +
-                          " bytes follow");
-            skip(length * static_cast<std::uint64_t>(p.size));
-          }
-        }
-      }
-    }
-  }
 }
 
 // Before any post-processing (which would spend minutes on a billion bogus vertices, and
@@ -581,32 +363,13 @@ void preflight(const aiScene* ai, const std::string& file) {
                                  : ": no polygons (the file holds no meshes)"));
 }
 
-}  // namespace
-
-
-namespace {
-
-// assimp 5.2's PLY reader never returns on a header without an "end_header" line (found by
-// fuzzing: it spins until the import's deadline). A PLY header is short text: one without
-// end_header in its first 64 KiB is refused here.
-void checkPlyHeaderEnds(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(64 * 1024, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
-  // By content, as assimp recognises PLY whatever the extension
-  const bool ply = head.rfind("ply\n", 0) == 0 || head.rfind("ply\r", 0) == 0;
-  if (ply && head.find("end_header") == std::string::npos)
-    throw Error(path.string() + ": its PLY header has no end_header line" +
-                (head.size() == 64 * 1024 ? " in its first 64 KiB" : ""));
-}
-
 // The importer proper (assimp), run inside the isolated child process.
-Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes) {
+Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes,
+                       const std::string& over_budget) {
   const std::string file = path.string();
   try {
-    checkPlyHeaderEnds(path);
-    checkDeclaredCounts(path, bytes);
+    // Header counts first: assimp allocates by them before reading any data
+    const detail::HeaderFix fix = detail::checkHeaderAgainstSize(path, bytes);
     Assimp::Importer importer;  // no logger is attached: assimp stays quiet
     // Keep only what we use, so that identical positions join into shared vertices
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
@@ -618,19 +381,31 @@ Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes) {
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
     // Read without post-processing, check, then post-process: no triangulation, so polygons
     // stay polygons and ids stay in file order
-    if (!importer.ReadFile(file, 0)) throw assimpFailure(file, importer.GetErrorString());
+    if (fix.insert_cr_at > 0) {
+      // The file as assimp must see it, "\r\n" ending the PLY header (HeaderFix)
+      std::string data(static_cast<std::size_t>(bytes), '\0');
+      std::FILE* f = std::fopen(file.c_str(), "rb");
+      const bool read = f && std::fread(data.data(), 1, data.size(), f) == data.size();
+      if (f) std::fclose(f);
+      if (!read) throw Error(file + ": cannot read it");
+      data.insert(static_cast<std::size_t>(fix.insert_cr_at), 1, '\r');
+      if (!importer.ReadFileFromMemory(data.data(), data.size(), 0, "ply"))
+        throw assimpFailure(file, importer.GetErrorString(), over_budget);
+    } else if (!importer.ReadFile(file, 0)) {
+      throw assimpFailure(file, importer.GetErrorString(), over_budget);
+    }
     preflight(importer.GetScene(), file);
     const aiScene* ai =
         importer.ApplyPostProcessing(aiProcess_ValidateDataStructure | aiProcess_RemoveComponent |
                                      aiProcess_JoinIdenticalVertices);
-    if (!ai) throw assimpFailure(file, importer.GetErrorString());
+    if (!ai) throw assimpFailure(file, importer.GetErrorString(), over_budget);
     return convertScene(ai, path);
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
-    throw assimpFailure(file, "bad_alloc");
+    throw Error(over_budget);
   } catch (const std::exception& e) {
-    throw assimpFailure(file, e.what());
+    throw assimpFailure(file, e.what(), over_budget);
   } catch (...) {
     throw Error(file + ": assimp could not read it: unknown error");
   }
@@ -806,6 +581,118 @@ class SharedCoverage {
 };
 #endif
 
+// ---- Memory -------------------------------------------------------------------------------
+// Some headers claim counts that assimp allocates before it reads any data (fuzzing found OFF
+// and PLY files of a few hundred bytes that made it allocate 16 GB). checkHeaderAgainstSize
+// refuses the ones we know; this limit bounds every other: what the import may allocate
+// beyond what the process held when the child forked, sized by the file (ImportLimits).
+// Measured (VmPeak growth): Debian's 579 assimp test models need at most 224 MB (a
+// subdivided AC file of 2.8 KB, a Blender file of 86 KB); the densest OBJ (1M "f 1 2 3"
+// lines, 8 MB) needs 140 bytes per byte, a binary STL 35, PLY and OFF 4 to 7.
+constexpr std::uint64_t kBudgetPerFileByte = 256;
+constexpr std::uint64_t kMinImportBudget = 1ull << 30;  // 1 GiB
+constexpr std::uint64_t kMaxImportBudget = 16ull << 30;
+
+std::uint64_t importMemoryBudget(const fs::path& path, std::uintmax_t bytes,
+                                 const ImportLimits& limits) {
+  if (limits.memory_bytes > 0) return limits.memory_bytes;
+  std::uint64_t counted = bytes;
+  if (isGltf(path)) {
+    // A .gltf names its buffers and images by relative path: the files beside it count
+    std::error_code ec;
+    int seen = 0;
+    for (fs::directory_iterator it(path.parent_path().empty() ? "." : path.parent_path(), ec), end;
+         !ec && it != end && ++seen <= 10'000; it.increment(ec)) {
+      std::error_code size_ec;
+      if (it->is_regular_file(size_ec) && it->path() != path)
+        counted += std::min<std::uintmax_t>(it->file_size(size_ec), kMaxFileBytes);
+    }
+  }
+  const std::uint64_t scaled = counted > kMaxImportBudget / kBudgetPerFileByte
+                                   ? kMaxImportBudget
+                                   : counted * kBudgetPerFileByte;
+  return std::clamp(scaled, kMinImportBudget, kMaxImportBudget);
+}
+
+std::string overBudget(const std::string& file, std::uint64_t budget, std::uintmax_t bytes) {
+  return file + ": importing it needs more than " + std::to_string(budget >> 20) +
+         " MiB, the limit for a file of " + std::to_string(bytes) +
+         " bytes; refused (a corrupt count in the file?)";
+}
+
+// This process's address space in bytes (/proc/self/statm), 0 if unknown.
+std::uint64_t addressSpaceBytes() {
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0;
+  unsigned long long pages = 0;
+  const bool read = std::fscanf(f, "%llu", &pages) == 1;
+  std::fclose(f);
+  const long page = ::sysconf(_SC_PAGESIZE);
+  return read && page > 0 ? pages * static_cast<std::uint64_t>(page) : 0;
+}
+
+#if HSR_ASAN
+// ASan's allocator reserves its whole heap up front, so small allocations never grow the
+// address space: in the child, the live heap is watched too, after every allocation. Past the
+// limit the child answers as it would on bad_alloc and leaves.
+struct HeapWatch {
+  std::uint64_t limit = 0;
+  int fd = -1;
+  const std::string* answer = nullptr;
+  void (*before_exit)() = nullptr;
+} g_heap_watch;
+
+void heapWatchHook(const volatile void*, std::size_t) {
+  if (__sanitizer_get_current_allocated_bytes() <= g_heap_watch.limit) return;
+  if (g_heap_watch.before_exit) g_heap_watch.before_exit();
+  const std::string& a = *g_heap_watch.answer;
+  for (std::size_t at = 0; at < a.size();) {
+    const ssize_t n = ::write(g_heap_watch.fd, a.data() + at, a.size() - at);
+    if (n <= 0 && errno != EINTR) break;
+    if (n > 0) at += static_cast<std::size_t>(n);
+  }
+  ::_exit(0);
+}
+void heapWatchFreeHook(const volatile void*) {}  // the runtime takes both hooks or neither
+
+bool containsAny(std::string_view text, std::initializer_list<std::string_view> needles) {
+  for (std::string_view s : needles)
+    if (text.find(s) != std::string_view::npos) return true;
+  return false;
+}
+
+// What the sanitizers print when an allocation fails (the child's address-space limit)...
+bool isAllocationFailureReport(std::string_view report) {
+  return containsAny(report, {"out of memory", "allocation-size-too-big",
+                              "requested allocation size", "failed to allocate"});
+}
+// ...and when they find a bug (then the child exits, or aborts with abort_on_error=1).
+bool isSanitizerReport(std::string_view report) {
+  return containsAny(report, {"ERROR: AddressSanitizer", "ERROR: LeakSanitizer",
+                              "ERROR: UndefinedBehaviorSanitizer", "runtime error:",
+                              "ERROR: libFuzzer"});
+}
+#endif
+
+// In the child, before the import: at most `budget` more bytes of address space (and, under
+// ASan, of live heap); past it, `over_answer` goes to answer_fd.
+void limitChildMemory(std::uint64_t budget, int answer_fd, const std::string& over_answer,
+                      void (*before_exit)()) {
+  if (const std::uint64_t now = addressSpaceBytes(); now > 0) {
+    const rlimit limit{now + budget, now + budget};
+    ::setrlimit(RLIMIT_AS, &limit);
+  }
+#if HSR_ASAN
+  g_heap_watch = {__sanitizer_get_current_allocated_bytes() + budget, answer_fd, &over_answer,
+                  before_exit};
+  __sanitizer_install_malloc_and_free_hooks(heapWatchHook, heapWatchFreeHook);
+#else
+  (void)answer_fd;
+  (void)over_answer;
+  (void)before_exit;
+#endif
+}
+
 // In the child: a crash inside assimp must end the child quietly by its signal (the parent
 // reports it), not run the sanitizers' or libFuzzer's crash handlers as if the whole
 // program had crashed.
@@ -816,82 +703,136 @@ void childCrashesBySignal() {
 #endif
 }
 
+// What the child does before it leaves: under the fuzzer, hand its coverage to the parent.
+#if HSR_FUZZING
+const SharedCoverage* g_child_coverage = nullptr;
+void publishChildCoverage() {
+  if (g_child_coverage) g_child_coverage->publishFromChild();
+}
+constexpr void (*kBeforeChildExit)() = publishChildCoverage;
+#else
+constexpr void (*kBeforeChildExit)() = nullptr;
+#endif
+
 Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLimits& limits) {
   const std::string file = path.string();
   const int timeout_seconds = std::max(limits.timeout_seconds, 1);
+  const std::uint64_t budget = importMemoryBudget(path, bytes, limits);
+  const std::string over_budget = overBudget(file, budget, bytes);
 #if HSR_FUZZING
   const SharedCoverage coverage;
+  g_child_coverage = &coverage;
 #endif
-  int fds[2];
-  if (::pipe(fds) != 0) return importWithAssimp(path, bytes);  // no pipe: in process
+  // The answer comes through one pipe; under the sanitizers the child's stderr through a
+  // second, so that the parent can tell a failed allocation from a sanitizer's bug report.
+  int fds[2], err_fds[2] = {-1, -1};
+  if (::pipe(fds) != 0) return importWithAssimp(path, bytes, over_budget);  // no pipe: in process
+  if (HSR_ASAN && ::pipe(err_fds) != 0) err_fds[0] = err_fds[1] = -1;
+  const auto closeAll = [&] {
+    for (int fd : {fds[0], fds[1], err_fds[0], err_fds[1]})
+      if (fd >= 0) ::close(fd);
+  };
   std::fflush(nullptr);
   const pid_t pid = ::fork();
   if (pid < 0) {
-    ::close(fds[0]);
-    ::close(fds[1]);
-    return importWithAssimp(path, bytes);  // no fork: in process
+    closeAll();
+    return importWithAssimp(path, bytes, over_budget);  // no fork: in process
   }
   if (pid == 0) {
     // Child: import, answer 'S' + scene or 'E' + message, and leave without running any
     // destructor or exit handler of the parent's state.
     ::close(fds[0]);
+    if (err_fds[1] >= 0) {
+      ::dup2(err_fds[1], STDERR_FILENO);
+      ::close(err_fds[0]);
+      ::close(err_fds[1]);
+    }
     childCrashesBySignal();
-#if !HSR_ASAN  // ASan reserves terabytes of shadow address space: no limit there
-    const rlimit limit{std::uint64_t(16) << 30, std::uint64_t(16) << 30};  // 16 GiB of address space
-    ::setrlimit(RLIMIT_AS, &limit);
-#endif
+    const std::string over_answer = "E" + over_budget;
+    limitChildMemory(budget, fds[1], over_answer, kBeforeChildExit);
     std::string answer;
     try {
-      answer = "S" + serializeScene(importWithAssimp(path, bytes));
+      const Scene scene = importWithAssimp(path, bytes, over_budget);
+      answer.assign(1, 'S');
+      answer += serializeScene(scene);
     } catch (const Error& e) {
       answer = std::string("E") + e.what();
     } catch (const std::bad_alloc&) {
-      answer = "E" + file + ": too large for memory";
+      answer = over_answer;
     } catch (...) {
       answer = "E" + file + ": assimp could not read it: unknown error";
     }
-#if HSR_FUZZING
-    coverage.publishFromChild();
-#endif
+    if (kBeforeChildExit) kBeforeChildExit();
     writeAll(fds[1], answer.data(), answer.size());
     ::_exit(0);
   }
-  // Parent: read the whole answer (with a deadline), then reap the child.
+  // Parent: read the whole answer (and the child's stderr) with a deadline, then reap the
+  // child.
   ::close(fds[1]);
-  std::string answer;
+  if (err_fds[1] >= 0) ::close(err_fds[1]);
+  std::string answer, child_stderr;
   char buf[1 << 16];
+  // Reads what is waiting on fd into `to`; false at EOF. A runaway stream of diagnostics is
+  // cut, not stored.
+  const auto drain = [&](int fd, std::string& to) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0) return errno == EINTR;
+    if (n > 0 && (&to == &answer || to.size() < (1u << 20)))
+      to.append(buf, static_cast<std::size_t>(n));
+    return n > 0;
+  };
   bool timed_out = false;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_seconds);
-  for (;;) {
+  pollfd p[2] = {{fds[0], POLLIN, 0}, {err_fds[0], POLLIN, 0}};
+  const nfds_t watched = err_fds[0] >= 0 ? 2 : 1;
+  // Until the answer's EOF: the child closed its end (answered, or died)
+  while (p[0].fd >= 0) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now()).count();
+                          deadline - std::chrono::steady_clock::now())
+                          .count();
     if (left <= 0) {
       timed_out = true;
       break;
     }
-    pollfd p{fds[0], POLLIN, 0};
-    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left, 1000)));
-    if (ready < 0 && errno == EINTR) continue;
-    if (ready <= 0) continue;
-    const ssize_t n = ::read(fds[0], buf, sizeof buf);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;  // EOF: the child closed its end (answered, or died)
-    answer.append(buf, static_cast<std::size_t>(n));
+    if (::poll(p, watched, static_cast<int>(std::min<long long>(left, 1000))) <= 0) continue;
+    for (nfds_t k = 0; k < watched; ++k)
+      if (p[k].fd >= 0 && (p[k].revents & (POLLIN | POLLHUP | POLLERR)) &&
+          !drain(p[k].fd, k == 0 ? answer : child_stderr))
+        p[k].fd = -1;
   }
-  ::close(fds[0]);
   if (timed_out) ::kill(pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  // The child has ended: what it still wrote to stderr is waiting in the pipe
+  if (p[1].fd >= 0)
+    while (drain(p[1].fd, child_stderr)) {
+    }
+  ::close(fds[0]);
+  if (err_fds[0] >= 0) ::close(err_fds[0]);
 #if HSR_FUZZING
+  g_child_coverage = nullptr;
   if (WIFEXITED(status)) coverage.mergeIntoParent();
 #endif
   if (timed_out)
     throw Error(file + ": the importer did not finish within " +
                 std::to_string(timeout_seconds) + " s; refused");
+#if HSR_ASAN
+  if (answer.empty() && (WIFSIGNALED(status) || WEXITSTATUS(status) != 0)) {
+    if (isAllocationFailureReport(child_stderr)) throw Error(over_budget);
+    if (isSanitizerReport(child_stderr)) {
+      // A sanitizer's report from the import child: a bug, never a refusal. Show it and
+      // stop, as the sanitizer would have stopped the program had the import run in process.
+      std::fprintf(stderr, "hsr: the import child for %s failed; its report:\n%s\n",
+                   file.c_str(), child_stderr.c_str());
+      std::abort();
+    }
+  }
+#endif
   if (WIFSIGNALED(status))
     throw Error(file + ": the importer (assimp) crashed on this file (signal " +
                 std::to_string(WTERMSIG(status)) + "); refused as malformed");
+  if (!child_stderr.empty()) std::fwrite(child_stderr.data(), 1, child_stderr.size(), stderr);
   if (answer.empty()) throw Error(file + ": the importer (assimp) ended without an answer");
   if (answer[0] == 'E') throw Error(answer.substr(1));
   return deserializeScene(std::string_view(answer).substr(1));
