@@ -671,6 +671,28 @@ TEST(MeshImport, BinaryPlyWhoseDataStartsWithByte0x0ALoadsExactly) {
   }
 }
 
+// assimp 5.2's PLY reader sizes its vertex array by the first vertex element and writes every
+// later one into it (valgrind: "Invalid write of size 8 ... 0 bytes after a block of size
+// 12"): found reading its parser. Such a header is refused before assimp reads it.
+TEST(MeshImport, PlyWithASecondVertexElementIsRefused) {
+  std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nelement vertex 40\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "end_header\n0 0 0\n";
+  for (int i = 1; i <= 40; ++i) ply += std::to_string(i) + " 0 0\n";
+  ply += "3 0 1 2\n";
+  const fs::path p = tempDir() / "two_vertex_elements.ply";
+  writeFile(p, ply);
+  try {
+    hsr::loadMeshFile(p);
+    ADD_FAILURE() << "a PLY with two vertex elements loaded";
+  } catch (const hsr::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("declares a second vertex element"), std::string::npos)
+        << e.what();
+  }
+}
+
 // ImportLimits::memory_bytes: an import that needs more is refused with one line that says
 // so (the child's address space, and under ASan its heap, are limited; a failed allocation
 // inside assimp ends as this refusal, never as a crash or an abort).

@@ -8,6 +8,7 @@
 #include "io/import_preflight.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -411,8 +412,10 @@ HeaderFix checkPlyFile(const fs::path& path, std::uintmax_t bytes) {
 
   // The magic line, then the format on the second line (later "format" lines are ignored)
   std::string line;
-  if (!lines.nextLine(&line) || line.size() < 3 || std::tolower(line[0]) != 'p' ||
-      std::tolower(line[1]) != 'l' || std::tolower(line[2]) != 'y')
+  const auto is = [&](std::size_t i, char lower) {
+    return line[i] == lower || line[i] == lower - 'a' + 'A';
+  };
+  if (!lines.nextLine(&line) || line.size() < 3 || !is(0, 'p') || !is(1, 'l') || !is(2, 'y'))
     return fix;
   if (!lines.nextLine(&line)) throw noEndHeader();
   LineCursor format_line(line);
