@@ -83,15 +83,17 @@ for t in "${targets[@]}"; do
     2> "build-fuzz/$t.time"
   cpu=$(awk '{ printf "%.0f", $1 + $2 }' "build-fuzz/$t.time")
   wall=$(( $(date +%s) - start ))
-  execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | awk '{print $2}' | tail -1)
-  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}')
+  # A finding while the seeds are read leaves no "cov:" line: the figures are then "?" (and
+  # pipefail must not end the script before it reports the finding)
+  execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | awk '{print $2}' | tail -1 || true)
+  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}' || true)
   corp=$(ls "build-fuzz/corpus/$t" | wc -l)
   result=ok
   [ "$rc" -ne 0 ] && result="FINDING (exit $rc)" && status=1
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$t" "$wall" "${cpu:-?}" "${execs:-?}" "${cov:-?}" "$corp" "$result" \
     | tee -a build-fuzz/fuzz-log.tsv
   if [ "$rc" -ne 0 ]; then
-    grep -E "ERROR|SUMMARY|Test unit written|==[0-9]+==" "$log" | head -20
+    grep -E "ERROR|SUMMARY|Test unit written|==[0-9]+==" "$log" | head -20 || true
   fi
 done
 exit $status
