@@ -604,8 +604,9 @@ std::uint64_t importMemoryBudget(const fs::path& path, std::uintmax_t bytes,
     for (fs::directory_iterator it(path.parent_path().empty() ? "." : path.parent_path(), ec), end;
          !ec && it != end && ++seen <= 10'000; it.increment(ec)) {
       std::error_code size_ec;
-      if (it->is_regular_file(size_ec) && it->path() != path)
-        counted += std::min<std::uintmax_t>(it->file_size(size_ec), kMaxFileBytes);
+      if (!it->is_regular_file(size_ec) || it->path() == path) continue;
+      const std::uintmax_t size = it->file_size(size_ec);
+      if (!size_ec) counted += std::min<std::uintmax_t>(size, kMaxFileBytes);
     }
   }
   const std::uint64_t scaled = counted > kMaxImportBudget / kBudgetPerFileByte
