@@ -48,12 +48,6 @@ std::string readHead(const fs::path& path) {
   return head;
 }
 
-std::string lowerExtension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext;
-}
-
 [[noreturn]] void refuseClaim(const fs::path& path, std::uint64_t claimed, const char* what,
                               std::uintmax_t bytes) {
   throw Error(path.string() + ": its header claims " + std::to_string(claimed) + " " + what +
@@ -574,6 +568,12 @@ bool startsAsPly(std::string_view head) {
 }
 
 }  // namespace
+
+std::string lowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
 
 HeaderFix checkHeaderAgainstSize(const fs::path& path, std::uintmax_t bytes) {
   const std::string ext = lowerExtension(path);

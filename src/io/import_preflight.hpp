@@ -8,8 +8,12 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 
 namespace hsr::detail {
+
+// The path's extension in lower case (".PLY" -> ".ply").
+std::string lowerExtension(const std::filesystem::path& path);
 
 // What the import must change for assimp to read a file right.
 struct HeaderFix {

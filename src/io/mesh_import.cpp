@@ -145,8 +145,7 @@ Material convertMaterial(const aiMaterial* m) {
 }
 
 bool isGltf(const fs::path& path) {
-  std::string ext = path.extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const std::string ext = detail::lowerExtension(path);
   return ext == ".gltf" || ext == ".glb";
 }
 
@@ -646,12 +645,7 @@ struct HeapWatch {
 void heapWatchHook(const volatile void*, std::size_t) {
   if (__sanitizer_get_current_allocated_bytes() <= g_heap_watch.limit) return;
   if (g_heap_watch.before_exit) g_heap_watch.before_exit();
-  const std::string& a = *g_heap_watch.answer;
-  for (std::size_t at = 0; at < a.size();) {
-    const ssize_t n = ::write(g_heap_watch.fd, a.data() + at, a.size() - at);
-    if (n <= 0 && errno != EINTR) break;
-    if (n > 0) at += static_cast<std::size_t>(n);
-  }
+  writeAll(g_heap_watch.fd, g_heap_watch.answer->data(), g_heap_watch.answer->size());
   ::_exit(0);
 }
 void heapWatchFreeHook(const volatile void*) {}  // the runtime takes both hooks or neither
