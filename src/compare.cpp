@@ -32,8 +32,11 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
     row.mean_overdraw = covered ? static_cast<double>(sum) / static_cast<double>(covered) : 0.0;
     rows.push_back(std::move(row));
   }
-  // Agreement with the reference: the z-buffer (first row of the registry).
-  const std::vector<PolygonId>& ref = rows.front().frame.ids;
+  // Agreement with the registry's reference row.
+  const std::string_view reference = referenceAlgorithm().name;
+  const auto ref_row = std::find_if(rows.begin(), rows.end(),
+                                    [&](const ComparisonRow& r) { return r.algorithm == reference; });
+  const std::vector<PolygonId>& ref = (ref_row != rows.end() ? *ref_row : rows.front()).frame.ids;
   for (ComparisonRow& r : rows) {
     std::uint64_t diff = 0;
     for (std::size_t i = 0; i < ref.size(); ++i) diff += r.frame.ids[i] != ref[i];
@@ -73,7 +76,12 @@ constexpr Glyph kFont[] = {
     {'-', {0, 0, 0, 31, 0, 0, 0}},       {':', {0, 12, 12, 0, 12, 12, 0}},
     {'/', {1, 1, 2, 4, 8, 16, 16}},      {'(', {2, 4, 8, 8, 8, 4, 2}},
     {')', {8, 4, 2, 2, 2, 4, 8}},        {'=', {0, 0, 31, 0, 31, 0, 0}},
-    {'_', {0, 0, 0, 0, 0, 0, 31}},       {'X', {17, 17, 10, 4, 10, 17, 17}},
+    {'_', {0, 0, 0, 0, 0, 0, 31}},       {',', {0, 0, 0, 0, 12, 4, 8}},
+    {'\'', {4, 4, 8, 0, 0, 0, 0}},      {'"', {10, 10, 0, 0, 0, 0, 0}},
+    {'+', {0, 4, 4, 31, 4, 4, 0}},       {'!', {4, 4, 4, 4, 4, 0, 4}},
+    {'?', {14, 17, 1, 2, 4, 0, 4}},      {'<', {2, 4, 8, 16, 8, 4, 2}},
+    {'>', {8, 4, 2, 1, 2, 4, 8}},        {';', {0, 12, 12, 0, 12, 4, 8}},
+    {'#', {10, 10, 31, 10, 31, 10, 10}}, {'*', {0, 4, 21, 14, 21, 4, 0}},
 };
 
 const Glyph* findGlyph(char c) {

@@ -1,15 +1,14 @@
-// The GL-style facade: OpenGL state in, z-buffer draws into persistent buffers.
+// The GL-style facade: OpenGL state in, draws into persistent buffers through the one
+// orchestrator (render.cpp), with the algorithm the state names (the z-buffer by default).
 
 #include "hsr/gl.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/task_arena.h>
-
+#include "core/frame.hpp"
 #include "hsr/error.hpp"
-#include "visibility/algorithm.hpp"
-#include "visibility/zbuffer.hpp"
+#include "render.hpp"
 
 namespace hsr::gl {
 
@@ -70,11 +69,7 @@ void Context::draw(const Scene& scene) {
            : cull_face_ == FRONT ? CullMode::Front
            : cull_face_ == BACK  ? CullMode::Back
                                  : CullMode::FrontAndBack;
-  tbb::task_arena arena(detail::workerThreads(o.threads));
-  arena.execute([&] {
-    const detail::PreparedScene prepared = detail::prepare(scene, camera_, o);
-    detail::drawZBuffer(detail::AlgorithmInput{scene, camera_, o, prepared, nullptr}, frame_);
-  });
+  detail::renderInto(scene, camera_, o, frame_, detail::DrawMode::kOver);
 }
 
 }  // namespace hsr::gl

@@ -187,8 +187,9 @@ std::int64_t randInt(Rng& rng, std::int64_t lo, std::int64_t hi) {
 // Zero area
 
 // Documented: a polygon whose vertices are collinear in world space has zero area. It is
-// dropped before rasterization and counted in Stats::degenerate_dropped, and draws 0 pixels
-// in every polygon mode and cull mode. A normal triangle beside them draws as usual.
+// dropped before rasterization and its n - 2 triangles are counted in
+// Stats::degenerate_dropped; it draws 0 pixels in every polygon mode and cull mode. A normal
+// triangle beside them draws as usual.
 TEST(Degenerate, ZeroAreaCollinearTrianglesDrawNothingAndAreCounted) {
   const int seeds = 3 * testing::countScale();
   std::uint64_t polygons = 0;
@@ -215,9 +216,9 @@ TEST(Degenerate, ZeroAreaCollinearTrianglesDrawNothingAndAreCounted) {
       std::vector<glm::vec3> pts;
       for (int k = 0; k < n; ++k) pts.push_back(a + float(randInt(rng, -3, 3)) * d);
       s.addPolygonVertices(pts, m);
-      ++dropped;
+      dropped += n - 2;  // triangles
+      ++polygons;
     }
-    polygons += dropped;
     for (PolygonMode mode : {PolygonMode::Fill, PolygonMode::Line, PolygonMode::Point}) {
       for (CullMode cull : {CullMode::None, CullMode::Back}) {
         RenderOptions o;
@@ -237,15 +238,16 @@ TEST(Degenerate, ZeroAreaCollinearTrianglesDrawNothingAndAreCounted) {
 }
 
 // Documented: a polygon whose vertices repeat (the same position twice, or the same index)
-// so that it spans no area is dropped and counted like a collinear one, drawing 0 pixels.
-// A polygon with a repeated vertex that still spans an area is NOT degenerate: it draws
-// exactly the pixels of the area it spans (the repeated corner adds nothing).
+// so that it spans no area is dropped and counted like a collinear one (its n - 2 triangles),
+// drawing 0 pixels. A polygon with a repeated vertex that still spans an area is NOT
+// degenerate: it draws exactly the pixels of the area it spans; the zero-width corner at the
+// repeated vertex is the one triangle of it counted in degenerate_dropped.
 TEST(Degenerate, ZeroAreaRepeatedVertexTrianglesDrawNothingAndAreCounted) {
   Rng rng(0x5EED'0002u);
   Scene s;
   const std::uint32_t m = s.addMaterial({});
   s.beginObject("repeats");
-  std::uint32_t zero_area = 0;
+  std::uint32_t zero_area = 0;  // triangles
   std::vector<Tri> spanning;  // the triangles that the non-degenerate polygons span
   for (int i = 0; i < 100 * testing::countScale(); ++i) {
     const auto point = [&] {
@@ -267,10 +269,11 @@ TEST(Degenerate, ZeroAreaRepeatedVertexTrianglesDrawNothingAndAreCounted) {
         if (i % 8 == 6) s.addPolygon({ia, ib, ib, ic}, m);
         else s.addPolygon({ia, ia2, ib, ic}, m);
         spanning.push_back({glm::dvec2(a.x, a.y), glm::dvec2(b.x, b.y), glm::dvec2(c.x, c.y)});
+        ++zero_area;  // its zero-width corner
         continue;
       }
     }
-    ++zero_area;
+    zero_area += (i % 8 == 4 || i % 8 == 5) ? 2 : 1;
   }
   // Fragments of the spanning quads, which may overlap one another: exact reference sums
   std::vector<int> want(static_cast<std::size_t>(kSize) * kSize, 0);

@@ -1,6 +1,7 @@
 #pragma once
 // Small helpers shared by the tests: deterministic random numbers and scene builders.
 
+#include <cctype>
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
@@ -111,8 +112,16 @@ class EveryAlgorithm : public ::testing::TestWithParam<std::string> {
   RenderOptions options() const { return optionsFor(GetParam()); }
 };
 
+// A test name for an algorithm name: gtest allows only letters, digits and '_'.
+inline std::string testNameOf(const ::testing::TestParamInfo<std::string>& info) {
+  std::string s = info.param;
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
+}
+
 }  // namespace hsr::testing
 
 #define HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(Suite)                                      \
   INSTANTIATE_TEST_SUITE_P(, Suite, ::testing::ValuesIn(::hsr::testing::algorithmNames()), \
-                           [](const ::testing::TestParamInfo<std::string>& i) { return i.param; })
+                           ::hsr::testing::testNameOf)

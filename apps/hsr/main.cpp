@@ -1,6 +1,7 @@
 // hsr: the command line. The only code that parses argv, prints, and picks exit codes:
 // 0 success, 2 bad input or usage (one line on stderr), 1 internal error.
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 
 #include "hsr/compare.hpp"
 #include "hsr/error.hpp"
+#include "hsr/explain.hpp"
 #include "hsr/io.hpp"
 #include "hsr/render.hpp"
 #include "args.hpp"
@@ -73,14 +75,19 @@ void printSummary(const hsr::Frame& f, const std::string& scene, const std::stri
                   const std::vector<std::string>& written) {
   const hsr::Stats& s = f.stats;
   fmt::print("hsr {} {}  {}x{}\n", algorithm, scene, f.width, f.height);
-  fmt::print("  polygons in        {:>12}   triangles {:>12}\n", s.polygons_in, s.triangles_in);
-  fmt::print("  degenerate dropped {:>12}\n", s.degenerate_dropped);
-  fmt::print("  frustum culled     {:>12}   (polygons of objects outside the view)\n", s.culled_frustum);
-  fmt::print("  back-face culled   {:>12}   (triangles)\n", s.culled_backface);
-  fmt::print("  clipped            {:>12}   clipped away {:>12}\n", s.clipped, s.clipped_away);
-  fmt::print("  rasterized         {:>12}\n", s.triangles_rasterized);
-  fmt::print("  fragments tested   {:>12}   written {:>12}\n", s.fragments_tested, s.fragments_written);
-  fmt::print("  state memory       {:>12.1f} MiB ({:.1f} bytes/pixel)\n",
+  // Every count of the one table, with what it counts (zero counts of rarer events omitted).
+  for (const hsr::Stats::Field& field : hsr::Stats::fields()) {
+    const std::uint64_t v = s.*field.value;
+    if (field.name == "state_bytes") continue;
+    if (v == 0 && field.name != "polygons_in" && field.name != "triangles_in" &&
+        field.name != "triangles_rasterized" && field.name != "fragments_written")
+      continue;
+    std::string label(field.name);
+    std::replace(label.begin(), label.end(), '_', ' ');
+    fmt::print("  {:<22}{:>12}   {}\n", label, v, field.meaning);
+  }
+  for (const hsr::Counter& c : s.counters) fmt::print("  {:<22}{:>12}\n", c.name, c.value);
+  fmt::print("  {:<22}{:>12.1f}   MiB ({:.1f} bytes/pixel)\n", "state memory",
              s.state_bytes / 1048576.0, double(s.state_bytes) / (double(f.width) * f.height));
   fmt::print("  time per stage:");
   for (const hsr::StageTime& st : s.stages) fmt::print("  {} {:.2f} ms", st.name, st.ms);
@@ -155,12 +162,33 @@ int runCompare(const Args& a) {
   return 0;
 }
 
+int runExplain(const Args& a, const std::string& dir_arg) {
+  const hsr::Scene scene = hsr::loadScene(a.scene);
+  const hsr::Camera cam = makeCamera(a, scene);
+  const hsr::RenderOptions opt = makeOptions(a);
+  const fs::path dir = dir_arg.empty()
+                           ? fs::path("out") / ("explain-" + opt.algorithm + "-" + sceneLabel(a.scene))
+                           : fs::path(dir_arg);
+  const hsr::Explanation e = hsr::explain(scene, cam, opt, dir);
+  if (!a.quiet) {
+    fmt::print("hsr explain {} {}  {}x{}: {} steps\n", opt.algorithm, a.scene, cam.width,
+               cam.height, e.steps.size());
+    for (const hsr::ExplainedStep& s : e.steps)
+      fmt::print("  {:>2}. {:<14} {}\n", s.number, s.name, s.caption);
+    fmt::print("  wrote {} pictures, {} and {}\n", e.steps.size(), e.sheet.string(),
+               e.index.string());
+  }
+  return 0;
+}
+
 int runScenes() {
   fmt::print("built-in scenes (a file of the same name wins):\n");
   for (const hsr::BuiltinScene& s : hsr::builtinScenes()) fmt::print("  {:<16} {}\n", s.name, s.summary);
   fmt::print("algorithms:\n");
   for (const hsr::AlgorithmInfo& i : hsr::algorithms())
-    fmt::print("  {:<16} {} precision: {}\n", i.name, i.precision, i.summary);
+    fmt::print("  {:<18} {} precision{}: {}\n                     input: {}; can: {}\n", i.name,
+               hsr::toString(i.precision), i.reference ? ", the reference" : "", i.summary,
+               hsr::toString(i.input), hsr::capabilityList(i.capabilities));
   return 0;
 }
 
@@ -174,6 +202,7 @@ int main(int argc, char** argv) {
                "  hsr render model.obj --output color,depth,ids,overdraw --raw out/raw\n"
                "  hsr render demo --polygon-mode line --eye 4,3,6 --target 0,0,0\n"
                "  hsr compare demo --sheet out/sheet.png\n"
+               "  hsr explain zbuffer-textbook demo -o out/explain\n"
                "  hsr scenes"};
   app.require_subcommand(0, 1);
   Args a;
@@ -189,6 +218,13 @@ int main(int argc, char** argv) {
   CLI::App* compare = app.add_subcommand("compare", "run every algorithm on SCENE and compare");
   addViewOptions(compare, a);
   compare->add_option("--sheet", a.sheet_file, "write the pictures side by side, labelled");
+  CLI::App* explain = app.add_subcommand(
+      "explain", "explain ALGORITHM on SCENE step by step: numbered pictures and a contact sheet");
+  explain->add_option("ALGORITHM", a.algorithm, "an algorithm that can explain itself")->required();
+  addViewOptions(explain, a);
+  std::string explain_dir;
+  explain->add_option("-o", explain_dir, "output directory (default out/explain-ALGORITHM-SCENE)");
+  explain->add_flag("-q,--quiet", a.quiet, "no summary");
   CLI::App* scenes = app.add_subcommand("scenes", "list built-in scenes and algorithms");
 
   try {
@@ -205,6 +241,7 @@ int main(int argc, char** argv) {
   try {
     if (*scenes) return runScenes();
     if (*compare) return runCompare(a);
+    if (*explain) return runExplain(a, explain_dir);
     return runRender(a);  // `render`, or no verb at all: the demo scene
   } catch (const hsr::Error& e) {
     std::fprintf(stderr, "hsr: %s\n", e.what());

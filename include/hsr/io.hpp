@@ -48,6 +48,13 @@ void writeNpy(const std::filesystem::path& path, int width, int height,
 
 // Pictures of a frame's buffers, RGB8 top row first.
 std::vector<std::uint8_t> depthPicture(const Frame& frame);     // normalised grey, near = light
+// The depth range of the drawn pixels, and a depth picture normalised over a given range
+// (so that the pictures of a sequence share one scale).
+struct DepthRange {
+  float lo, hi;
+};
+DepthRange drawnDepthRange(const Frame& frame);
+std::vector<std::uint8_t> depthPicture(const Frame& frame, DepthRange range);
 std::vector<std::uint8_t> idPicture(const Frame& frame);        // hashed palette, bg black
 std::vector<std::uint8_t> overdrawPicture(const Frame& frame);  // heatmap
 std::vector<std::uint8_t> picture(const Frame& frame, std::string_view kind);  // by name

@@ -9,8 +9,10 @@
 #include <utility>
 #include <vector>
 
+#include "hsr/algorithms.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/stats.hpp"
 
 namespace hsr {
 
@@ -37,30 +39,6 @@ struct RenderOptions {
   glm::vec3 clear_color{0.94f, 0.94f, 0.92f};  // light paper, so outlines read
   float clear_depth = 1.0f;
   int threads = 0;  // 0 = all hardware threads (more are clamped); results are identical for any
-};
-
-struct StageTime {
-  std::string name;
-  double ms = 0.0;
-};
-
-struct Stats {
-  std::uint64_t polygons_in = 0;
-  std::uint64_t triangles_in = 0;          // after triangulating polygons
-  std::uint64_t degenerate_dropped = 0;    // zero-area, repeated or non-finite vertices
-  std::uint64_t culled_frustum = 0;        // polygons of objects outside the view volume
-  std::uint64_t culled_backface = 0;       // removed by the cull mode: triangles after clipping
-                                           // (polygons in LINE/POINT mode)
-  std::uint64_t clipped = 0;               // triangles that crossed a clip plane
-  std::uint64_t clipped_away = 0;          // triangles entirely outside after clipping
-  std::uint64_t triangles_rasterized = 0;  // primitives handed to the visibility algorithm
-                                           // (triangles, or lines / points in those modes)
-  std::uint64_t fragments_tested = 0;      // pixel samples that reached the depth test
-  std::uint64_t fragments_written = 0;     // samples that passed and were written
-  std::uint64_t state_bytes = 0;           // memory held by the algorithm's state
-  std::vector<StageTime> stages;           // per-stage wall time
-  void addStage(std::string name, double ms);
-  double totalMs() const;
 };
 
 // Memory an algorithm keeps between renders into the same Frame (so that repeated frames
@@ -91,14 +69,6 @@ Frame render(const Scene& scene, const Camera& camera, const RenderOptions& opti
 // The same, drawing into `frame` and reusing its buffers' memory (for repeated frames).
 void render(const Scene& scene, const Camera& camera, const RenderOptions& options,
             Frame& frame);
-
-// The registry of visibility algorithms (one table; CLI, tests and benches loop over it).
-struct AlgorithmInfo {
-  std::string_view name;
-  std::string_view precision;  // "image" or "object"
-  std::string_view summary;
-};
-const std::vector<AlgorithmInfo>& algorithms();
 
 // Parsing helpers shared by the CLI and the GL facade; throw hsr::Error on unknown names.
 CullMode parseCullMode(std::string_view s);

@@ -184,29 +184,41 @@ void writeNpy(const std::filesystem::path& path, int width, int height, const st
   writeNpyData(path, width, height, data, "<u4");
 }
 
-std::vector<std::uint8_t> depthPicture(const Frame& frame) {
+namespace {
+// A pixel was drawn where it holds a polygon id (or, without ids, a depth below 1)
+bool depthDrawn(const Frame& frame, std::size_t k) {
+  const float d = frame.depth[k];
+  return std::isfinite(d) && (frame.ids.size() == frame.depth.size() ? frame.ids[k] != kNoPolygon
+                                                                      : d < 1.0f);
+}
+}  // namespace
+
+DepthRange drawnDepthRange(const Frame& frame) {
+  DepthRange r{std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+  if (frame.depth.size() != framePixels(frame)) return r;
+  for (std::size_t k = 0; k < frame.depth.size(); ++k)
+    if (depthDrawn(frame, k)) r.lo = std::min(r.lo, frame.depth[k]), r.hi = std::max(r.hi, frame.depth[k]);
+  return r;
+}
+
+std::vector<std::uint8_t> depthPicture(const Frame& frame, DepthRange range) {
   const std::size_t n = framePixels(frame);
   std::vector<std::uint8_t> rgb(n * 3, 0);
   if (frame.depth.size() != n) return rgb;
-  // A pixel was drawn where it holds a polygon id (or, without ids, a depth below 1)
-  const bool have_ids = frame.ids.size() == n;
-  const auto drawn = [&](std::size_t k) {
-    const float d = frame.depth[k];
-    return std::isfinite(d) && (have_ids ? frame.ids[k] != kNoPolygon : d < 1.0f);
-  };
-  // Normalise over the drawn pixels' depth range
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-  for (std::size_t k = 0; k < n; ++k)
-    if (drawn(k)) lo = std::min(lo, frame.depth[k]), hi = std::max(hi, frame.depth[k]);
-  const float range = hi > lo ? hi - lo : 1.0f;
+  const float span = range.hi > range.lo ? range.hi - range.lo : 1.0f;
   constexpr float kNear = 255.0f, kFar = 48.0f;  // far stays visibly grey against black
   for (std::size_t k = 0; k < n; ++k) {
-    if (!drawn(k)) continue;
-    const float t = (frame.depth[k] - lo) / range;
+    if (!depthDrawn(frame, k)) continue;
+    const float t = std::clamp((frame.depth[k] - range.lo) / span, 0.0f, 1.0f);
     const auto g = static_cast<std::uint8_t>(std::lround(kNear + (kFar - kNear) * t));
     rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = g;
   }
   return rgb;
+}
+
+std::vector<std::uint8_t> depthPicture(const Frame& frame) {
+  // Normalised over the drawn pixels' depth range
+  return depthPicture(frame, drawnDepthRange(frame));
 }
 
 std::vector<std::uint8_t> idPicture(const Frame& frame) {
@@ -265,17 +277,10 @@ std::string statsJson(const Frame& frame, const std::string& scene, const std::s
   j["algorithm"] = algorithm;
   j["width"] = frame.width;
   j["height"] = frame.height;
-  j["polygons_in"] = s.polygons_in;
-  j["triangles_in"] = s.triangles_in;
-  j["degenerate_dropped"] = s.degenerate_dropped;
-  j["culled_frustum"] = s.culled_frustum;
-  j["culled_backface"] = s.culled_backface;
-  j["clipped"] = s.clipped;
-  j["clipped_away"] = s.clipped_away;
-  j["triangles_rasterized"] = s.triangles_rasterized;
-  j["fragments_tested"] = s.fragments_tested;
-  j["fragments_written"] = s.fragments_written;
-  j["state_bytes"] = s.state_bytes;
+  for (const Stats::Field& f : Stats::fields()) j[std::string(f.name)] = s.*f.value;
+  nlohmann::ordered_json counters = nlohmann::ordered_json::object();
+  for (const Counter& c : s.counters) counters[c.name] = c.value;
+  j["counters"] = std::move(counters);
   nlohmann::ordered_json stages = nlohmann::ordered_json::array();
   for (const StageTime& st : s.stages) stages.push_back({{"name", st.name}, {"ms", st.ms}});
   j["stages"] = std::move(stages);

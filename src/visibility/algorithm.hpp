@@ -1,9 +1,12 @@
 #pragma once
-// What every visibility algorithm implements: prepared (culled, clipped, snapped) primitives
-// in, a Frame out. The registry (registry.cpp) is the one table of them.
+// What every visibility algorithm implements, and the registry's entries (registry.cpp holds
+// the table). An algorithm draws the prepared scene into a frame that render() has sized and
+// cleared (or, for the GL facade, left as the previous draws made it).
 
 #include <memory>
+#include <vector>
 
+#include "core/trace.hpp"
 #include "hsr/render.hpp"
 #include "pipeline/pipeline.hpp"
 
@@ -15,14 +18,18 @@ struct AlgorithmInput {
   const RenderOptions& options;
   const PreparedScene& prepared;
   std::shared_ptr<void>* scratch = nullptr;  // the algorithm's own reusable memory, if any
+  Trace* trace = nullptr;                    // non-null only when explaining
 };
 
-// Memory kept in a Frame between renders: the pipeline's output and the algorithm's scratch.
-struct RenderCache {
-  PreparedScene prepared;
-  std::shared_ptr<void> algorithm;
-  const void* owner = nullptr;  // the registry entry that made `algorithm`
+using AlgorithmFn = void (*)(const AlgorithmInput& input, Frame& frame);
+
+struct AlgorithmEntry {
+  AlgorithmInfo info;
+  AlgorithmFn draw;
 };
+
+const std::vector<AlgorithmEntry>& algorithmTable();
+const AlgorithmEntry& findEntry(std::string_view name);  // throws hsr::Error when unknown
 
 // The algorithm's scratch of type T, created on first use (a fresh one without a cache).
 template <class T>
@@ -35,22 +42,8 @@ T& algorithmScratch(const AlgorithmInput& in, std::unique_ptr<T>& fallback) {
   return *fallback;
 }
 
-// Renders into `frame`, reusing its buffers' memory when their size already fits.
-using AlgorithmFn = void (*)(const AlgorithmInput& input, Frame& frame);
-
-struct AlgorithmEntry {
-  AlgorithmInfo info;
-  AlgorithmFn run;
-};
-
-const std::vector<AlgorithmEntry>& algorithmTable();
-
-// Worker threads for a request: 0 = all; more than the machine has is clamped to what it has
-// (results do not depend on the count, so nothing is lost). Throws hsr::Error when < 0.
-int workerThreads(int requested);
-
-// Sizes and clears the buffers (colour = clear colour, depth = clear depth, no ids, overdraw
-// 0), reusing their memory; stats are reset.
-void clearFrame(Frame& frame, int width, int height, const RenderOptions& options);
+// The algorithms (one file each in src/visibility/).
+void drawZBufferTextbook(const AlgorithmInput& input, Frame& frame);  // zbuffer.cpp
+void drawZBufferTiled(const AlgorithmInput& input, Frame& frame);     // zbuffer_tiled.cpp
 
 }  // namespace hsr::detail

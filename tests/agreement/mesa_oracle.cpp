@@ -19,7 +19,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "pipeline/triangulate.hpp"
+#include "geometry/triangulate.hpp"
 
 // Mesa 22's OSMesa leaks a few hundred bytes of its own (even a bare create / make current /
 // destroy program does): keep LeakSanitizer builds (HSR_SANITIZE) quiet about them. Only read

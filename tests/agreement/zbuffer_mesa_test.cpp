@@ -108,9 +108,10 @@ void dumpDifferences(const Scene& scene, const Camera& camera, const RenderOptio
     for (const detail::ScreenTriangle& t : ps.triangles) {
       if (t.id != id) continue;
       std::printf(
-          "      hsr tri id %u: (%d,%d) (%d,%d) (%d,%d) /256 px, z0 %.9g dz/dx %.3g "
+          "      hsr tri id %u: (%d,%d) (%d,%d) (%d,%d) /256 px, z(0,0) %.9g dz/dx %.3g "
           "dz/dy %.3g\n",
-          id, t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2], t.z0, t.dzdx, t.dzdy);
+          id, t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2], t.depth.z0, t.depth.dzdx,
+          t.depth.dzdy);
     }
   };
   // Pixels that are not depth ties first: those point at a rule difference.

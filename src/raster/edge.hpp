@@ -1,18 +1,19 @@
 #pragma once
 // The one exact triangle setup shared by everything that rasterizes: integer edge functions
-// on 24.8 fixed-point vertices, the top-left fill rule as an integer bias, and exact span
-// limits per row. Guarantee: triangles that share an edge cover each pixel centre on it
-// exactly once (no gaps, no double hits), independently of the order they are drawn in.
+// on 24.8 fixed-point vertices (Pineda 1988), the top-left fill rule as an integer bias, and
+// exact span limits per row. Guarantee: triangles that share an edge cover each pixel centre
+// on it exactly once (no gaps, no double hits), independently of the order they are drawn in.
 
 #include <cstdint>
 
-#include "pipeline/pipeline.hpp"
+#include "raster/primitives.hpp"
 
 namespace hsr::detail {
 
 // Edge function E(p) = dx*(py - ay) - dy*(px - ax) of the directed edge a->b, written as
 // E + bias = step_x * i + row_value for pixel column i on the current row. A pixel is inside
-// the edge when that is >= 0: E > 0, or E == 0 on a top or left edge (the fill rule).
+// the edge when that is >= 0: E > 0, or E == 0 on a top or left edge (the fill rule, with
+// the inside below a top edge and right of a left edge, y down, as llvmpipe evaluates it).
 struct EdgeSetup {
   std::int64_t step_x;  // change of the value per pixel column: -dy * 256
   std::int64_t step_y;  // change per pixel row: dx * 256
@@ -33,10 +34,10 @@ bool spanOfRow(const TriangleSetup& s, int* lo, int* hi);
 inline void nextRow(TriangleSetup& s) {
   for (EdgeSetup& e : s.edge) e.row += e.step_y;
 }
-
-// Whole pixels from 24.8 fixed point: floor and ceil of a / 256 (arithmetic shift floors).
-inline std::int64_t floorPixel(std::int64_t a) { return a >> kSubpixelBits; }
-inline std::int64_t ceilPixel(std::int64_t a) { return -((-a) >> kSubpixelBits); }
+// Moves the setup down by `rows` rows at once.
+inline void skipRows(TriangleSetup& s, int rows) {
+  for (EdgeSetup& e : s.edge) e.row += e.step_y * rows;
+}
 
 // floor(a / b) and ceil(a / b) for b > 0.
 inline std::int64_t floorDiv(std::int64_t a, std::int64_t b) {

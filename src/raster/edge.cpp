@@ -1,7 +1,7 @@
-// Exact fixed-point triangle setup (Pineda 1988 edge functions; top-left rule as in
+// Exact fixed-point triangle setup (Pineda 1988 edge functions; the top-left rule as in
 // Direct3D/OpenGL implementations such as Mesa's llvmpipe).
 
-#include "core/raster.hpp"
+#include "raster/edge.hpp"
 
 #include <algorithm>
 

@@ -1,0 +1,67 @@
+// The registry's public face: the table's entries as AlgorithmInfo, lookup by name.
+
+#include <string>
+
+#include "hsr/algorithms.hpp"
+#include "hsr/error.hpp"
+#include "visibility/algorithm.hpp"
+
+namespace hsr {
+
+namespace detail {
+
+const AlgorithmEntry& findEntry(std::string_view name) {
+  for (const AlgorithmEntry& e : algorithmTable())
+    if (e.info.name == name) return e;
+  std::string names;
+  for (const AlgorithmEntry& e : algorithmTable())
+    names += (names.empty() ? "" : ", ") + std::string(e.info.name);
+  throw Error("unknown algorithm '" + std::string(name) + "' (known: " + names + ")");
+}
+
+}  // namespace detail
+
+const std::vector<AlgorithmInfo>& algorithms() {
+  static const std::vector<AlgorithmInfo> infos = [] {
+    std::vector<AlgorithmInfo> v;
+    for (const detail::AlgorithmEntry& e : detail::algorithmTable()) v.push_back(e.info);
+    return v;
+  }();
+  return infos;
+}
+
+const AlgorithmInfo& findAlgorithm(std::string_view name) { return detail::findEntry(name).info; }
+
+const AlgorithmInfo& referenceAlgorithm() {
+  for (const AlgorithmInfo& a : algorithms())
+    if (a.reference) return a;
+  return algorithms().front();
+}
+
+std::string_view toString(Precision p) { return p == Precision::kImage ? "image" : "object"; }
+
+std::string_view toString(InputKind k) {
+  switch (k) {
+    case InputKind::kScreenTriangles: return "screen triangles";
+    case InputKind::kWindowPolygons: return "window polygons";
+    case InputKind::kWorldPolygons: return "world polygons";
+    case InputKind::kMap2D: return "2D map";
+  }
+  return "?";
+}
+
+std::string capabilityList(std::uint32_t caps) {
+  static constexpr std::pair<Capability, std::string_view> kNames[] = {
+      {kExactSharedCoverage, "exact-coverage"}, {kDepthFuncs, "depth-funcs"},
+      {kDepthMask, "depth-mask"},               {kPolygonModes, "polygon-modes"},
+      {kOutline, "outline"},                    {kTransparency, "transparency"},
+      {kVisibleSet, "visible-set"},             {kExplain, "explain"},
+      {kDrawOver, "draw-over"},
+  };
+  std::string out;
+  for (const auto& [cap, name] : kNames)
+    if (caps & cap) out += (out.empty() ? "" : ", ") + std::string(name);
+  return out;
+}
+
+}  // namespace hsr

@@ -1,0 +1,46 @@
+// Clearing a frame, in parallel bands (first touch spreads the pages over the workers).
+
+#include "core/frame.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace hsr::detail {
+
+std::uint32_t clearColorRgba(const RenderOptions& options) {
+  auto q = [](float v) {
+    return static_cast<std::uint32_t>(
+        std::lround(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f));
+  };
+  const glm::vec3& c = options.clear_color;
+  return q(c.r) | (q(c.g) << 8) | (q(c.b) << 16) | 0xFF000000u;
+}
+
+void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
+  f.width = width;
+  f.height = height;
+  f.stats = Stats{};
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  const std::uint32_t clear = clearColorRgba(options);
+  const float clear_depth =
+      std::isfinite(options.clear_depth) ? std::clamp(options.clear_depth, 0.0f, 1.0f) : 1.0f;
+  f.color.resize(n);
+  f.depth.resize(n);
+  f.ids.resize(n);
+  f.overdraw.resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+    std::fill(f.color.begin() + r.begin(), f.color.begin() + r.end(), clear);
+    std::fill(f.depth.begin() + r.begin(), f.depth.begin() + r.end(), clear_depth);
+    std::fill(f.ids.begin() + r.begin(), f.ids.begin() + r.end(), kNoPolygon);
+    std::fill(f.overdraw.begin() + r.begin(), f.overdraw.begin() + r.end(), 0u);
+  });
+}
+
+std::uint64_t frameBufferBytes(const Frame& f) {
+  return f.color.size() * 4 + f.depth.size() * 4 + f.ids.size() * 4 + f.overdraw.size() * 4;
+}
+
+}  // namespace hsr::detail

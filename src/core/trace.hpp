@@ -1,0 +1,43 @@
+#pragma once
+// What an algorithm shows while it works, for `hsr explain`: a sequence of named steps, each
+// with a caption and the state of the frame at that moment. An algorithm holds a Trace
+// pointer that is null except when explaining, so tracing costs one branch per step:
+//
+//   if (trace && trace->wants(kStepDrawPolygon, k, n))
+//     trace->record({kStepDrawPolygon, caption, &frame, outlines});
+//
+// Step names are the algorithm file's own step comments, so code and pictures share one
+// vocabulary. Algorithms never draw pictures; src/explain/ does.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "hsr/render.hpp"
+
+namespace hsr::detail {
+
+// A closed outline in window space (pixel-centre coordinates, y down), e.g. the triangles of
+// the polygon being drawn, or a Warnock quadrant.
+using TraceOutline = std::vector<glm::vec2>;
+
+struct TraceStep {
+  std::string_view name;              // "draw polygon"
+  std::string caption;                // in the notes' words, with this step's figures
+  const Frame* frame = nullptr;       // the buffers after the step (the trace copies them)
+  std::vector<TraceOutline> outlines; // what to outline on the pictures
+};
+
+class Trace {
+ public:
+  virtual ~Trace() = default;
+  // Whether the algorithm should record occurrence `index` (0-based) of step `name`, of
+  // `count` in all: a long run keeps a few evenly spaced pictures, always the last.
+  virtual bool wants(std::string_view name, std::uint64_t index, std::uint64_t count) = 0;
+  virtual void record(const TraceStep& step) = 0;
+};
+
+}  // namespace hsr::detail

@@ -1,0 +1,205 @@
+// Turns an algorithm's trace of named steps into numbered pictures, a contact sheet and an
+// index. The algorithm runs twice: once to learn the finished frame's depth range (so every
+// picture's depth half shares one grey scale), once traced.
+
+#include "hsr/explain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "core/trace.hpp"
+#include "hsr/compare.hpp"
+#include "hsr/error.hpp"
+#include "hsr/io.hpp"
+#include "render.hpp"
+
+namespace hsr {
+namespace {
+
+constexpr int kGap = 8;              // pixels between and around the panels
+constexpr std::uint8_t kBack = 32;   // the dark page behind the panels
+constexpr std::uint8_t kMark[3] = {235, 40, 40};  // outline colour
+
+// An RGB8 picture, top row first.
+struct Picture {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+  Picture(int w, int h) : width(w), height(h), rgb(static_cast<std::size_t>(w) * h * 3, kBack) {}
+  std::uint8_t* at(int x, int y) { return &rgb[3 * (static_cast<std::size_t>(y) * width + x)]; }
+  void blit(const std::vector<std::uint8_t>& src, int w, int h, int ox, int oy) {
+    for (int y = 0; y < h; ++y)
+      std::copy_n(&src[3 * static_cast<std::size_t>(y) * w], 3 * w, at(ox, oy + y));
+  }
+};
+
+// A 1-pixel line from a to b (window coordinates of a panel placed at ox, oy), clipped to the
+// panel.
+void drawSegment(Picture& p, glm::vec2 a, glm::vec2 b, int ox, int oy, int w, int h) {
+  const float len = std::max(std::abs(b.x - a.x), std::abs(b.y - a.y));
+  if (!std::isfinite(len)) return;
+  const int steps = static_cast<int>(std::min(std::ceil(len), 20000.0f));
+  for (int k = 0; k <= steps; ++k) {
+    const float t = steps == 0 ? 0.0f : static_cast<float>(k) / static_cast<float>(steps);
+    const long x = std::lround(a.x + (b.x - a.x) * t), y = std::lround(a.y + (b.y - a.y) * t);
+    if (x < 0 || y < 0 || x >= w || y >= h) continue;
+    std::copy_n(kMark, 3, p.at(ox + static_cast<int>(x), oy + static_cast<int>(y)));
+  }
+}
+
+// Words of `text` in lines of at most `columns` characters.
+std::vector<std::string> wrap(const std::string& text, std::size_t columns) {
+  std::vector<std::string> lines;
+  std::istringstream words(text);
+  std::string word, line;
+  while (words >> word) {
+    if (!line.empty() && line.size() + 1 + word.size() > columns) {
+      lines.push_back(line);
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+  }
+  if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+std::string fileSafe(std::string_view s) {
+  std::string out;
+  for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '-';
+  return out;
+}
+
+// Box-filtered reduction by an integer factor.
+Picture shrink(const Picture& src, int factor) {
+  Picture out(std::max(1, src.width / factor), std::max(1, src.height / factor));
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        int sum = 0;
+        for (int dy = 0; dy < factor; ++dy)
+          for (int dx = 0; dx < factor; ++dx)
+            sum += src.rgb[3 * (static_cast<std::size_t>(y * factor + dy) * src.width + x * factor + dx) + c];
+        out.at(x, y)[c] = static_cast<std::uint8_t>(sum / (factor * factor));
+      }
+  return out;
+}
+
+class Recorder : public detail::Trace {
+ public:
+  Recorder(const std::filesystem::path& dir, DepthRange range, int per_step)
+      : dir_(dir), range_(range), per_step_(std::max(per_step, 2)) {}
+
+  bool wants(std::string_view, std::uint64_t index, std::uint64_t count) override {
+    // Evenly spaced, the first and the last always.
+    if (count <= static_cast<std::uint64_t>(per_step_) || index == 0 || index + 1 == count) return true;
+    const std::uint64_t slots = static_cast<std::uint64_t>(per_step_ - 1);
+    return index * slots / (count - 1) != (index - 1) * slots / (count - 1);
+  }
+
+  void record(const detail::TraceStep& step) override {
+    const Frame& f = *step.frame;
+    const int w = f.width, h = f.height;
+    // The header: step number and name, then the caption, wrapped to the picture's width.
+    const int scale = w >= 360 ? 2 : 1;
+    const int char_w = 6 * scale, line_h = 10 * scale;
+    const int width = 2 * w + 3 * kGap;
+    const std::size_t columns = static_cast<std::size_t>(std::max(8, (width - 2 * kGap) / char_w));
+    ExplainedStep s;
+    s.number = static_cast<int>(steps_.size()) + 1;
+    s.name = std::string(step.name);
+    s.caption = step.caption;
+    std::vector<std::string> lines = wrap(step.caption, columns);
+    const int header = kGap + line_h * (2 + static_cast<int>(lines.size()));
+    Picture p(width, header + h + kGap);
+    char title[96];
+    std::snprintf(title, sizeof title, "STEP %d: %s", s.number, s.name.c_str());
+    drawLabel(p.rgb, p.width, p.height, kGap, kGap, title, scale);
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      drawLabel(p.rgb, p.width, p.height, kGap, kGap + line_h * (2 + static_cast<int>(i)), lines[i], scale);
+    // The colour buffer and the depth buffer side by side, what the step works on outlined.
+    const int left = kGap, right = 2 * kGap + w, top = header;
+    p.blit(picture(f, "color"), w, h, left, top);
+    p.blit(depthPicture(f, range_), w, h, right, top);
+    for (const detail::TraceOutline& o : step.outlines)
+      for (std::size_t i = 0; i < o.size(); ++i)
+        for (const int ox : {left, right})
+          drawSegment(p, o[i], o[(i + 1) % o.size()], ox, top, w, h);
+    char name[160];
+    std::snprintf(name, sizeof name, "%02d-%s.png", s.number, fileSafe(s.name).c_str());
+    s.picture = dir_ / name;
+    writePng(s.picture, p.width, p.height, 3, p.rgb.data());
+    // A thumbnail of the two panels for the contact sheet.
+    Picture panels(2 * w + kGap, h);
+    for (int y = 0; y < h; ++y)
+      std::copy_n(p.at(left, top + y), 3 * (2 * w + kGap), panels.at(0, y));
+    const int factor = std::max(1, (2 * w + kGap) / 420);
+    thumbs_.push_back(shrink(panels, factor));
+    steps_.push_back(std::move(s));
+  }
+
+  std::vector<ExplainedStep>& steps() { return steps_; }
+  const std::vector<Picture>& thumbs() const { return thumbs_; }
+
+ private:
+  std::filesystem::path dir_;
+  DepthRange range_;
+  int per_step_;
+  std::vector<ExplainedStep> steps_;
+  std::vector<Picture> thumbs_;
+};
+
+// The thumbnails in a grid, each under its number and step name.
+Picture contactSheet(const std::vector<Picture>& thumbs, const std::vector<ExplainedStep>& steps) {
+  constexpr int kColumns = 3, kLabel = 14;
+  const int tw = thumbs.empty() ? 1 : thumbs[0].width, th = thumbs.empty() ? 1 : thumbs[0].height;
+  const int n = static_cast<int>(thumbs.size());
+  const int cols = std::min(kColumns, std::max(n, 1)), rows = (n + cols - 1) / cols;
+  Picture sheet(cols * tw + (cols + 1) * kGap, rows * (th + kLabel) + (rows + 1) * kGap);
+  for (int i = 0; i < n; ++i) {
+    const int x = kGap + (i % cols) * (tw + kGap);
+    const int y = kGap + (i / cols) * (th + kLabel + kGap);
+    drawLabel(sheet.rgb, sheet.width, sheet.height, x, y + 2,
+              std::to_string(steps[i].number) + " " + steps[i].name, 1);
+    sheet.blit(thumbs[i].rgb, thumbs[i].width, thumbs[i].height, x, y + kLabel);
+  }
+  return sheet;
+}
+
+}  // namespace
+
+Explanation explain(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                    const std::filesystem::path& dir, const ExplainOptions& explain_options) {
+  const AlgorithmInfo& info = findAlgorithm(options.algorithm);
+  if (!info.has(kExplain))
+    throw Error("algorithm '" + std::string(info.name) + "' cannot explain its steps yet");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw Error(dir.string() + ": cannot create the directory: " + ec.message());
+  Explanation out;
+  // First run: the finished frame, whose depth range every picture's depth half uses.
+  render(scene, camera, options, out.frame);
+  Recorder recorder(dir, drawnDepthRange(out.frame), explain_options.pictures_per_step);
+  Frame traced;
+  detail::renderInto(scene, camera, options, traced, detail::DrawMode::kClear, &recorder);
+  out.steps = std::move(recorder.steps());
+  const Picture sheet = contactSheet(recorder.thumbs(), out.steps);
+  out.sheet = dir / "sheet.png";
+  writePng(out.sheet, sheet.width, sheet.height, 3, sheet.rgb.data());
+  // The index: every step's caption, linked to its picture.
+  out.index = dir / "steps.md";
+  std::ofstream md(out.index);
+  md << "# " << info.name << ": " << info.summary << "\n\n"
+     << "Source: " << info.source << ". Left: the colour buffer; right: the depth buffer "
+     << "(near is light); what the step works on is outlined in red.\n\n"
+     << "![contact sheet](sheet.png)\n\n";
+  for (const ExplainedStep& s : out.steps)
+    md << s.number << ". **" << s.name << "**: " << s.caption << " [picture]("
+       << s.picture.filename().string() << ")\n";
+  md.close();
+  if (!md) throw Error(out.index.string() + ": cannot write");
+  return out;
+}
+
+}  // namespace hsr

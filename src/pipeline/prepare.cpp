@@ -1,0 +1,263 @@
+// prepare(): the pipeline's stages in order, over fixed chunks of polygons whose outputs are
+// joined in order. Guarantee: the output depends only on the scene, camera and options, never
+// on the thread count.
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+
+#include <glm/matrix.hpp>
+#include <tbb/parallel_for.h>
+
+#include "geometry/triangulate.hpp"
+#include "pipeline/stages.hpp"
+
+namespace hsr::detail {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+constexpr std::size_t kChunk = 2048;  // polygons per work item (fixed: determinism)
+
+// The common case, kept lean: a triangle in FILL mode that needs no clipping. Its vertices
+// were projected and snapped once each in the transform stage.
+// Returns false when the triangle needs the general path (clipping, or a non-finite vertex).
+bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_t> vi,
+                  ChunkOut& out) {
+  const VertexOut& a = ctx.verts[vi[0]];
+  const VertexOut& b = ctx.verts[vi[1]];
+  const VertexOut& c = ctx.verts[vi[2]];
+  if ((a.code | b.code | c.code) & (kMustClip | kNonFinite)) return false;
+  PolygonInfo info = describePolygon(ctx, id, vi);
+  if (info.degenerate) {
+    out.counts.degenerate_dropped++;
+    return true;
+  }
+  if (a.code & b.code & c.code & (kLeft | kRight | kBottom | kTop)) {
+    out.counts.clipped_away++;
+    return true;
+  }
+  const WindowVertex w[3] = {a.w, b.w, c.w};
+  cullAndEmit(ctx, w, id, info, out);
+  return true;
+}
+
+// LINE and POINT mode: the polygon's own edges or vertices, after clipping the polygon whole,
+// culled by the polygon's facing (the window area of the whole projected polygon, or the eye
+// test). Edges and vertices made by clipping are not drawn.
+void outlinePolygon(const Context& ctx, PolygonId id, std::span<const std::uint32_t> vi,
+                    const PolygonInfo& info, std::uint64_t triangles, ChunkOut& out) {
+  switch (clipWholePolygon(ctx, vi, out)) {
+    case WholeClip::kOutside: out.counts.clipped_away += triangles; return;
+    case WholeClip::kClippedAway:
+      out.counts.clipped += triangles;
+      out.counts.clipped_away += triangles;
+      return;
+    case WholeClip::kClipped: out.counts.clipped += triangles; break;
+    case WholeClip::kInside: break;
+  }
+  const ClipPolygon& poly = out.poly;
+  std::vector<WindowVertex>& wv = out.window_scratch;
+  wv.clear();
+  for (const ClipVertex& cv : poly) {
+    wv.push_back(toWindow(cv.p, ctx.vp));
+    if (!wv.back().ok) {
+      out.counts.clipped_away += triangles;
+      return;
+    }
+  }
+  if (ctx.options.facing_test == FacingTest::WindowArea && ctx.options.cull != CullMode::None) {
+    std::int64_t area = 0;  // doubled y-down area (shoelace)
+    for (std::size_t i = 0; i < wv.size(); ++i) {
+      const WindowVertex& a = wv[i];
+      const WindowVertex& b = wv[(i + 1) % wv.size()];
+      area += a.fx * b.fy - b.fx * a.fy;
+    }
+    if (area == 0) {
+      out.counts.zero_area += triangles;
+      return;
+    }
+    if (culled(ctx.options.cull, isFront(ctx, area < 0 ? 1 : -1, info.eye_orientation))) {
+      out.counts.culled_backface += triangles;
+      return;
+    }
+  }
+  out.counts.triangles_rasterized += triangles;
+  const bool lines = ctx.options.polygon_mode == PolygonMode::Line;
+  for (std::size_t i = 0; i < wv.size(); ++i) {
+    const WindowVertex& a = wv[i];
+    const WindowVertex& b = wv[(i + 1) % wv.size()];
+    if (lines) {
+      if (poly[i].edge) out.lines.push_back({a.x, a.y, a.z, b.x, b.y, b.z, id, info.rgba});
+    } else if (poly[i].original) {
+      out.points.push_back({a.x, a.y, a.z, a.x, a.y, a.z, id, info.rgba});
+    }
+  }
+}
+
+void processPolygon(const Context& ctx, PolygonId id, bool window_polygons, ChunkOut& out,
+                    std::vector<Triangle>& tris) {
+  const Scene& scene = ctx.scene;
+  const std::span<const std::uint32_t> vi = scene.polygon(id);
+  const std::uint64_t triangles = vi.size() >= 3 ? vi.size() - 2 : 0;
+  out.counts.triangles_in += triangles;
+  if (ctx.object_state[scene.object(id)] == kObjectCulled) {
+    out.counts.culled_frustum += triangles;
+    return;
+  }
+  const PolygonMode mode = ctx.options.polygon_mode;
+  if (vi.size() == 3 && mode == PolygonMode::Fill && !window_polygons && fastTriangle(ctx, id, vi, out))
+    return;
+  PolygonInfo info = describePolygon(ctx, id, vi);
+  if (info.degenerate) {
+    out.counts.degenerate_dropped += triangles;
+    return;
+  }
+  if (ctx.options.facing_test == FacingTest::EyePlane) {
+    // The notes' test decides for the whole polygon at once.
+    const bool front = (info.eye_orientation > 0) == (ctx.options.front_face == FrontFace::Ccw);
+    if (culled(ctx.options.cull, front)) {
+      out.counts.culled_backface += triangles;
+      return;
+    }
+  }
+  if (mode != PolygonMode::Fill) {
+    outlinePolygon(ctx, id, vi, info, triangles, out);
+    return;
+  }
+  if (window_polygons) emitWindowPolygon(ctx, id, vi, info, out);
+  // FILL: triangulate, then each triangle through clipping, projection and culling. Ear
+  // clipping leaves out the zero-area corners of spikes and straight vertices.
+  tris.clear();
+  triangulatePolygon(scene, id, tris);
+  out.counts.degenerate_dropped += triangles - tris.size();
+  for (const Triangle& t : tris) {
+    const glm::vec4 c[3] = {ctx.clip[t.v[0]], ctx.clip[t.v[1]], ctx.clip[t.v[2]]};
+    if (info.planar) {
+      clipAndEmitTriangle(ctx, c, id, info, out);
+    } else {
+      PolygonInfo own = forTriangle(info, t.v);
+      clipAndEmitTriangle(ctx, c, id, own, out);
+    }
+  }
+}
+
+}  // namespace
+
+void ChunkOut::reset() {
+  triangles.clear();
+  lines.clear();
+  points.clear();
+  polygons.clear();
+  counts = Stats{};
+}
+
+struct PipelineScratch {
+  std::vector<std::uint8_t> object_state;
+  std::vector<glm::vec4> clip;
+  std::vector<VertexOut> verts;
+  std::vector<ChunkOut> parts;
+};
+
+void prepare(const Scene& scene, const Camera& camera, const RenderOptions& options,
+             const PrepareRequest& request, PreparedScene& out) {
+  if (!out.scratch) out.scratch = std::make_shared<PipelineScratch>();
+  PipelineScratch& scratch = *out.scratch;
+  out.width = camera.width;
+  out.height = camera.height;
+  out.triangles.clear();
+  out.lines.clear();
+  out.points.clear();
+  out.outline.clear();
+  out.polygons.clear();
+  out.stats = Stats{};
+  out.stats.polygons_in = scene.polygonCount();
+
+  // Transform: world -> eye -> clip for every vertex of an object not culled by its bounds.
+  auto t0 = Clock::now();
+  const glm::mat4 mvp = camera.projection() * camera.view();
+  // No guard band: x/y are clipped at the viewport, as llvmpipe does (its draw module runs
+  // with guard_band_xy off), so edges of clipped triangles snap exactly as Mesa's do.
+  const ClipSetup cs{1.0f, 1.0f};
+  const Viewport vp = viewportOf(camera);
+  cullObjects(scene, mvp, cs, options.frustum_cull, scratch.object_state);
+  transformVertices(scene, mvp, cs, vp, scratch.object_state, scratch.clip, scratch.verts);
+  out.stats.addStage("transform", msSince(t0));
+
+  // Cull, clip, project and snap, in fixed chunks of polygons joined in order.
+  t0 = Clock::now();
+  // Device coordinates (pixel-centre x, y down; window z) from clip coordinates, as toWindow
+  // maps them; depth planes map by the inverse transpose of world -> device.
+  const double w = camera.width, h = camera.height;
+  glm::dmat4 device_from_clip(1.0);
+  device_from_clip[0][0] = w * 0.5;
+  device_from_clip[1][1] = -h * 0.5;
+  device_from_clip[2][2] = 0.5;
+  device_from_clip[3] = glm::dvec4(w * 0.5 - 0.5, h * 0.5 - 0.5, 0.5, 1.0);
+  const glm::dmat4 device_from_world = device_from_clip * glm::dmat4(mvp);
+  Context ctx{scene,
+              camera,
+              options,
+              mvp,
+              cs,
+              vp,
+              glm::normalize(glm::dvec3(camera.target) - glm::dvec3(camera.eye)),
+              glm::transpose(glm::inverse(device_from_world)),
+              device_from_world,
+              glm::dmat4(camera.view()),
+              scratch.clip,
+              scratch.verts,
+              scratch.object_state,
+              {},
+              {}};
+  for (const Material& m : scene.materials) {
+    auto unit = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
+    ctx.material_rgb.emplace_back(unit(m.color.r), unit(m.color.g), unit(m.color.b));
+    ctx.material_alpha.push_back(static_cast<std::uint32_t>(unit(m.alpha) * 255.0f + 0.5f) << 24);
+  }
+  const std::size_t n = scene.polygonCount();
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<ChunkOut>& parts = scratch.parts;
+  parts.resize(chunks);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    ChunkOut& part = parts[c];
+    part.reset();
+    std::vector<Triangle> tris;
+    const std::size_t end = std::min(n, (c + 1) * kChunk);
+    std::size_t expected = 0;
+    for (std::size_t id = c * kChunk; id < end; ++id) {
+      const std::size_t k = scene.polygon(static_cast<PolygonId>(id)).size();
+      expected += k >= 3 ? k - 2 : 0;
+    }
+    part.triangles.reserve(expected);
+    for (std::size_t id = c * kChunk; id < end; ++id)
+      processPolygon(ctx, static_cast<PolygonId>(id), request.window_polygons, part, tris);
+  });
+  std::vector<std::size_t> offset(chunks + 1, 0);
+  for (std::size_t c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + parts[c].triangles.size();
+  out.triangles.resize(offset[chunks]);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    std::copy(parts[c].triangles.begin(), parts[c].triangles.end(), out.triangles.begin() + offset[c]);
+  });
+  for (ChunkOut& p : parts) {
+    out.lines.insert(out.lines.end(), p.lines.begin(), p.lines.end());
+    out.points.insert(out.points.end(), p.points.begin(), p.points.end());
+    for (WindowPolygon& wp : p.polygons) out.polygons.push_back(std::move(wp));
+    out.stats.merge(p.counts);
+  }
+  out.stats.lines_rasterized = out.lines.size();
+  out.stats.points_rasterized = out.points.size();
+  out.stats.addStage("cull+clip+project", msSince(t0));
+
+  if (options.outline) {
+    t0 = Clock::now();
+    findOutline(ctx, out);
+    out.stats.addStage("outline", msSince(t0));
+  }
+}
+
+}  // namespace hsr::detail

@@ -1,0 +1,97 @@
+// Tile binning by a two-pass counting sort over fixed chunks of primitives (oneTBB).
+
+#include "raster/bins.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "hsr/error.hpp"
+
+namespace hsr::detail {
+
+PixelBox Bins::tileBox(std::size_t index, int width, int height) const {
+  const int tx = static_cast<int>(index % static_cast<std::size_t>(tiles_x));
+  const int ty = static_cast<int>(index / static_cast<std::size_t>(tiles_x));
+  return {tx * kTile, ty * kTile, std::min(width, (tx + 1) * kTile) - 1,
+          std::min(height, (ty + 1) * kTile) - 1};
+}
+
+PixelBox boxOf(const ScreenTriangle& t, int, int) { return t.box(); }
+
+PixelBox boxOf(const ScreenLine& l, int w, int h) {
+  // One pixel of margin on each side: rounding to the nearest centre and the 2x2 outline pen.
+  auto lo = [](float a, float b) { return std::floor(std::min(a, b)) - 1.0f; };
+  auto hi = [](float a, float b) { return std::ceil(std::max(a, b)) + 1.0f; };
+  const float x0 = std::max(lo(l.x0, l.x1), 0.0f), y0 = std::max(lo(l.y0, l.y1), 0.0f);
+  const float x1 = std::min(hi(l.x0, l.x1), float(w - 1)), y1 = std::min(hi(l.y0, l.y1), float(h - 1));
+  if (!(x0 <= x1) || !(y0 <= y1)) return {1, 1, 0, 0};
+  return {int(x0), int(y0), int(x1), int(y1)};
+}
+
+namespace {
+
+template <class T>
+void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std::size_t>& counts) {
+  bins.tiles_x = (w + kTile - 1) >> kTileShift;
+  bins.tiles_y = (h + kTile - 1) >> kTileShift;
+  const std::size_t tiles = bins.tiles();
+  const std::size_t n = prims.size();
+  // Chunks only split the work; the result (sorted by tile, then index) does not depend on them.
+  const std::size_t chunk = std::max<std::size_t>(8192, n / 64 + 1);
+  const std::size_t chunks = (n + chunk - 1) / chunk;
+  counts.assign(chunks * tiles, 0);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    std::size_t* cnt = &counts[c * tiles];
+    for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
+      const PixelBox b = boxOf(prims[i], w, h);
+      if (b.empty()) continue;
+      for (int ty = b.y0 >> kTileShift; ty <= b.y1 >> kTileShift; ++ty)
+        for (int tx = b.x0 >> kTileShift; tx <= b.x1 >> kTileShift; ++tx)
+          cnt[static_cast<std::size_t>(ty) * bins.tiles_x + tx]++;
+    }
+  });
+  // Exclusive prefix sum in (tile, chunk) order: tile-major keeps each tile's list contiguous
+  // and, within a tile, chunk order = submission order.
+  bins.start.assign(tiles + 1, 0);
+  std::size_t running = 0;
+  for (std::size_t t = 0; t < tiles; ++t) {
+    bins.start[t] = running;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::size_t k = counts[c * tiles + t];
+      counts[c * tiles + t] = running;
+      running += k;
+    }
+  }
+  bins.start[tiles] = running;
+  if (running > (std::size_t(1) << 31))
+    throw Error("scene too heavy to bin: " + std::to_string(running) + " tile entries");
+  bins.items.resize(running);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    std::size_t* off = &counts[c * tiles];
+    for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
+      const PixelBox b = boxOf(prims[i], w, h);
+      if (b.empty()) continue;
+      for (int ty = b.y0 >> kTileShift; ty <= b.y1 >> kTileShift; ++ty)
+        for (int tx = b.x0 >> kTileShift; tx <= b.x1 >> kTileShift; ++tx)
+          bins.items[off[static_cast<std::size_t>(ty) * bins.tiles_x + tx]++] =
+              static_cast<std::uint32_t>(i);
+    }
+  });
+}
+
+}  // namespace
+
+void binPrimitives(std::span<const ScreenTriangle> prims, int w, int h, Bins& bins,
+                   std::vector<std::size_t>& counts) {
+  binAll(prims, w, h, bins, counts);
+}
+
+void binPrimitives(std::span<const ScreenLine> prims, int w, int h, Bins& bins,
+                   std::vector<std::size_t>& counts) {
+  binAll(prims, w, h, bins, counts);
+}
+
+}  // namespace hsr::detail

@@ -1,0 +1,42 @@
+#pragma once
+// Filling a frame from exact visible polygons: what the object-precision algorithms
+// (painter's, BSP, Weiler-Atherton, Roberts) draw their answer with, so that they are compared
+// on ids with the image-precision ones through the same edge setup, fill rule and depth
+// definition, with no second rasterizer.
+//
+// A polygon here is in window space (pixel-centre coordinates, y down) with the depth plane
+// of the scene polygon it came from. Its vertices are snapped to the sub-pixel grid exactly as
+// the pipeline snaps its own, it is triangulated on that grid, and its triangles are filled
+// with rasterTriangle. Guarantee: a polygon the pipeline produced (WindowPolygon), filled
+// whole, covers the pixels its screen triangles cover (any triangulation of the same snapped
+// vertices covers the same pixel centres, by the fill rule) and writes the same depths; a
+// piece of it writes, where it covers, what the whole would.
+
+#include <cstdint>
+#include <span>
+
+#include <glm/vec2.hpp>
+
+#include "raster/fragment.hpp"
+
+namespace hsr::detail {
+
+// Fills one polygon (either winding; an alpha below 1 in rgba blends) in the caller's order, with the depth
+// test `func` and depth writes as `depth_mask` says. A polygon with a vertex beyond 2^22
+// pixels, or of zero area on the grid, draws nothing. Returns the triangles filled.
+std::size_t fillPolygon(std::span<const glm::dvec2> vertices, const DepthPlane& depth, PolygonId id,
+                        std::uint32_t rgba, const FrameView& fb, DepthFunc func,
+                        bool depth_mask, FragmentCounts& counts);
+
+// The same for any polygon type with `vertices` (glm::dvec2 or dvec3, x and y used), `depth`,
+// `id` and `rgba` members, e.g. the pipeline's WindowPolygon.
+template <class P>
+std::size_t fillPolygon(const P& p, const FrameView& fb, DepthFunc func, bool depth_mask,
+                        FragmentCounts& counts) {
+  std::vector<glm::dvec2> xy;
+  xy.reserve(p.vertices.size());
+  for (const auto& v : p.vertices) xy.emplace_back(v.x, v.y);
+  return fillPolygon(xy, p.depth, p.id, p.rgba, fb, func, depth_mask, counts);
+}
+
+}  // namespace hsr::detail

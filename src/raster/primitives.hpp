@@ -1,0 +1,72 @@
+#pragma once
+// Screen primitives: what the pipeline hands to the image-precision algorithms, in window
+// space. Coordinates are y-DOWN (row 0 is the top row of the image, the layout of every
+// buffer) and measured from pixel centres: pixel (i, j) is sampled at (i, j), which is
+// fixed point (i << 8, j << 8).
+
+#include <cstdint>
+
+#include <vector>
+
+#include "core/default_init.hpp"
+#include "hsr/scene.hpp"
+#include "raster/depth.hpp"
+
+namespace hsr::detail {
+
+inline constexpr int kSubpixelBits = 8;  // 8 sub-pixel bits, as Mesa's llvmpipe
+inline constexpr int kSubpixelOne = 1 << kSubpixelBits;
+
+// Pixels (i, j) with x0 <= i <= x1 and y0 <= j <= y1; empty when x0 > x1 or y0 > y1.
+struct PixelBox {
+  int x0, y0, x1, y1;
+  bool empty() const { return x0 > x1 || y0 > y1; }
+};
+
+// A triangle snapped to the sub-pixel grid. Vertices are ordered so the doubled signed area
+// (y down) is positive, i.e. every edge function is > 0 inside.
+struct ScreenTriangle {
+  std::int32_t x[3], y[3];      // 24.8 fixed point
+  std::int16_t x0, y0, x1, y1;  // inclusive pixel bounding box, clamped to the viewport
+  DepthPlane depth;             // its polygon's depth plane: THE depth (raster/depth.hpp)
+  PolygonId id;
+  std::uint32_t rgba;           // shaded colour, R in the low byte, alpha in the high byte
+
+  PixelBox box() const { return {x0, y0, x1, y1}; }
+  // Alpha below 1: blended over what it covers, in a second pass, without depth or id.
+  bool transparent() const { return (rgba >> 24) != 0xFFu; }
+};
+static_assert(sizeof(ScreenTriangle) == 64, "a screen triangle fills one cache line");
+
+// The pipeline's output of triangles: resizing it before the parallel copy fills nothing.
+using ScreenTriangles = std::vector<ScreenTriangle, DefaultInitAllocator<ScreenTriangle>>;
+
+// A line segment or point in the same window space, float coordinates (pixel centres at
+// integers), for polygon mode LINE/POINT and outline drawing; depth interpolated linearly.
+struct ScreenLine {
+  float x0, y0, z0, x1, y1, z1;
+  PolygonId id;
+  std::uint32_t rgba;
+  PolygonId other = kNoPolygon;  // outline: the polygon on the other side of the edge
+};
+
+// What became of a triangle offered to makeScreenTriangle.
+enum class TriangleFate {
+  kMade,                // *out holds it
+  kZeroArea,            // zero area on the sub-pixel grid: draws nothing, as in OpenGL
+  kMissesPixelCentres,  // its bounding box holds no pixel centre of the viewport
+};
+
+// The screen triangle through three snapped vertices (24.8 fixed point, coordinates as
+// above, |x|, |y| < 2^30) in a width x height viewport, with the given depth plane.
+// `orientation` is windowOrientation() of the vertices as given (+1 counter-clockwise in
+// GL's y-up window, -1 clockwise); the vertices are reordered to positive y-down area.
+TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3],
+                                int orientation, int width, int height,
+                                const DepthPlane& depth, ScreenTriangle* out);
+
+// OpenGL's facing rule: the sign of a snapped triangle's area in window coordinates (y up).
+// +1 counter-clockwise, -1 clockwise, 0 zero area.
+int windowOrientation(const std::int64_t x[3], const std::int64_t y_down[3]);
+
+}  // namespace hsr::detail

@@ -1,0 +1,39 @@
+#pragma once
+// Filling one span (columns x0..x1 of row y, all inside the triangle): the depth test and
+// writes of each of its fragments. Two siblings produce the same bits: a scalar loop (the
+// reference, always built) and an SSE4.1 version that handles four pixels at once (built on
+// x86 unless HSR_NO_SIMD). Which one runs is chosen once, never inside the loop.
+
+#include "raster/fragment.hpp"
+
+namespace hsr::detail {
+
+enum class SpanPath { kScalar, kSse41 };
+
+using SpanFn = void (*)(const ScreenTriangle& t, const FrameView& fb, int y, int x0, int x1,
+                        bool depth_mask, FragmentCounts& c);
+
+// The scalar span: every fragment through writeFragment, depth by depthInRow.
+template <DepthFunc F>
+void fillSpanScalar(const ScreenTriangle& t, const FrameView& fb, int y, int x0, int x1,
+                    bool depth_mask, FragmentCounts& c) {
+  const double row = depthRowStart(t.depth, y);
+  std::size_t idx = fb.index(x0, y);
+  for (int x = x0; x <= x1; ++x, ++idx)
+    writeFragment<F>(t, fb, idx, depthInRow(row, t.depth, x), depth_mask, c);
+}
+
+// The SSE4.1 sibling (span_sse41.cpp); nullptr when it is not built.
+SpanFn sse41SpanFunction(DepthFunc f);
+
+// The path in use: SSE4.1 when it is built and the processor has it, else scalar.
+SpanPath activeSpanPath();
+bool spanPathAvailable(SpanPath path);
+// For tests that run both paths in one binary: returns the previous path. Not thread-safe;
+// call between renders.
+SpanPath setSpanPath(SpanPath path);
+
+// The span function of the active path for depth func f.
+SpanFn spanFunction(DepthFunc f);
+
+}  // namespace hsr::detail

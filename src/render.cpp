@@ -1,0 +1,103 @@
+// render(): the one orchestrator. Validate, look the algorithm up, prepare what its entry
+// asks for, clear, run, merge stats. The GL facade and `hsr explain` draw through it too.
+
+#include "render.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+
+#include "core/frame.hpp"
+#include "hsr/error.hpp"
+#include "visibility/algorithm.hpp"
+
+namespace hsr {
+namespace detail {
+namespace {
+
+// Memory kept in a Frame between renders: the pipeline's output and the algorithm's scratch.
+struct RenderCache {
+  PreparedScene prepared;
+  std::shared_ptr<void> algorithm;
+  const AlgorithmEntry* owner = nullptr;  // the entry that made `algorithm`
+};
+
+// What the options ask for that the algorithm cannot do: refused in one line, never ignored.
+void checkSupported(const AlgorithmInfo& info, const Camera& camera, const RenderOptions& o) {
+  auto refuse = [&](const std::string& what) {
+    throw Error("algorithm '" + std::string(info.name) + "' does not support " + what);
+  };
+  if (o.polygon_mode != PolygonMode::Fill && !info.has(kPolygonModes))
+    refuse("polygon modes other than fill");
+  if (o.outline && !info.has(kOutline)) refuse("--outline");
+  if ((o.depth_func != DepthFunc::Less || !o.depth_test) && !info.has(kDepthFuncs))
+    refuse("depth functions other than less");
+  if (!o.depth_mask && !info.has(kDepthMask)) refuse("a disabled depth mask");
+  const std::uint64_t pixels = static_cast<std::uint64_t>(camera.width) * camera.height;
+  if (info.max_pixels != 0 && pixels > info.max_pixels)
+    throw Error("algorithm '" + std::string(info.name) + "' is limited to " +
+                std::to_string(info.max_pixels) + " pixels; " + std::to_string(camera.width) +
+                "x" + std::to_string(camera.height) + " has " + std::to_string(pixels));
+}
+
+}  // namespace
+
+int workerThreads(int requested) {
+  if (requested < 0) throw Error("threads must be >= 0 (got " + std::to_string(requested) + ")");
+  const int available = tbb::info::default_concurrency();
+  return requested == 0 ? available : std::min(requested, available);
+}
+
+void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                Frame& frame, DrawMode mode, Trace* trace) {
+  camera.validate();
+  const AlgorithmEntry& entry = findEntry(options.algorithm);
+  checkSupported(entry.info, camera, options);
+  if (mode == DrawMode::kOver) {
+    if (!entry.info.has(kDrawOver))
+      throw Error("algorithm '" + std::string(entry.info.name) + "' cannot draw over a frame");
+    if (frame.width != camera.width || frame.height != camera.height)
+      throw Error("frame size differs from the camera's");
+  }
+  tbb::task_arena arena(workerThreads(options.threads));
+  if (!frame.scratch.ptr) frame.scratch.ptr = std::make_shared<RenderCache>();
+  auto& cache = *static_cast<RenderCache*>(frame.scratch.ptr.get());
+  // Scratch made by another algorithm is dropped (each algorithm owns its scratch type).
+  if (cache.owner != &entry) cache.algorithm.reset();
+  cache.owner = &entry;
+  arena.execute([&] {
+    PreparedScene& prepared = cache.prepared;
+    prepare(scene, camera, options, {.window_polygons = entry.info.input == InputKind::kWindowPolygons},
+            prepared);
+    Stats stats = prepared.stats;
+    if (mode == DrawMode::kClear) {
+      const auto t0 = std::chrono::steady_clock::now();
+      clearFrame(frame, camera.width, camera.height, options);
+      stats.addStage("clear", std::chrono::duration<double, std::milli>(
+                                  std::chrono::steady_clock::now() - t0).count());
+    }
+    frame.stats = Stats{};
+    entry.draw(AlgorithmInput{scene, camera, options, prepared, &cache.algorithm, trace}, frame);
+    // The pipeline's counts and stage times first, then the algorithm's.
+    stats.merge(frame.stats);
+    frame.stats = std::move(stats);
+  });
+}
+
+}  // namespace detail
+
+Frame render(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  Frame frame;
+  render(scene, camera, options, frame);
+  return frame;
+}
+
+void render(const Scene& scene, const Camera& camera, const RenderOptions& options, Frame& frame) {
+  detail::renderInto(scene, camera, options, frame, detail::DrawMode::kClear);
+}
+
+}  // namespace hsr
