@@ -2,7 +2,7 @@
 // reference rasterizer. The reference below shares no code with src/: it snaps window
 // coordinates itself (as docs/algorithms.md describes: pixel centres at integers, 8 sub-pixel
 // bits, round to nearest, y flipped so row 0 is the top), then tests EVERY pixel centre of the
-// image against the three edge lines with the top-left rule, in 128-bit integers.
+// image against the three edge lines with the fill rule, in 128-bit integers.
 //
 // Vertices lie on the 1/16-pixel grid, so 28.4 and 24.8 fixed point describe the same points
 // (a 1/16 step is exactly 16/256); the pixel camera maps world x,y to window x,y exactly.
@@ -63,8 +63,10 @@ bool refCoverage(const GridTri& t, int width, int height, std::vector<std::uint8
   const __int128 area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
   if (area2 == 0) return false;
   // For each edge a->b (third vertex c): an inward normal n (n . (c - a) > 0), and whether the
-  // edge is a "top" edge (horizontal, interior below it: n points to +y in y-down space) or a
-  // "left" edge (interior to its right: n points to +x). Pixels exactly on such an edge count.
+  // edge owns the pixel centres on it: a horizontal edge with the interior above it in the
+  // image (n points to -y in y-down space; in GL's y-up window, the triangle's bottom edge, as
+  // llvmpipe decides for a window-system buffer), or a "left" edge (interior to its right: n
+  // points to +x).
   struct Edge {
     __int128 ax, ay, nx, ny;
     bool owns_boundary;
@@ -76,9 +78,9 @@ bool refCoverage(const GridTri& t, int width, int height, std::vector<std::uint8
       nx = -nx;
       ny = -ny;
     }
-    const bool top = ny > 0 && nx == 0;
+    const bool horizontal_owner = ny < 0 && nx == 0;
     const bool left = nx > 0;
-    e[k] = {a.x, a.y, nx, ny, top || left};
+    e[k] = {a.x, a.y, nx, ny, horizontal_owner || left};
   }
   for (int row = 0; row < height; ++row) {
     for (int col = 0; col < width; ++col) {
@@ -175,27 +177,27 @@ TEST(ConformanceReference, HandWorkedCases) {
   };
   auto at = [&](int col, int gl_y) { return cov[static_cast<std::size_t>(H - 1 - gl_y) * W + col]; };
   // A 4x4 square of pixel centres: (0.5..3.5) x (0.5..3.5) split along the diagonal. The lower
-  // triangle's left edge (x = 0.5) owns its centres; the bottom edge (y = 0.5 in GL, the
-  // bottom in y-down) does not; its hypotenuse x + y = 4 runs on the right, and does not.
+  // triangle's left edge (x = 0.5) and its bottom edge (y = 0.5 in GL: the interior lies above
+  // it) own their centres; its hypotenuse x + y = 4 runs on the right, and does not.
   GridTri lower{{8, 56, 8}, {8, 8, 56}};  // (0.5,0.5) (3.5,0.5) (0.5,3.5)
   std::fill(cov.begin(), cov.end(), 0);
   ASSERT_TRUE(refCoverage(lower, W, H, cov));
-  // Centres (x, y) with x >= 0.5, y > 0.5, x + y < 4: (0.5,1.5) (0.5,2.5) (1.5,1.5).
-  EXPECT_EQ(count(), 3);
-  EXPECT_EQ(at(0, 1), 1);
+  // Centres (x, y) with x >= 0.5, y >= 0.5, x + y < 4:
+  // (0.5,0.5) (0.5,1.5) (0.5,2.5) (1.5,0.5) (1.5,1.5) (2.5,0.5).
+  EXPECT_EQ(count(), 6);
+  EXPECT_EQ(at(0, 0), 1);
   EXPECT_EQ(at(0, 2), 1);
-  EXPECT_EQ(at(1, 1), 1);
+  EXPECT_EQ(at(2, 0), 1);
   GridTri upper{{56, 56, 8}, {8, 56, 56}};  // (3.5,0.5) (3.5,3.5) (0.5,3.5): top edge y = 3.5
   std::fill(cov.begin(), cov.end(), 0);
   ASSERT_TRUE(refCoverage(upper, W, H, cov));
-  // Centres with x <= 3.5 (right edge: excluded on it), y <= 3.5 (top edge: included),
-  // x + y >= 4 (hypotenuse is a left edge of this one: included).
-  // x = 3.5 is excluded: so x in {0.5,1.5,2.5}, y in {1.5,2.5,3.5}, x + y >= 4:
-  // (0.5,3.5) (1.5,2.5) (1.5,3.5) (2.5,1.5) (2.5,2.5) (2.5,3.5).
-  EXPECT_EQ(count(), 6);
+  // Centres with x < 3.5 (right edge: excluded on it), y < 3.5 (top edge, interior below it
+  // in GL: excluded), x + y >= 4 (the hypotenuse is a left edge of this one: included):
+  // (1.5,2.5) (2.5,1.5) (2.5,2.5).
+  EXPECT_EQ(count(), 3);
   // The two halves cover the 16 centres of the square exactly once minus the ones they both
-  // exclude: bottom row y = 0.5 and right column x = 3.5 (7 centres) -> 9 = 3 + 6.
-  EXPECT_EQ(at(0, 3), 1);
+  // exclude: top row y = 3.5 and right column x = 3.5 (7 centres) -> 9 = 6 + 3.
+  EXPECT_EQ(at(0, 3), 0);
   EXPECT_EQ(at(2, 1), 1);
   EXPECT_EQ(at(3, 3), 0);
 }

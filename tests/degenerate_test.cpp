@@ -5,7 +5,7 @@
 // Coverage is judged against a naive exact reference written here, sharing no code with src/:
 // vertices on the 1/256-pixel grid (where the pixel camera maps world x,y to window x,y
 // exactly and 24.8 snapping changes nothing), every pixel centre tested against the three
-// edges in 128-bit integers with the top-left rule. Cases that cannot be exact (clipping
+// edges in 128-bit integers with the fill rule. Cases that cannot be exact (clipping
 // at 1e6 px and beyond) say which margin they use. Fragments are counted with the depth test
 // off, so Frame::overdraw holds every fragment each triangle wrote.
 
@@ -55,8 +55,8 @@ using Tri = std::array<glm::dvec2, 3>;
 // A point on the 1/256-pixel grid, from integer grid units.
 glm::dvec2 grid(std::int64_t x, std::int64_t y) { return {x / 256.0, y / 256.0}; }
 
-// Adds 1 to count[row * width + col] for every pixel centre the triangle covers by the top-left
-// rule; returns false for a triangle of zero area (which covers nothing). The vertices must lie
+// Adds 1 to count[row * width + col] for every pixel centre the triangle covers by the fill
+// rule (raster/edge.hpp); returns false for a triangle of zero area (which covers nothing). The vertices must lie
 // on the 1/256 grid (checked).
 bool addCoverage(const Tri& t, int width, int height, std::vector<int>& count) {
   struct V {
@@ -71,13 +71,13 @@ bool addCoverage(const Tri& t, int width, int height, std::vector<int>& count) {
   if (area2 == 0) return false;
   struct Edge {
     __int128 ax, ay, nx, ny;
-    bool owns;  // a top edge (horizontal, inside below it, y down) or a left edge
+    bool owns;  // a horizontal edge with the inside above it (y down), or a left edge
   } e[3];
   for (int k = 0; k < 3; ++k) {
     const V a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
     __int128 nx = -(b.y - a.y), ny = b.x - a.x;  // a normal; made to point inside
     if (nx * (c.x - a.x) + ny * (c.y - a.y) < 0) nx = -nx, ny = -ny;
-    e[k] = {a.x, a.y, nx, ny, (ny > 0 && nx == 0) || nx > 0};
+    e[k] = {a.x, a.y, nx, ny, (ny < 0 && nx == 0) || nx > 0};
   }
   double lo_x = 1e300, hi_x = -1e300, lo_y = 1e300, hi_y = -1e300;
   for (const glm::dvec2& p : t) {
@@ -332,7 +332,7 @@ std::int64_t extendedGcd(std::int64_t a, std::int64_t b, std::int64_t* x, std::i
 }
 
 // Documented: a needle (aspect ratio, longest side over height, of 1e5 to 1e8 here) draws
-// exactly the pixel centres inside it by the top-left rule: no more, no fewer, never a
+// exactly the pixel centres inside it by the fill rule: no more, no fewer, never a
 // crash. Random needles on the grid (most cover few centres), plus needles whose long edge
 // runs exactly through a row, a column or a diagonal of pixel centres, so the fill rule
 // decides every centre on it.
@@ -811,7 +811,7 @@ TEST(Degenerate, TJunctionVertexOnTheEdgeLeavesNoCrack) {
 // grid step off it, the sliver triangle A-M-B between AB and the path A-M-B is a real crack
 // or overlap, and the fill rule cannot hide it. M away from ABC opens a gap: centres in it
 // are written by neither side (a crack); M toward ABC makes an overlap: centres in it are
-// written by both (a double write). For centres exactly on AB, as here, the top-left rule
+// written by both (a double write). For centres exactly on AB, as here, the fill rule
 // decides: a crack only where ABC does not own AB, a double write only where it does. Every
 // defect is a pixel centre inside or on the sliver; all other centres are written exactly
 // once, and the drawing is exactly the reference in every case.

@@ -33,8 +33,16 @@ void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::ui
   }
   // Work counter-clockwise; emit each triangle in the polygon's own winding.
   const bool ccw = signedArea2(p) >= 0.0;
-  std::vector<std::uint32_t> ring(n);
-  for (std::size_t i = 0; i < n; ++i) ring[i] = static_cast<std::uint32_t>(ccw ? i : n - 1 - i);
+  // The ring of vertices without consecutive repeats (a repeated vertex adds no area, and
+  // would hide a reflex turn from the convexity test below).
+  std::vector<std::uint32_t> ring;
+  ring.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t v = static_cast<std::uint32_t>(ccw ? i : n - 1 - i);
+    if (ring.empty() || p[v] != p[ring.back()]) ring.push_back(v);
+  }
+  while (ring.size() > 1 && p[ring.back()] == p[ring.front()]) ring.pop_back();
+  if (ring.size() < 3) return;
   auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     out.push_back(ccw ? std::array<std::uint32_t, 3>{a, b, c} : std::array<std::uint32_t, 3>{c, b, a});
   };
@@ -42,10 +50,11 @@ void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::ui
   // Convex (every turn to the left or straight): a fan from the first vertex, leaving out the
   // triangles of zero area that straight or repeated vertices make.
   bool convex = true;
-  for (std::size_t i = 0; i < n && convex; ++i)
-    convex = orient2d(p[ring[i]], p[ring[(i + 1) % n]], p[ring[(i + 2) % n]]) >= 0;
+  const std::size_t m = ring.size();
+  for (std::size_t i = 0; i < m && convex; ++i)
+    convex = orient2d(p[ring[i]], p[ring[(i + 1) % m]], p[ring[(i + 2) % m]]) >= 0;
   if (convex) {
-    for (std::size_t i = 1; i + 1 < n; ++i)
+    for (std::size_t i = 1; i + 1 < m; ++i)
       if (orient2d(p[ring[0]], p[ring[i]], p[ring[i + 1]]) != 0) emit(ring[0], ring[i], ring[i + 1]);
     return;
   }

@@ -1,4 +1,4 @@
-// Exact fixed-point triangle setup (Pineda 1988 edge functions; the top-left rule as in
+// Exact fixed-point triangle setup (Pineda 1988 edge functions; the fill rule as in
 // Direct3D/OpenGL implementations such as Mesa's llvmpipe).
 
 #include "raster/edge.hpp"
@@ -18,8 +18,12 @@ TriangleSetup setupTriangle(const ScreenTriangle& t, int first_row) {
     const std::int64_t ax = t.x[k], ay = t.y[k];
     const std::int64_t bx = t.x[(k + 1) % 3], by = t.y[(k + 1) % 3];
     const std::int64_t dx = bx - ax, dy = by - ay;
-    // Top edge: horizontal with the inside below it (y down); left edge: inside to its right.
-    const bool top_left = (dy < 0) || (dy == 0 && dx > 0);
+    // The edges that own the pixel centres lying exactly on them: a left edge (the inside to
+    // its right), and a horizontal edge with the inside above it in the image (in GL's y-up
+    // window, the triangle's bottom edge). That is llvmpipe's rule for a window-system buffer
+    // (which it rasterizes with rows reversed): a horizontal edge through pixel centres made
+    // by near-plane clipping once left a whole row empty where Mesa drew it.
+    const bool top_left = (dy < 0) || (dy == 0 && dx < 0);
     EdgeSetup& e = s.edge[k];
     e.step_x = -dy * kSubpixelOne;
     e.step_y = dx * kSubpixelOne;

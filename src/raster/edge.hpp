@@ -1,6 +1,6 @@
 #pragma once
 // The one exact triangle setup shared by everything that rasterizes: integer edge functions
-// on 24.8 fixed-point vertices (Pineda 1988), the top-left fill rule as an integer bias, and
+// on 24.8 fixed-point vertices (Pineda 1988), the fill rule as an integer bias, and
 // exact span limits per row. Guarantee: triangles that share an edge cover each pixel centre
 // on it exactly once (no gaps, no double hits), independently of the order they are drawn in.
 
@@ -12,8 +12,9 @@ namespace hsr::detail {
 
 // Edge function E(p) = dx*(py - ay) - dy*(px - ax) of the directed edge a->b, written as
 // E + bias = step_x * i + row_value for pixel column i on the current row. A pixel is inside
-// the edge when that is >= 0: E > 0, or E == 0 on a top or left edge (the fill rule, with
-// the inside below a top edge and right of a left edge, y down, as llvmpipe evaluates it).
+// the edge when that is >= 0: E > 0, or E == 0 on an edge that owns its centres (the fill
+// rule: a left edge, with the inside to its right, or a horizontal edge with the inside above
+// it in the image, as llvmpipe decides on a GL window).
 struct EdgeSetup {
   std::int64_t step_x;  // change of the value per pixel column: -dy * 256
   std::int64_t step_y;  // change per pixel row: dx * 256
