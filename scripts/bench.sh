@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds Release and runs the z-buffer vs llvmpipe benchmark with HSR_BENCH_THREADS=1 and 2
+# Builds Release and runs every registered algorithm vs llvmpipe (bench/bench_algorithms.cpp)
+# with HSR_BENCH_THREADS=1 and 2
 # (plus any thread counts given as arguments, e.g. `scripts/bench.sh 4 8`), then prints the
 # ratio tables of all runs together. BUILD_DIR (default build) and JOBS (default 2)
 # may be set; extra Google Benchmark flags go in BENCH_ARGS.
@@ -17,7 +18,7 @@ for t in 1 2 "$@"; do
   HSR_BENCH_THREADS="$t" "$build_dir/hsr_bench" ${BENCH_ARGS:-} | tee "$out/threads-$t.txt"
 done
 echo
-echo "=== speed ratios (llvmpipe time / hsr time; > 1 means hsr is faster) ==="
+echo "=== speed ratios (llvmpipe time / algorithm time; > 1 means hsr is faster) ==="
 for t in 1 2 "$@"; do
   grep -E "^threads=" "$out/threads-$t.txt" || true
   echo

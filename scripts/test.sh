@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Install, build and pass every test: the Release suite, the same suite under ASan+UBSan, then
-# every libFuzzer target for HSR_FUZZ_SECONDS (default 60) each.
+# Install, build and pass every test: the Release suite (SIMD span path), the same suite under
+# ASan+UBSan built with HSR_NO_SIMD (the scalar span path), then every libFuzzer target for
+# HSR_FUZZ_SECONDS (default 60) each.
 # HSR_TEST_INTENSITY: 1 (default, CI) or 3 for long local runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,8 +11,9 @@ echo "== Release build and tests =="
 # Options stated, not inherited: a build/ left by scripts/demo.sh has the tests switched off
 scripts/build.sh build -DHSR_BUILD_TESTS=ON -DHSR_BUILD_BENCH=ON
 ctest --test-dir build --output-on-failure --no-tests=error -j2
-echo "== ASan+UBSan build and tests =="
-scripts/build.sh build-asan -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON -DHSR_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+echo "== ASan+UBSan build and tests, scalar span path (HSR_NO_SIMD) =="
+scripts/build.sh build-asan -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON -DHSR_BUILD_BENCH=OFF \
+  -DHSR_NO_SIMD=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
 # Mesa's own allocations are not ours to track: leak checking stays off for the oracle.
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2

@@ -30,7 +30,12 @@ const std::vector<AlgorithmInfo>& algorithms() {
   return infos;
 }
 
-const AlgorithmInfo& findAlgorithm(std::string_view name) { return detail::findEntry(name).info; }
+const AlgorithmInfo& findAlgorithm(std::string_view name) {
+  detail::findEntry(name);  // throws, naming the known algorithms, when there is none
+  for (const AlgorithmInfo& a : algorithms())
+    if (a.name == name) return a;
+  return algorithms().front();  // unreachable: findEntry found it
+}
 
 const AlgorithmInfo& referenceAlgorithm() {
   for (const AlgorithmInfo& a : algorithms())

@@ -147,7 +147,8 @@ TEST(Cli, NoArgumentRendersTheDemo) {
 TEST(Cli, ScenesListsBuiltinsAndAlgorithms) {
   const CliRun r = runCli("scenes");
   EXPECT_EQ(r.code, 0);
-  for (const char* s : {"demo", "cyclic", "penetrating", "spheres:N", "soup:N:SEED", "zbuffer"})
+  for (const char* s : {"demo", "cyclic", "penetrating", "spheres:N", "soup:N:SEED", "zbuffer",
+                        "zbuffer-textbook", "the reference", "exact-coverage"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
 }
 
@@ -158,6 +159,20 @@ TEST(Cli, CompareWritesTableAndSheet) {
   EXPECT_NE(r.out.find("zbuffer"), std::string::npos);
   EXPECT_NE(r.out.find("100.0000%"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(sheet));
+}
+
+TEST(Cli, ExplainWritesNumberedPicturesASheetAndAnIndex) {
+  const fs::path dir = tempDir() / "explain";
+  const CliRun r = runCli("explain zbuffer demo --size 160x120 -o " + dir.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fill tile"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "01-bin.png"));
+  EXPECT_TRUE(fs::exists(dir / "sheet.png"));
+  EXPECT_TRUE(fs::exists(dir / "steps.md"));
+  const CliRun t = runCli("explain zbuffer-textbook cyclic --size 120x90 -q -o " + (dir / "t").string());
+  EXPECT_EQ(t.code, 0) << t.err;
+  EXPECT_TRUE(fs::exists(dir / "t" / "02-draw-polygon.png"));
+  expectCleanError("explain no-such-algorithm demo -o " + (dir / "x").string(), "zbuffer-textbook");
 }
 
 TEST(Cli, CameraInsideModelStillRenders) {

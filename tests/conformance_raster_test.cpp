@@ -302,7 +302,7 @@ TEST_P(ConformanceRaster, RandomTrianglesBitExact) {
   EXPECT_EQ(tot.differing, 0u) << "seed " << seed;
 }
 
-HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(ConformanceRaster);
+HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(ConformanceRaster, kExactSharedCoverage | kDepthFuncs);
 
 }  // namespace
 }  // namespace hsr

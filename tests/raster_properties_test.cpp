@@ -293,7 +293,7 @@ TEST_P(RasterProperties, HugeQuadCoversViewportOnce) {
   }
 }
 
-HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(RasterProperties);
+HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(RasterProperties, kExactSharedCoverage);
 
 }  // namespace
 }  // namespace hsr

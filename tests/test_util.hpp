@@ -100,6 +100,37 @@ inline std::vector<std::string> algorithmNames() {
   return names;
 }
 
+// The algorithms a property applies to: those with every capability in `caps` (all of them
+// when caps is 0). The others are listed once at the end of the run, with what they lack
+// ("[ not applicable ] Suite: painter lacks exact-coverage"), so that a property never
+// silently skips an algorithm.
+struct NotApplicable {
+  std::string suite, algorithm, lacks;
+};
+inline std::vector<NotApplicable>& notApplicable() {
+  static std::vector<NotApplicable> list;
+  return list;
+}
+inline std::vector<const AlgorithmInfo*> algorithmsWith(std::string_view suite, std::uint32_t caps) {
+  std::vector<const AlgorithmInfo*> out;
+  for (const AlgorithmInfo& a : algorithms()) {
+    if ((a.capabilities & caps) == caps) {
+      out.push_back(&a);
+      continue;
+    }
+    bool known = false;
+    for (const NotApplicable& n : notApplicable()) known = known || (n.suite == suite && n.algorithm == a.name);
+    if (!known)
+      notApplicable().push_back({std::string(suite), std::string(a.name), capabilityList(caps & ~a.capabilities)});
+  }
+  return out;
+}
+inline std::vector<std::string> algorithmNamesWith(std::string_view suite, std::uint32_t caps) {
+  std::vector<std::string> names;
+  for (const AlgorithmInfo* a : algorithmsWith(suite, caps)) names.emplace_back(a->name);
+  return names;
+}
+
 // Default render state with the algorithm under test.
 inline RenderOptions optionsFor(const std::string& algorithm) {
   RenderOptions o;
@@ -125,3 +156,10 @@ inline std::string testNameOf(const ::testing::TestParamInfo<std::string>& info)
 #define HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(Suite)                                      \
   INSTANTIATE_TEST_SUITE_P(, Suite, ::testing::ValuesIn(::hsr::testing::algorithmNames()), \
                            ::hsr::testing::testNameOf)
+
+// Suite instantiated for the algorithms with every capability in `caps` (hsr/algorithms.hpp).
+#define HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(Suite, caps)                                  \
+  INSTANTIATE_TEST_SUITE_P(                                                              \
+      , Suite, ::testing::ValuesIn(::hsr::testing::algorithmNamesWith(#Suite, (caps))),  \
+      ::hsr::testing::testNameOf);                                                       \
+  GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(Suite)

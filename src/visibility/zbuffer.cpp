@@ -116,10 +116,11 @@ void drawPolygons(const AlgorithmInput& in, Frame& frame) {
           in.trace->record(
               {kStepDrawPolygon,
                "Polygon " + std::to_string(drawn + 1) + " of " + std::to_string(polygons) +
-                   " (id " + std::to_string(tris[first].id) + "): " + std::to_string(tested) +
-                   " pixels of its projection; " + std::to_string(written) +
-                   " nearer than the z-buffer were drawn, " + std::to_string(tested - written) +
-                   " hidden behind what was already there were skipped.",
+                   " (id " + std::to_string(tris[first].id) + "): of the " +
+                   std::to_string(tested) + " pixels of its projection, " +
+                   std::to_string(written) + " were nearer than the z-buffer: colour and depth "
+                   "written; at " + std::to_string(tested - written) +
+                   " something nearer was already drawn: skipped.",
                &frame, outlinesOf(&tris[first], &tris[last - 1] + 1)});
         }
         ++drawn;
@@ -139,8 +140,9 @@ void drawPolygons(const AlgorithmInput& in, Frame& frame) {
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
                       "Done: every pixel shows the nearest polygon at its centre, whatever the "
-                      "drawing order. " + std::to_string(counts.written) + " of " +
-                          std::to_string(counts.tested) + " pixels drawn were kept.",
+                      "drawing order. " + std::to_string(counts.written) + " of the " +
+                          std::to_string(counts.tested) + " pixels scan-converted passed the "
+                          "depth test (some were overwritten later by nearer ones).",
                       &frame, {}});
   frame.stats.fragments_tested += counts.tested;
   frame.stats.fragments_written += counts.written;

@@ -145,7 +145,8 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
                               ": its " + std::to_string(z.tri_bins.start[t + 1] - z.tri_bins.start[t]) +
                               " triangles scan-converted against its part of the z-buffer; " +
                               std::to_string(z.per_tile[t].written) + " of " +
-                              std::to_string(z.per_tile[t].tested) + " pixels drawn were kept.",
+                              std::to_string(z.per_tile[t].tested) +
+                              " pixels passed the depth test.",
                           &frame, {boxOutline(z.tri_bins.tileBox(t, w, h))}});
     }
   }

@@ -1,12 +1,15 @@
-// Z-buffer frames/s and triangles/s at 1920x1080 against Mesa's llvmpipe (through OSMesa) in
-// the same process: spheres:10000/100000/1000000 and a fill-rate scene of ten full-screen
-// quads drawn back to front (every fragment passes). Scenes, cameras and llvmpipe's vertex
-// buffers are built once, outside the timed loops.
+// Every algorithm of the registry, frames/s and triangles/s at 1920x1080, against Mesa's
+// llvmpipe (through OSMesa) in the same process: spheres:10000/100000/1000000 and a fill-rate
+// scene of ten full-screen quads drawn back to front (every fragment passes). One benchmark
+// per algorithm and scene, BM_<algorithm>/<scene>/<n>, with the frame's stats as counters;
+// BM_llvmpipe/<scene>/<n> is the peer. An algorithm joins by its registry line alone; one
+// with a size limit (AlgorithmInfo::max_pixels) below 1920x1080 is listed as not run. Scenes,
+// cameras and llvmpipe's vertex buffers are built once, outside the timed loops.
 //
 // Threads: HSR_BENCH_THREADS (default 2) is passed to hsr as RenderOptions::threads and to
 // llvmpipe as LP_NUM_THREADS, which llvmpipe reads once per process when its screen is made,
 // so it is set before the first OSMesa call. After the runs, a table of speed ratios
-// (llvmpipe time / hsr time, median of repetitions: > 1 means hsr is faster) and hsr's memory.
+// (llvmpipe time / algorithm time, median of repetitions: > 1 means hsr is faster) and memory.
 
 #include <benchmark/benchmark.h>
 
@@ -38,10 +41,14 @@ struct BenchScene {
   std::unique_ptr<hsr::Scene> scene;
   hsr::Camera camera;
   std::unique_ptr<hsr::testing::MesaScene> mesa;
-  // Filled by the hsr benchmark: memory and work of one frame.
-  std::uint64_t state_bytes = 0;
-  std::uint64_t fragments_written = 0;
   std::size_t triangles = 0;
+  std::map<std::string, std::uint64_t> state_bytes;  // per algorithm: memory of one frame
+};
+
+// One registered benchmark: an algorithm of the registry on one scene.
+struct AlgorithmRun {
+  std::string algorithm;
+  BenchScene* scene;
 };
 
 // Ten quads far larger than the view, stacked along z, listed back to front.
@@ -105,10 +112,11 @@ void setCounters(benchmark::State& state, const BenchScene& b) {
   state.counters["triangles"] = static_cast<double>(b.triangles);
 }
 
-void runZBuffer(benchmark::State& state, BenchScene* b) {
+void runAlgorithm(benchmark::State& state, AlgorithmRun* run) {
+  BenchScene* b = run->scene;
   ensureScene(*b);
   hsr::RenderOptions options;
-  options.algorithm = "zbuffer";
+  options.algorithm = run->algorithm;
   options.threads = g_threads;
   hsr::Frame frame;
   hsr::render(*b->scene, b->camera, options, frame);  // warm: allocate the frame's buffers
@@ -117,9 +125,12 @@ void runZBuffer(benchmark::State& state, BenchScene* b) {
     benchmark::DoNotOptimize(frame.ids.data());
     benchmark::ClobberMemory();
   }
-  b->state_bytes = frame.stats.state_bytes;
-  b->fragments_written = frame.stats.fragments_written;
+  b->state_bytes[run->algorithm] = frame.stats.state_bytes;
   setCounters(state, *b);
+  // The frame's stats: every count of the one table and the algorithm's own counters.
+  for (const hsr::Stats::Field& f : hsr::Stats::fields())
+    if (frame.stats.*f.value != 0) state.counters[std::string(f.name)] = static_cast<double>(frame.stats.*f.value);
+  for (const hsr::Counter& c : frame.stats.counters) state.counters[c.name] = static_cast<double>(c.value);
 }
 
 void runLlvmpipe(benchmark::State& state, BenchScene* b) {
@@ -175,45 +186,60 @@ int main(int argc, char** argv) {
   if (const char* t = std::getenv("HSR_BENCH_THREADS")) g_threads = std::max(1, std::atoi(t));
   setenv("LP_NUM_THREADS", std::to_string(g_threads).c_str(), 1);
 
+  static std::vector<std::unique_ptr<AlgorithmRun>> runs;
+  std::vector<std::string> not_run;
   for (BenchScene& b : benchScenes()) {
     const bool huge = b.label == "spheres/1000000";
-    for (const char* algo : {"BM_ZBuffer", "BM_Llvmpipe"}) {
-      const bool ours = std::string(algo) == "BM_ZBuffer";
-      auto* bm = benchmark::RegisterBenchmark((std::string(algo) + "/" + b.label).c_str(),
-                                              ours ? runZBuffer : runLlvmpipe, &b);
+    auto configure = [&](benchmark::internal::Benchmark* bm) {
       bm->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
       if (huge) {
         bm->Iterations(3);  // a frame of 1M triangles takes long enough on its own
       } else {
         bm->MinTime(0.3);
       }
+    };
+    for (const hsr::AlgorithmInfo& a : hsr::algorithms()) {
+      if (a.max_pixels != 0 && static_cast<std::uint64_t>(kWidth) * kHeight > a.max_pixels) {
+        not_run.push_back(std::string(a.name) + " on " + b.label + " (limited to " +
+                          std::to_string(a.max_pixels) + " pixels)");
+        continue;
+      }
+      runs.push_back(std::make_unique<AlgorithmRun>(AlgorithmRun{std::string(a.name), &b}));
+      configure(benchmark::RegisterBenchmark(("BM_" + std::string(a.name) + "/" + b.label).c_str(),
+                                             runAlgorithm, runs.back().get()));
     }
+    configure(benchmark::RegisterBenchmark(("BM_llvmpipe/" + b.label).c_str(), runLlvmpipe, &b));
   }
 
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  std::printf("hsr z-buffer vs %s at %dx%d, %d thread(s) each\n",
+  std::printf("hsr's algorithms vs %s at %dx%d, %d thread(s) each\n",
               hsr::testing::mesaRenderer().c_str(), kWidth, kHeight, g_threads);
   MedianCollector reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
 
-  // Speed ratios and memory.
-  std::printf("\nthreads=%d  %-16s %12s %12s %10s %14s %14s\n", g_threads, "scene", "hsr ms",
-              "llvmpipe ms", "ratio", "state B/px", "scene B/tri");
-  for (const BenchScene& b : benchScenes()) {
-    const double ours = reporter.time("BM_ZBuffer/" + b.label);
-    const double mesa = reporter.time("BM_Llvmpipe/" + b.label);
-    if (ours < 0 && mesa < 0) continue;
-    const double px = double(kWidth) * kHeight;
-    const double scene_bytes = b.scene ? static_cast<double>(b.scene->memoryBytes()) : 0.0;
-    char ratio[32] = "-";
-    if (ours > 0 && mesa > 0) std::snprintf(ratio, sizeof ratio, "%.2f", mesa / ours);
-    std::printf("threads=%d  %-16s %12.3f %12.3f %10s %14.2f %14.1f\n", g_threads, b.label.c_str(),
-                ours, mesa, ratio, static_cast<double>(b.state_bytes) / px,
-                b.triangles ? scene_bytes / static_cast<double>(b.triangles) : 0.0);
+  // Speed ratios and memory, per algorithm and scene.
+  std::printf("\nthreads=%d  %-18s %-16s %12s %12s %10s %14s %14s\n", g_threads, "algorithm",
+              "scene", "ms", "llvmpipe ms", "ratio", "state B/px", "scene B/tri");
+  for (const hsr::AlgorithmInfo& a : hsr::algorithms()) {
+    for (const BenchScene& b : benchScenes()) {
+      const double ours = reporter.time("BM_" + std::string(a.name) + "/" + b.label);
+      const double mesa = reporter.time("BM_llvmpipe/" + b.label);
+      if (ours < 0) continue;
+      const double px = double(kWidth) * kHeight;
+      const double scene_bytes = b.scene ? static_cast<double>(b.scene->memoryBytes()) : 0.0;
+      const auto state = b.state_bytes.find(std::string(a.name));
+      char ratio[32] = "-";
+      if (ours > 0 && mesa > 0) std::snprintf(ratio, sizeof ratio, "%.2f", mesa / ours);
+      std::printf("threads=%d  %-18s %-16s %12.3f %12.3f %10s %14.2f %14.1f\n", g_threads,
+                  std::string(a.name).c_str(), b.label.c_str(), ours, mesa, ratio,
+                  state == b.state_bytes.end() ? 0.0 : static_cast<double>(state->second) / px,
+                  b.triangles ? scene_bytes / static_cast<double>(b.triangles) : 0.0);
+    }
   }
+  for (const std::string& n : not_run) std::printf("not run: %s\n", n.c_str());
   std::printf(
-      "(ratio = llvmpipe time / hsr time, median of repetitions: > 1 means hsr is faster)\n");
+      "(ratio = llvmpipe time / algorithm time, median of repetitions: > 1 means hsr is faster)\n");
   benchmark::Shutdown();
   return 0;
 }
