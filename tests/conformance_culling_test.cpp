@@ -1,4 +1,4 @@
-// Conformance, TESTING.md rows 7 and 8.
+// Conformance, docs/testing.md rows 7 and 8.
 //  - Row 7, the back-face culling matrix: {CCW, CW front} x {cull none, back, front, both} x
 //    {perspective, ortho} x {normal, mirrored (x -> -x, det < 0)} on a mesh with random and
 //    inconsistent winding; each triangle must be culled exactly when the rule says, by both

@@ -1,4 +1,4 @@
-// Conformance, TESTING.md row 3: bit-exact coverage against an independent, deliberately naive
+// Conformance, docs/testing.md row 3: bit-exact coverage against an independent, deliberately naive
 // reference rasterizer. The reference below shares no code with src/: it snaps window
 // coordinates itself (as docs/algorithms.md describes: pixel centres at integers, 8 sub-pixel
 // bits, round to nearest, y flipped so row 0 is the top), then tests EVERY pixel centre of the

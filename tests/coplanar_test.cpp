@@ -1,4 +1,4 @@
-// Coplanar overlap (z-fighting), TESTING.md row 6, for every algorithm: pairs and stacks of 2 to
+// Coplanar overlap (z-fighting), docs/testing.md row 6, for every algorithm: pairs and stacks of 2 to
 // 5 coplanar polygons, submitted in every permutation (5! = 120 orders for a stack of 5).
 // The documented rule (docs/algorithms.md): the depth test compares each polygon's own
 // float depth; where those are bit-equal (a tie), with LESS the first submitted polygon stays

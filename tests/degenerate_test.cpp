@@ -1,4 +1,4 @@
-// TESTING.md row 14: the degenerate geometry catalogue. One named test per case, each stating
+// docs/testing.md row 14: the degenerate geometry catalogue. One named test per case, each stating
 // the documented behaviour and running it on every registered algorithm (hsr::algorithms()),
 // so that a new algorithm is held to the same rules with no test change.
 //
@@ -639,7 +639,7 @@ TEST(Degenerate, HugeCoordinatesNeverCrashOrWriteNaN) {
               static_cast<unsigned long long>(frames));
 }
 
-// Documented (TESTING.md row 14: "counted drop or correct clip"): a triangle with vertices at
+// Documented (docs/testing.md row 14: "counted drop or correct clip"): a triangle with vertices at
 // 1e6 to 1e30 is either dropped and counted (degenerate_dropped or clipped_away, drawing
 // nothing), or clipped correctly: every pixel centre more than 0.01 px inside the exact
 // triangle is drawn, none more than 0.01 px outside, at the triangle's own depth. The shapes
@@ -1059,7 +1059,7 @@ TEST(Degenerate, DuplicateTrianglesFirstSubmittedWinsWithLess) {
 
 // Documented tie rule, any vertex order: the same triangle submitted again with its vertex
 // list rotated (b, c, a) or reversed is the same surface, so with LESS the first submitted
-// keeps every pixel (TESTING.md row 6: the tie rule, never a mix of the rule and noise).
+// keeps every pixel (docs/testing.md row 6: the tie rule, never a mix of the rule and noise).
 TEST(Degenerate, DuplicateTrianglesInAnyVertexOrderFirstSubmittedWins) {
   const int cases = 60 * testing::countScale();
   Rng rng(0xD0B'0015u);

@@ -1,4 +1,4 @@
-// Depth correctness, TESTING.md row 5 (dEQP fragment_ops.depth style), for every algorithm:
+// Depth correctness, docs/testing.md row 5 (dEQP fragment_ops.depth style), for every algorithm:
 //   - a gradient quad whose window depth runs from 0 to 1 (NDC -1 to 1) across the viewport
 //     crosses a flat quad at NDC z = 0: the visible surface switches at the analytic column
 //     (within 1 px) on every row, in either drawing order, for several gradient directions;

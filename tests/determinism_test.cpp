@@ -1,4 +1,4 @@
-// Determinism, TESTING.md row 17, for every algorithm: every scene is rendered 3 times with 1
+// Determinism, docs/testing.md row 17, for every algorithm: every scene is rendered 3 times with 1
 // thread and 3 times with 2 threads, for 3 option sets (plain fill, outline on, back faces
 // culled); the FNV-1a hashes of the colour, depth (bit patterns), id and overdraw buffers
 // must be identical across all 6. The third render of each thread count reuses one long-lived

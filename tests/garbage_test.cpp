@@ -1,4 +1,4 @@
-// TESTING.md row 13: scenes of random bit-pattern floats (NaN, Inf, subnormals, 1e38) and
+// docs/testing.md row 13: scenes of random bit-pattern floats (NaN, Inf, subnormals, 1e38) and
 // random cameras. Nothing may crash or reach undefined behaviour (the sanitizer build checks
 // float-cast-overflow too); bad polygons are dropped and counted, and what is drawn is finite.
 
@@ -29,7 +29,7 @@ float mostlySane(Rng& rng, float scale) {
 class Garbage : public testing::EveryAlgorithm {};
 
 TEST_P(Garbage, RandomBitPatternScenesNeverCrash) {
-  const int scenes = 1000 * testing::countScale();  // TESTING.md row 13: 1,000 in CI
+  const int scenes = 1000 * testing::countScale();  // docs/testing.md row 13: 1,000 in CI
   std::uint64_t dropped = 0, drawn = 0;
   for (int n = 0; n < scenes; ++n) {
     SCOPED_TRACE("garbage scene seed " + std::to_string(n));
@@ -86,7 +86,7 @@ TEST_P(Garbage, RandomBitPatternScenesNeverCrash) {
       }
     }
   }
-  std::printf("[ figures ] row 13 %s: %d garbage scenes, %llu polygons dropped as degenerate, "
+  std::printf("[ figures ] row 13 %s: %d garbage scenes, %llu triangles dropped as degenerate, "
               "%llu pixels drawn, 0 crashes\n",
               GetParam().c_str(), scenes, static_cast<unsigned long long>(dropped),
               static_cast<unsigned long long>(drawn));

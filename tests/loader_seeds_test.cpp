@@ -1,4 +1,4 @@
-// TESTING.md row 16: one committed file per historical mesh-loader bug class (fuzz/seeds/),
+// docs/testing.md row 16: one committed file per historical mesh-loader bug class (fuzz/seeds/),
 // each loaded through hsr::loadMeshFile with its exact documented outcome. Either a refusal:
 // hsr::Error, one line, naming the file and the fault (a distinctive substring is checked);
 // or a documented lenient result. Valid edge cases (subnormals, relative indices, CRLF, no

@@ -1,4 +1,4 @@
-// Properties of the fill rule through the whole pipeline (TESTING.md rows 1 and 2): triangles
+// Properties of the fill rule through the whole pipeline (docs/testing.md rows 1 and 2): triangles
 // that share edges cover every pixel centre exactly once, with no double hits and no holes.
 // Fragments are counted with Frame::overdraw and the depth test off, so every fragment counts.
 

@@ -134,7 +134,7 @@ class Recorder : public detail::Trace {
     Picture panels(2 * w + kGap, h);
     for (int y = 0; y < h; ++y)
       std::copy_n(p.at(left, top + y), 3 * (2 * w + kGap), panels.at(0, y));
-    const int factor = std::max(1, (2 * w + kGap) / 420);
+    const int factor = std::max(1, (2 * w + kGap + 419) / 420);  // thumbnails about 420 px wide
     thumbs_.push_back(shrink(panels, factor));
     steps_.push_back(std::move(s));
   }

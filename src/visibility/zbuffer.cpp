@@ -46,9 +46,11 @@ void scanConvert(const ScreenTriangle& t, const FrameView& fb, bool depth_mask,
     int x_left = t.x0, x_right = t.x1;
     if (!spanOfRow(edges, &x_left, &x_right)) continue;  // this row misses the triangle
     // Depth along the span. The polygon's plane A x + B y + C z + D = 0 gives
-    // z = (-A x - B y - D) / C at each pixel, and one pixel to the right z' = z - A/C. We sum
-    // that step exactly: the row's part once, then z = z_row + (-A/C) x at each pixel
-    // (raster/depth.hpp), so every pixel gets the same depth however the span is walked.
+    // z = (-A x - B y - D) / C at each pixel, and one pixel to the right z' = z - A/C. Adding
+    // -A/C pixel after pixel would round at every step, and a pixel's depth would depend on
+    // where its span began; so the row's part is computed once and each pixel takes
+    // z = z_row + (-A/C) x (raster/depth.hpp): the notes' steps counted from x = 0, the same
+    // bits however the span is walked.
     const double z_row = depthRowStart(t.depth, y);
     for (int x = x_left; x <= x_right; ++x) {
       const float z = depthInRow(z_row, t.depth, x);

@@ -28,7 +28,7 @@ using testing::MesaFrame;
 using testing::renderWithMesa;
 using testing::Rng;
 
-// Required agreement (TESTING.md: z-buffer vs Mesa). Each case is held to these fractions
+// Required agreement (docs/testing.md: z-buffer vs Mesa). Each case is held to these fractions
 // rounded up to whole pixels (a 211x127 image may differ by 3 px of coverage); sets of cases
 // are held to the plain fractions over all their pixels.
 constexpr double kMinCoverageAgreement = 0.9999;

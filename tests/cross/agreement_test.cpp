@@ -1,4 +1,4 @@
-// Cross-algorithm agreement, TESTING.md row 4 (the main oracle): every algorithm in the
+// Cross-algorithm agreement, docs/testing.md row 4 (the main oracle): every algorithm in the
 // registry renders the random scenes of tests/cross/random_scenes.hpp (interpenetrating pairs,
 // a cyclic overlap, coplanar overlaps, convex polygons, slivers), and its polygon-id buffer is
 // compared with the double-precision reference z-buffer pixel by pixel. Three-valued, as
@@ -24,7 +24,7 @@ namespace {
 
 using testing::ReferenceFrame;
 
-constexpr double kAmbiguousCap = 0.005;  // of the pixels of a scene (TESTING.md row 4)
+constexpr double kAmbiguousCap = 0.005;  // of the pixels of a scene (docs/testing.md row 4)
 constexpr std::uint64_t kFirstSeed = 1;
 constexpr int kReportsPerScene = 5;      // unambiguous mismatches spelled out per scene ...
 constexpr std::uint64_t kReportsInAll = 40;  // ... and per algorithm

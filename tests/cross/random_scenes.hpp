@@ -1,5 +1,5 @@
 #pragma once
-// The random scenes of TESTING.md row 4 (reused by rows 5 and 17): 50-500 triangles in the
+// The random scenes of docs/testing.md row 4 (reused by rows 5 and 17): 50-500 triangles in the
 // cube [-1.6, 1.6]^3 seen by a perspective camera from 4.2-5.5 units away, so that every
 // vertex lies in front of the eye and between near and far (no clipping but the viewport's).
 // Besides random triangles of every size (slivers included), each scene holds

@@ -1,5 +1,5 @@
 #pragma once
-// The differential oracle of TESTING.md rows 4 and 5: a deliberately simple z-buffer in double
+// The differential oracle of docs/testing.md rows 4 and 5: a deliberately simple z-buffer in double
 // precision that shares no code with src/. It builds the camera's matrices itself (gluLookAt,
 // gluPerspective / glOrtho) from the Camera's fields, projects every polygon, and tests EVERY
 // pixel centre of each polygon's bounding box against the polygon's edges: no clipping, no
@@ -163,7 +163,7 @@ struct RefPolygon {
 // Two surfaces closer than this in window depth are a tie in the reference's depth test (the
 // first submitted stays): coplanar polygons evaluate their planes with rounding of ~1e-16.
 inline constexpr double kRefTieDepth = 1e-12;
-// A front-two depth gap below this fraction of the depth is ambiguous (TESTING.md row 4).
+// A front-two depth gap below this fraction of the depth is ambiguous (docs/testing.md row 4).
 inline constexpr double kRefRelativeGap = 1e-6;
 // The pixel kernel of the ambiguity rules.
 inline constexpr double kRefKernelPx = 1.0;

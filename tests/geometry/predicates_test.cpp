@@ -1,4 +1,4 @@
-// Exact orientation predicates (TESTING.md row 10, orient2d): on grids of ULP perturbations of
+// Exact orientation predicates (docs/testing.md row 10, orient2d): on grids of ULP perturbations of
 // nearly collinear points, where plain double evaluation gets the sign wrong, orient2d must
 // agree 100% with an exact integer evaluation of the same doubles.
 
