@@ -129,8 +129,10 @@ void runAlgorithm(benchmark::State& state, AlgorithmRun* run) {
   setCounters(state, *b);
   // The frame's stats: every count of the one table and the algorithm's own counters.
   for (const hsr::Stats::Field& f : hsr::Stats::fields())
-    if (frame.stats.*f.value != 0) state.counters[std::string(f.name)] = static_cast<double>(frame.stats.*f.value);
-  for (const hsr::Counter& c : frame.stats.counters) state.counters[c.name] = static_cast<double>(c.value);
+    if (frame.stats.*f.value != 0)
+      state.counters[std::string(f.name)] = static_cast<double>(frame.stats.*f.value);
+  for (const hsr::Counter& c : frame.stats.counters)
+    state.counters[c.name] = static_cast<double>(c.value);
 }
 
 void runLlvmpipe(benchmark::State& state, BenchScene* b) {

@@ -34,8 +34,8 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
   }
   // Agreement with the registry's reference row.
   const std::string_view reference = referenceAlgorithm().name;
-  const auto ref_row = std::find_if(rows.begin(), rows.end(),
-                                    [&](const ComparisonRow& r) { return r.algorithm == reference; });
+  const auto ref_row = std::find_if(
+      rows.begin(), rows.end(), [&](const ComparisonRow& r) { return r.algorithm == reference; });
   const std::vector<PolygonId>& ref = (ref_row != rows.end() ? *ref_row : rows.front()).frame.ids;
   for (ComparisonRow& r : rows) {
     std::uint64_t diff = 0;

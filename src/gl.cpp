@@ -1,5 +1,5 @@
 // The GL-style facade: OpenGL state in, draws into persistent buffers through the one
-// orchestrator (render.cpp), with the algorithm the state names (the z-buffer by default).
+// orchestrator (orchestrator.cpp), with the algorithm the state names (the z-buffer by default).
 
 #include "hsr/gl.hpp"
 
@@ -8,7 +8,7 @@
 
 #include "core/frame.hpp"
 #include "hsr/error.hpp"
-#include "render.hpp"
+#include "orchestrator.hpp"
 
 namespace hsr::gl {
 

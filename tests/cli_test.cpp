@@ -169,7 +169,8 @@ TEST(Cli, ExplainWritesNumberedPicturesASheetAndAnIndex) {
   EXPECT_TRUE(fs::exists(dir / "01-bin.png"));
   EXPECT_TRUE(fs::exists(dir / "sheet.png"));
   EXPECT_TRUE(fs::exists(dir / "steps.md"));
-  const CliRun t = runCli("explain zbuffer-textbook cyclic --size 120x90 -q -o " + (dir / "t").string());
+  const CliRun t =
+      runCli("explain zbuffer-textbook cyclic --size 120x90 -q -o " + (dir / "t").string());
   EXPECT_EQ(t.code, 0) << t.err;
   EXPECT_TRUE(fs::exists(dir / "t" / "02-draw-polygon.png"));
   expectCleanError("explain no-such-algorithm demo -o " + (dir / "x").string(), "zbuffer-textbook");

@@ -1,17 +1,16 @@
-// Coplanar overlap (z-fighting), docs/testing.md row 6, for every algorithm: pairs and stacks of 2 to
-// 5 coplanar polygons, submitted in every permutation (5! = 120 orders for a stack of 5).
-// The documented rule (docs/algorithms.md): the depth test compares each polygon's own
-// float depth; where those are bit-equal (a tie), with LESS the first submitted polygon stays
-// and with LEQUAL the last submitted one does. The expected picture is exact, not estimated:
-// each polygon is first rendered alone to get its coverage and depth, then the depth test is
-// replayed on those in submission order, and every pixel must show its winner. Identical
-// polygons, in any vertex order, and polygons facing an orthographic camera must tie exactly
-// (0 pixels where their own depths differ): never a mix of the rule and rounding noise.
-// Different polygons in one tilted plane are coplanar only up to float rounding (their
-// vertices are rounded to float, then projected): their depths differ by a few ULP, and the
-// nearer float depth wins, as in GL; those pixels are counted and reported, not hidden.
-// Every LESS picture is rendered twice at 1 thread and twice at 2 threads, every LEQUAL one
-// once at each: all buffers must be bit-identical.
+// Coplanar overlap (z-fighting), docs/testing.md row 6, for every algorithm: pairs and stacks of 2
+// to 5 coplanar polygons, submitted in every permutation (5! = 120 orders for a stack of 5). The
+// documented rule (docs/algorithms.md): the depth test compares each polygon's own float depth;
+// where those are bit-equal (a tie), with LESS the first submitted polygon stays and with LEQUAL
+// the last submitted one does. The expected picture is exact, not estimated: each polygon is first
+// rendered alone to get its coverage and depth, then the depth test is replayed on those in
+// submission order, and every pixel must show its winner. Identical polygons, in any vertex order,
+// and polygons facing an orthographic camera must tie exactly (0 pixels where their own depths
+// differ): never a mix of the rule and rounding noise. Different polygons in one tilted plane are
+// coplanar only up to float rounding (their vertices are rounded to float, then projected): their
+// depths differ by a few ULP, and the nearer float depth wins, as in GL; those pixels are counted
+// and reported, not hidden. Every LESS picture is rendered twice at 1 thread and twice at 2
+// threads, every LEQUAL one once at each: all buffers must be bit-identical.
 //
 // Families, from the easy case to the hard one:
 //   - identical triangles / quads (same vertices, same order) in a tilted plane, perspective;

@@ -39,7 +39,8 @@ using testing::Rng;
   if (t.run == 0) return;
   std::string names;
   const auto applicable = testing::algorithmsWith("Degenerate", kExactSharedCoverage | kDepthFuncs);
-  for (const AlgorithmInfo* a : applicable) names += (names.empty() ? "" : ", ") + std::string(a->name);
+  for (const AlgorithmInfo* a : applicable)
+    names += (names.empty() ? "" : ", ") + std::string(a->name);
   std::printf("[ figures ] row 14 degenerate catalogue: %d cases run, %d passed, each on %zu "
               "algorithm(s) (%s)\n",
               t.run, t.passed, applicable.size(), names.c_str());
@@ -57,8 +58,8 @@ using Tri = std::array<glm::dvec2, 3>;
 glm::dvec2 grid(std::int64_t x, std::int64_t y) { return {x / 256.0, y / 256.0}; }
 
 // Adds 1 to count[row * width + col] for every pixel centre the triangle covers by the fill
-// rule (raster/edge.hpp); returns false for a triangle of zero area (which covers nothing). The vertices must lie
-// on the 1/256 grid (checked).
+// rule (raster/edge.hpp); returns false for a triangle of zero area (which covers nothing). The
+// vertices must lie on the 1/256 grid (checked).
 bool addCoverage(const Tri& t, int width, int height, std::vector<int>& count) {
   struct V {
     __int128 x, y;  // 24.8, y down, measured from pixel centres
@@ -146,7 +147,8 @@ RenderOptions countEveryFragment() {
 // expectations are exact pixel coverage and counts (drawn with the depth test off).
 template <class Check>
 void forEachAlgorithm(const Scene& scene, const Camera& camera, RenderOptions options, Check check) {
-  for (const AlgorithmInfo* ap : testing::algorithmsWith("Degenerate", kExactSharedCoverage | kDepthFuncs)) {
+  for (const AlgorithmInfo* ap :
+       testing::algorithmsWith("Degenerate", kExactSharedCoverage | kDepthFuncs)) {
     const AlgorithmInfo& a = *ap;
     SCOPED_TRACE("algorithm " + std::string(a.name));
     options.algorithm = std::string(a.name);
@@ -734,7 +736,8 @@ TEST(Degenerate, SubnormalCoordinatesAreValidTinyGeometry) {
     EXPECT_EQ(f.stats.degenerate_dropped, 0u);
     EXPECT_EQ(drawnBy(f, kNoPolygon), f.ids.size());
   });
-  for (const AlgorithmInfo* ap : testing::algorithmsWith("Degenerate", kExactSharedCoverage | kDepthFuncs)) {
+  for (const AlgorithmInfo* ap :
+       testing::algorithmsWith("Degenerate", kExactSharedCoverage | kDepthFuncs)) {
     const AlgorithmInfo& a = *ap;
     SCOPED_TRACE("algorithm " + std::string(a.name));
     for (bool depth_test : {true, false}) {

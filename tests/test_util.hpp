@@ -111,7 +111,8 @@ inline std::vector<NotApplicable>& notApplicable() {
   static std::vector<NotApplicable> list;
   return list;
 }
-inline std::vector<const AlgorithmInfo*> algorithmsWith(std::string_view suite, std::uint32_t caps) {
+inline std::vector<const AlgorithmInfo*> algorithmsWith(std::string_view suite,
+                                                        std::uint32_t caps) {
   std::vector<const AlgorithmInfo*> out;
   for (const AlgorithmInfo& a : algorithms()) {
     if ((a.capabilities & caps) == caps) {
@@ -119,9 +120,11 @@ inline std::vector<const AlgorithmInfo*> algorithmsWith(std::string_view suite, 
       continue;
     }
     bool known = false;
-    for (const NotApplicable& n : notApplicable()) known = known || (n.suite == suite && n.algorithm == a.name);
+    for (const NotApplicable& n : notApplicable())
+      known = known || (n.suite == suite && n.algorithm == a.name);
     if (!known)
-      notApplicable().push_back({std::string(suite), std::string(a.name), capabilityList(caps & ~a.capabilities)});
+      notApplicable().push_back(
+          {std::string(suite), std::string(a.name), capabilityList(caps & ~a.capabilities)});
   }
   return out;
 }

@@ -166,9 +166,9 @@ int runExplain(const Args& a, const std::string& dir_arg) {
   const hsr::Scene scene = hsr::loadScene(a.scene);
   const hsr::Camera cam = makeCamera(a, scene);
   const hsr::RenderOptions opt = makeOptions(a);
-  const fs::path dir = dir_arg.empty()
-                           ? fs::path("out") / ("explain-" + opt.algorithm + "-" + sceneLabel(a.scene))
-                           : fs::path(dir_arg);
+  const fs::path dir =
+      dir_arg.empty() ? fs::path("out") / ("explain-" + opt.algorithm + "-" + sceneLabel(a.scene))
+                      : fs::path(dir_arg);
   const hsr::Explanation e = hsr::explain(scene, cam, opt, dir);
   if (!a.quiet) {
     fmt::print("hsr explain {} {}  {}x{}: {} steps\n", opt.algorithm, a.scene, cam.width,

@@ -53,8 +53,8 @@ const AlgorithmInfo& findAlgorithm(std::string_view name);
 // The reference entry (exactly one has reference = true).
 const AlgorithmInfo& referenceAlgorithm();
 
-std::string_view toString(Precision p);   // "image", "object"
-std::string_view toString(InputKind k);   // "screen triangles", ...
+std::string_view toString(Precision p);  // "image", "object"
+std::string_view toString(InputKind k);  // "screen triangles", ...
 // "exact-coverage, depth-funcs, ..." for the capabilities set in `caps`.
 std::string capabilityList(std::uint32_t caps);
 

@@ -19,8 +19,8 @@ struct ExplainOptions {
 };
 
 struct ExplainedStep {
-  int number = 0;              // 1-based, as in the file names
-  std::string name;            // the step's name in the algorithm's file: "draw polygon"
+  int number = 0;    // 1-based, as in the file names
+  std::string name;  // the step's name in the algorithm's file: "draw polygon"
   std::string caption;
   std::filesystem::path picture;
 };

@@ -44,11 +44,11 @@ struct Stats {
   std::uint64_t points_rasterized = 0;     // POINT mode: polygon vertices handed over
   std::uint64_t outline_edges = 0;         // silhouette and border edges drawn (--outline)
   // The visibility algorithm.
-  std::uint64_t fragments_tested = 0;      // pixel samples that reached the depth test
-  std::uint64_t fragments_written = 0;     // samples that passed and were written
-  std::uint64_t state_bytes = 0;           // memory held by the algorithm's state
-  std::vector<Counter> counters;           // the algorithm's own counts, by name
-  std::vector<StageTime> stages;           // wall time per stage, in order
+  std::uint64_t fragments_tested = 0;   // pixel samples that reached the depth test
+  std::uint64_t fragments_written = 0;  // samples that passed and were written
+  std::uint64_t state_bytes = 0;        // memory held by the algorithm's state
+  std::vector<Counter> counters;        // the algorithm's own counts, by name
+  std::vector<StageTime> stages;        // wall time per stage, in order
 
   void addStage(std::string name, double ms);
   void addCounter(std::string_view name, std::uint64_t n);

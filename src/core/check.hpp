@@ -24,18 +24,18 @@ template <class A, class B>
 
 }  // namespace hsr::detail
 
-#define HSR_CHECK(cond)                                                          \
-  do {                                                                           \
+#define HSR_CHECK(cond)                                                                  \
+  do {                                                                                   \
     if (!(cond)) ::hsr::detail::checkFailed(__FILE__, __LINE__, "HSR_CHECK(" #cond ")"); \
   } while (false)
 
-#define HSR_CHECK_OP_(a, op, b)                                                          \
-  do {                                                                                   \
-    const auto& hsr_check_a_ = (a);                                                      \
-    const auto& hsr_check_b_ = (b);                                                      \
-    if (!(hsr_check_a_ op hsr_check_b_))                                                 \
-      ::hsr::detail::checkOpFailed(__FILE__, __LINE__, #a " " #op " " #b, hsr_check_a_,  \
-                                   hsr_check_b_);                                        \
+#define HSR_CHECK_OP_(a, op, b)                                                         \
+  do {                                                                                  \
+    const auto& hsr_check_a_ = (a);                                                     \
+    const auto& hsr_check_b_ = (b);                                                     \
+    if (!(hsr_check_a_ op hsr_check_b_))                                                \
+      ::hsr::detail::checkOpFailed(__FILE__, __LINE__, #a " " #op " " #b, hsr_check_a_, \
+                                   hsr_check_b_);                                       \
   } while (false)
 
 #define HSR_CHECK_EQ(a, b) HSR_CHECK_OP_(a, ==, b)

@@ -25,10 +25,10 @@ namespace hsr::detail {
 using TraceOutline = std::vector<glm::vec2>;
 
 struct TraceStep {
-  std::string_view name;              // "draw polygon"
-  std::string caption;                // in the notes' words, with this step's figures
-  const Frame* frame = nullptr;       // the buffers after the step (the trace copies them)
-  std::vector<TraceOutline> outlines; // what to outline on the pictures
+  std::string_view name;               // "draw polygon"
+  std::string caption;                 // in the notes' words, with this step's figures
+  const Frame* frame = nullptr;        // the buffers after the step (the trace copies them)
+  std::vector<TraceOutline> outlines;  // what to outline on the pictures
 };
 
 class Trace {

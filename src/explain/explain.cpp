@@ -14,13 +14,13 @@
 #include "hsr/compare.hpp"
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
-#include "render.hpp"
+#include "orchestrator.hpp"
 
 namespace hsr {
 namespace {
 
-constexpr int kGap = 8;              // pixels between and around the panels
-constexpr std::uint8_t kBack = 32;   // the dark page behind the panels
+constexpr int kGap = 8;                           // pixels between and around the panels
+constexpr std::uint8_t kBack = 32;                // the dark page behind the panels
 constexpr std::uint8_t kMark[3] = {235, 40, 40};  // outline colour
 
 // An RGB8 picture, top row first.
@@ -80,7 +80,9 @@ Picture shrink(const Picture& src, int factor) {
         int sum = 0;
         for (int dy = 0; dy < factor; ++dy)
           for (int dx = 0; dx < factor; ++dx)
-            sum += src.rgb[3 * (static_cast<std::size_t>(y * factor + dy) * src.width + x * factor + dx) + c];
+            sum += src.rgb[3 * (static_cast<std::size_t>(y * factor + dy) * src.width + x * factor +
+                                dx) +
+                           c];
         out.at(x, y)[c] = static_cast<std::uint8_t>(sum / (factor * factor));
       }
   return out;
@@ -93,7 +95,8 @@ class Recorder : public detail::Trace {
 
   bool wants(std::string_view, std::uint64_t index, std::uint64_t count) override {
     // Evenly spaced, the first and the last always.
-    if (count <= static_cast<std::uint64_t>(per_step_) || index == 0 || index + 1 == count) return true;
+    if (count <= static_cast<std::uint64_t>(per_step_) || index == 0 || index + 1 == count)
+      return true;
     const std::uint64_t slots = static_cast<std::uint64_t>(per_step_ - 1);
     return index * slots / (count - 1) != (index - 1) * slots / (count - 1);
   }
@@ -117,7 +120,8 @@ class Recorder : public detail::Trace {
     std::snprintf(title, sizeof title, "STEP %d: %s", s.number, s.name.c_str());
     drawLabel(p.rgb, p.width, p.height, kGap, kGap, title, scale);
     for (std::size_t i = 0; i < lines.size(); ++i)
-      drawLabel(p.rgb, p.width, p.height, kGap, kGap + line_h * (2 + static_cast<int>(i)), lines[i], scale);
+      drawLabel(p.rgb, p.width, p.height, kGap, kGap + line_h * (2 + static_cast<int>(i)), lines[i],
+                scale);
     // The colour buffer and the depth buffer side by side, what the step works on outlined.
     const int left = kGap, right = 2 * kGap + w, top = header;
     p.blit(picture(f, "color"), w, h, left, top);

@@ -15,8 +15,8 @@ namespace hsr::detail {
 // 4096 |w|) is computed in double instead: in float, w - x loses w entirely once |x| >> |w|,
 // and a triangle spanning 1e10 units clipped up to 32 pixels off (the test
 // Degenerate.HugeCoordinatesClipCorrectly).
-glm::vec4 clipIntersection(const glm::vec4& near_p, const glm::vec4& far_p, float dnear,
-                           float dfar, int k, const ClipSetup& cs) {
+glm::vec4 clipIntersection(const glm::vec4& near_p, const glm::vec4& far_p, float dnear, float dfar,
+                           int k, const ClipSetup& cs) {
   constexpr float kFarAway = 4096.0f;
   const auto huge = [&](const glm::vec4& p) {
     const float m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
@@ -30,12 +30,18 @@ glm::vec4 clipIntersection(const glm::vec4& near_p, const glm::vec4& far_p, floa
   const auto dist = [&](const glm::dvec4& v) {
     const double gx = cs.gx, gy = cs.gy;
     switch (k) {
-      case 0: return gx * v.w - v.x;
-      case 1: return gx * v.w + v.x;
-      case 2: return gy * v.w - v.y;
-      case 3: return gy * v.w + v.y;
-      case 4: return v.z + v.w;
-      default: return v.w - v.z;
+      case 0:
+        return gx * v.w - v.x;
+      case 1:
+        return gx * v.w + v.x;
+      case 2:
+        return gy * v.w - v.y;
+      case 3:
+        return gy * v.w + v.y;
+      case 4:
+        return v.z + v.w;
+      default:
+        return v.w - v.z;
     }
   };
   const double da = dist(a), db = dist(b);
@@ -43,12 +49,24 @@ glm::vec4 clipIntersection(const glm::vec4& near_p, const glm::vec4& far_p, floa
   glm::dvec4 v = a + t * (b - a);
   // Exactly on the plane (the interpolation may miss it by a rounding step)
   switch (k) {
-    case 0: v.x = cs.gx * v.w; break;
-    case 1: v.x = -cs.gx * v.w; break;
-    case 2: v.y = cs.gy * v.w; break;
-    case 3: v.y = -cs.gy * v.w; break;
-    case 4: v.z = -v.w; break;
-    default: v.z = v.w; break;
+    case 0:
+      v.x = cs.gx * v.w;
+      break;
+    case 1:
+      v.x = -cs.gx * v.w;
+      break;
+    case 2:
+      v.y = cs.gy * v.w;
+      break;
+    case 3:
+      v.y = -cs.gy * v.w;
+      break;
+    case 4:
+      v.z = -v.w;
+      break;
+    default:
+      v.z = v.w;
+      break;
   }
   return glm::vec4(v);
 }

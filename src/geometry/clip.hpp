@@ -14,8 +14,16 @@
 namespace hsr::detail {
 
 enum ClipBit : unsigned {
-  kLeft = 1, kRight = 2, kBottom = 4, kTop = 8, kNear = 16, kFar = 32,  // view volume
-  kGuardX0 = 64, kGuardX1 = 128, kGuardY0 = 256, kGuardY1 = 512,       // x/y clip band
+  kLeft = 1,
+  kRight = 2,
+  kBottom = 4,
+  kTop = 8,
+  kNear = 16,
+  kFar = 32,  // view volume
+  kGuardX0 = 64,
+  kGuardX1 = 128,
+  kGuardY0 = 256,
+  kGuardY1 = 512,  // x/y clip band
 };
 inline constexpr unsigned kViewVolume = kLeft | kRight | kBottom | kTop | kNear | kFar;
 inline constexpr unsigned kMustClip = kNear | kFar | kGuardX0 | kGuardX1 | kGuardY0 | kGuardY1;
@@ -46,24 +54,30 @@ inline unsigned outcode(const glm::vec4& v, const ClipSetup& cs) {
 // The clip planes in Mesa's order (draw_pipe_clip: right, left, top, bottom, near, far) and
 // the outcode bit of each.
 inline constexpr int kClipPlanes = 6;
-inline constexpr unsigned kPlaneBit[kClipPlanes] = {kGuardX1, kGuardX0, kGuardY1, kGuardY0,
-                                                    kNear, kFar};
+inline constexpr unsigned kPlaneBit[kClipPlanes] = {kGuardX1, kGuardX0, kGuardY1,
+                                                    kGuardY0, kNear,    kFar};
 
 // Signed distance of a clip-space point to clip plane k (>= 0 inside), with Mesa's arithmetic.
 inline float planeDistance(const glm::vec4& v, int k, const ClipSetup& cs) {
   switch (k) {
-    case 0: return cs.gx * v.w - v.x;  // right
-    case 1: return cs.gx * v.w + v.x;  // left
-    case 2: return cs.gy * v.w - v.y;  // top
-    case 3: return cs.gy * v.w + v.y;  // bottom
-    case 4: return v.z + v.w;          // near
-    default: return v.w - v.z;         // far
+    case 0:
+      return cs.gx * v.w - v.x;  // right
+    case 1:
+      return cs.gx * v.w + v.x;  // left
+    case 2:
+      return cs.gy * v.w - v.y;  // top
+    case 3:
+      return cs.gy * v.w + v.y;  // bottom
+    case 4:
+      return v.z + v.w;  // near
+    default:
+      return v.w - v.z;  // far
   }
 }
 
 // Where the edge from `near_p` (distance dnear to plane k) to `far_p` (dfar) crosses plane k.
-glm::vec4 clipIntersection(const glm::vec4& near_p, const glm::vec4& far_p, float dnear,
-                           float dfar, int k, const ClipSetup& cs);
+glm::vec4 clipIntersection(const glm::vec4& near_p, const glm::vec4& far_p, float dnear, float dfar,
+                           int k, const ClipSetup& cs);
 
 // A clip-space vertex, with whether the edge leaving it is an original polygon edge (GL's
 // edge flag: edges made by clipping are not drawn in LINE mode) and whether it is an input

@@ -13,8 +13,10 @@ PlaneSide classifyAgainstPlane(std::span<const glm::dvec3> polygon, const Plane&
   bool front = false, behind = false;
   for (const glm::dvec3& v : polygon) {
     const double dist = plane.value(v) / len;
-    if (dist > epsilon) front = true;
-    else if (dist < -epsilon) behind = true;
+    if (dist > epsilon)
+      front = true;
+    else if (dist < -epsilon)
+      behind = true;
   }
   if (front && behind) return PlaneSide::kSpanning;
   if (front) return PlaneSide::kFront;
@@ -42,7 +44,8 @@ void splitVertices(std::span<const glm::dvec3> polygon, const Plane& plane, doub
     if ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) {
       // The crossing, interpolated from the endpoint in front: a neighbour that lists the
       // shared edge the other way round gets the same point, so split meshes stay closed.
-      const glm::dvec3 v = da > 0.0 ? a + (da / (da - db)) * (b - a) : b + (db / (db - da)) * (a - b);
+      const glm::dvec3 v =
+          da > 0.0 ? a + (da / (da - db)) * (b - a) : b + (db / (db - da)) * (a - b);
       front->push_back(v);
       behind->push_back(v);
     }

@@ -66,10 +66,10 @@ int sign(double v) { return v > 0.0 ? 1 : (v < 0.0 ? -1 : 0); }
 
 }  // namespace
 
-int orient2d(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by,
-             std::int64_t cx, std::int64_t cy) {
-  const __int128 det = static_cast<__int128>(bx - ax) * (cy - ay) -
-                       static_cast<__int128>(by - ay) * (cx - ax);
+int orient2d(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by, std::int64_t cx,
+             std::int64_t cy) {
+  const __int128 det =
+      static_cast<__int128>(bx - ax) * (cy - ay) - static_cast<__int128>(by - ay) * (cx - ax);
   return det > 0 ? 1 : (det < 0 ? -1 : 0);
 }
 

@@ -14,8 +14,8 @@
 namespace hsr::detail {
 
 // +1 when a, b, c turn counter-clockwise (c left of a->b, y up), -1 clockwise, 0 collinear.
-int orient2d(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by,
-             std::int64_t cx, std::int64_t cy);
+int orient2d(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by, std::int64_t cx,
+             std::int64_t cy);
 int orient2d(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c);
 
 // The filter alone, for tests: the determinant in double and whether its sign is certain.

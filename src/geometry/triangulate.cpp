@@ -44,7 +44,8 @@ void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::ui
   while (ring.size() > 1 && p[ring.back()] == p[ring.front()]) ring.pop_back();
   if (ring.size() < 3) return;
   auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    out.push_back(ccw ? std::array<std::uint32_t, 3>{a, b, c} : std::array<std::uint32_t, 3>{c, b, a});
+    out.push_back(ccw ? std::array<std::uint32_t, 3>{a, b, c}
+                      : std::array<std::uint32_t, 3>{c, b, a});
   };
 
   // Convex (every turn to the left or straight): a fan from the first vertex, leaving out the
@@ -55,7 +56,8 @@ void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::ui
     convex = orient2d(p[ring[i]], p[ring[(i + 1) % m]], p[ring[(i + 2) % m]]) >= 0;
   if (convex) {
     for (std::size_t i = 1; i + 1 < m; ++i)
-      if (orient2d(p[ring[0]], p[ring[i]], p[ring[i + 1]]) != 0) emit(ring[0], ring[i], ring[i + 1]);
+      if (orient2d(p[ring[0]], p[ring[i]], p[ring[i + 1]]) != 0)
+        emit(ring[0], ring[i], ring[i + 1]);
     return;
   }
 
@@ -100,7 +102,8 @@ void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::ui
 }
 
 glm::dvec3 newellNormal(const Scene& scene, std::span<const std::uint32_t> poly) {
-  return newellNormal(poly.size(), [&](std::size_t i) { return glm::dvec3(scene.position(poly[i])); });
+  return newellNormal(poly.size(),
+                      [&](std::size_t i) { return glm::dvec3(scene.position(poly[i])); });
 }
 
 void triangulatePolygon(const Scene& scene, PolygonId id, std::vector<Triangle>& out) {

@@ -25,8 +25,8 @@ struct Triangle {
 
 // Triangles of the polygon with 2D vertices `p` (either winding; the triangles keep it), as
 // index triples into p, appended to `out`. Zero-width spikes, straight and repeated vertices
-// add no triangle (a polygon of n vertices gives at most n - 2). A polygon the ear clipper cannot finish (self-intersecting) is closed with a fan
-// of what is left, so nothing vanishes.
+// add no triangle (a polygon of n vertices gives at most n - 2). A polygon the ear clipper cannot
+// finish (self-intersecting) is closed with a fan of what is left, so nothing vanishes.
 void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::uint32_t, 3>>& out);
 
 // Triangles of one polygon of the scene, appended to `out`. Polygons with fewer than 3

@@ -197,7 +197,8 @@ DepthRange drawnDepthRange(const Frame& frame) {
   DepthRange r{std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
   if (frame.depth.size() != framePixels(frame)) return r;
   for (std::size_t k = 0; k < frame.depth.size(); ++k)
-    if (depthDrawn(frame, k)) r.lo = std::min(r.lo, frame.depth[k]), r.hi = std::max(r.hi, frame.depth[k]);
+    if (depthDrawn(frame, k))
+      r.lo = std::min(r.lo, frame.depth[k]), r.hi = std::max(r.hi, frame.depth[k]);
   return r;
 }
 

@@ -20,8 +20,10 @@ void clipAndEmitTriangle(const Context& ctx, const glm::vec4 (&c)[3], PolygonId 
   if (!crossing) {
     const WindowVertex w[3] = {toWindow(c[0], ctx.vp), toWindow(c[1], ctx.vp),
                                toWindow(c[2], ctx.vp)};
-    if (w[0].ok && w[1].ok && w[2].ok) cullAndEmit(ctx, w, id, info, out);
-    else out.counts.clipped_away++;
+    if (w[0].ok && w[1].ok && w[2].ok)
+      cullAndEmit(ctx, w, id, info, out);
+    else
+      out.counts.clipped_away++;
     return;
   }
   out.counts.clipped++;

@@ -51,8 +51,8 @@ void findOutline(const Context& ctx, PreparedScene& out) {
       std::uint32_t a = canon[poly[i]], b = canon[poly[(i + 1) % poly.size()]];
       if (a == b) continue;
       const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-      auto [it, fresh] =
-          edges.try_emplace(key, EdgeUse{id, o, poly[i], poly[(i + 1) % poly.size()], 1, false, id});
+      auto [it, fresh] = edges.try_emplace(
+          key, EdgeUse{id, o, poly[i], poly[(i + 1) % poly.size()], 1, false, id});
       if (!fresh) {
         it->second.count++;
         if (it->second.facing != o) {
@@ -77,9 +77,12 @@ void findOutline(const Context& ctx, PreparedScene& out) {
     for (int k = 0; k < kClipPlanes && visible; ++k) {
       if (!((ca | cb) & kPlaneBit[k])) continue;
       const float da = planeDistance(pa, k, ctx.cs), db = planeDistance(pb, k, ctx.cs);
-      if (da < 0.0f && db < 0.0f) visible = false;
-      else if (da < 0.0f) pa = pa + (da / (da - db)) * (pb - pa);
-      else if (db < 0.0f) pb = pb + (db / (db - da)) * (pa - pb);
+      if (da < 0.0f && db < 0.0f)
+        visible = false;
+      else if (da < 0.0f)
+        pa = pa + (da / (da - db)) * (pb - pa);
+      else if (db < 0.0f)
+        pb = pb + (db / (db - da)) * (pa - pb);
     }
     if (!visible) continue;
     const WindowVertex a = toWindow(pa, ctx.vp), b = toWindow(pb, ctx.vp);

@@ -1,6 +1,6 @@
 #pragma once
-// The shared pipeline, as in DESIGN.md: transform (model baked into the scene) -> eye -> clip,
-// view-frustum culling of objects by their bounds, back-face culling, homogeneous clipping
+// The shared pipeline (docs/architecture.md): transform (model baked into the scene) -> eye ->
+// clip, view-frustum culling of objects by their bounds, back-face culling, homogeneous clipping
 // against the view volume, division by w, viewport mapping, and snapping of x,y to fixed
 // point with 8 sub-pixel bits (as Mesa). Every visibility algorithm starts from its output,
 // so all of them see exactly the same primitives.

@@ -45,7 +45,8 @@ void emitPiece(const Context& ctx, PolygonId id, std::span<const std::uint32_t> 
   // The plane in eye space: Newell's normal turned by the view's rotation, through P.
   const glm::dvec3 n = polygonNormal(ctx.scene, vi);
   const glm::dvec3 n_eye = glm::dmat3(ctx.eye_from_world) * n;
-  const glm::dvec3 p_eye(ctx.eye_from_world * glm::dvec4(glm::dvec3(ctx.scene.position(vi[0])), 1.0));
+  const glm::dvec3 p_eye(ctx.eye_from_world *
+                         glm::dvec4(glm::dvec3(ctx.scene.position(vi[0])), 1.0));
   wp.eye_plane = glm::dvec4(n_eye, -glm::dot(n_eye, p_eye));
   out.polygons.push_back(std::move(wp));
 }

@@ -52,13 +52,18 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
 void outlinePolygon(const Context& ctx, PolygonId id, std::span<const std::uint32_t> vi,
                     const PolygonInfo& info, std::uint64_t triangles, ChunkOut& out) {
   switch (clipWholePolygon(ctx, vi, out)) {
-    case WholeClip::kOutside: out.counts.clipped_away += triangles; return;
+    case WholeClip::kOutside:
+      out.counts.clipped_away += triangles;
+      return;
     case WholeClip::kClippedAway:
       out.counts.clipped += triangles;
       out.counts.clipped_away += triangles;
       return;
-    case WholeClip::kClipped: out.counts.clipped += triangles; break;
-    case WholeClip::kInside: break;
+    case WholeClip::kClipped:
+      out.counts.clipped += triangles;
+      break;
+    case WholeClip::kInside:
+      break;
   }
   const ClipPolygon& poly = out.poly;
   std::vector<WindowVertex>& wv = out.window_scratch;
@@ -110,7 +115,8 @@ void processPolygon(const Context& ctx, PolygonId id, bool window_polygons, Chun
     return;
   }
   const PolygonMode mode = ctx.options.polygon_mode;
-  if (vi.size() == 3 && mode == PolygonMode::Fill && !window_polygons && fastTriangle(ctx, id, vi, out))
+  if (vi.size() == 3 && mode == PolygonMode::Fill && !window_polygons &&
+      fastTriangle(ctx, id, vi, out))
     return;
   PolygonInfo info = describePolygon(ctx, id, vi);
   if (info.degenerate) {
@@ -241,7 +247,8 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   for (std::size_t c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + parts[c].triangles.size();
   out.triangles.resize(offset[chunks]);
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-    std::copy(parts[c].triangles.begin(), parts[c].triangles.end(), out.triangles.begin() + offset[c]);
+    std::copy(parts[c].triangles.begin(), parts[c].triangles.end(),
+              out.triangles.begin() + offset[c]);
   });
   for (ChunkOut& p : parts) {
     out.lines.insert(out.lines.end(), p.lines.begin(), p.lines.end());

@@ -33,8 +33,8 @@ WindowVertex toWindow(const glm::vec4& c, const Viewport& vp) {
   return v;
 }
 
-void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
-                 PolygonInfo& info, ChunkOut& out) {
+void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id, PolygonInfo& info,
+                 ChunkOut& out) {
   const std::int64_t fx[3] = {w[0].fx, w[1].fx, w[2].fx};
   const std::int64_t fy[3] = {w[0].fy, w[1].fy, w[2].fy};
   const int orientation = windowOrientation(fx, fy);

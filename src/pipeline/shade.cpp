@@ -48,7 +48,8 @@ bool isPlanar(const Scene& scene, std::span<const std::uint32_t> vi, const Plane
 glm::dvec3 polygonNormal(const Scene& scene, std::span<const std::uint32_t> vi) {
   const glm::dvec3 p0(scene.position(vi[0]));
   if (vi.size() == 3)
-    return glm::cross(glm::dvec3(scene.position(vi[1])) - p0, glm::dvec3(scene.position(vi[2])) - p0);
+    return glm::cross(glm::dvec3(scene.position(vi[1])) - p0,
+                      glm::dvec3(scene.position(vi[2])) - p0);
   return newellNormal(vi.size(), [&](std::size_t i) { return glm::dvec3(scene.position(vi[i])); });
 }
 
@@ -76,10 +77,14 @@ int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera) 
 
 bool culled(CullMode mode, bool front) {
   switch (mode) {
-    case CullMode::None: return false;
-    case CullMode::Back: return !front;
-    case CullMode::Front: return front;
-    case CullMode::FrontAndBack: return true;
+    case CullMode::None:
+      return false;
+    case CullMode::Back:
+      return !front;
+    case CullMode::Front:
+      return front;
+    case CullMode::FrontAndBack:
+      return true;
   }
   return false;
 }
@@ -119,12 +124,13 @@ const DepthPlane& depthPlaneOf(const Context& ctx, PolygonInfo& info) {
   if (vi.size() == 3 && !((ctx.verts[vi[0]].code | ctx.verts[vi[1]].code | ctx.verts[vi[2]].code) &
                           (kMustClip | kNonFinite))) {
     const WindowVertex* w[3] = {&ctx.verts[vi[0]].w, &ctx.verts[vi[1]].w, &ctx.verts[vi[2]].w};
-    if (!windowPlane(w, &info.depth)) info.depth = flatDepthPlane(std::min({w[0]->z, w[1]->z, w[2]->z}));
+    if (!windowPlane(w, &info.depth))
+      info.depth = flatDepthPlane(std::min({w[0]->z, w[1]->z, w[2]->z}));
     return info.depth;
   }
   // A plane (as a 4-vector) maps by the inverse transpose of the point transform.
-  const Plane world =
-      canonicalPlane(vi.size(), [&](std::size_t i) { return glm::dvec3(ctx.scene.position(vi[i])); });
+  const Plane world = canonicalPlane(
+      vi.size(), [&](std::size_t i) { return glm::dvec3(ctx.scene.position(vi[i])); });
   const glm::dvec4 device = ctx.device_plane_from_world_plane * glm::dvec4(world.normal, world.d);
   if (!depthPlaneFromDevicePlane(device.x, device.y, device.z, device.w, &info.depth)) {
     // A plane seen edge-on: the depth of its first vertex, where that is in front of the eye.
@@ -155,11 +161,11 @@ PolygonInfo describePolygon(const Context& ctx, PolygonId id, std::span<const st
   if (!(len2 > 0.0) || !std::isfinite(len2)) return info;  // zero area
   info.degenerate = false;
   info.vertices = vi;
-  info.planar = vi.size() == 3 ||
-                isPlanar(scene, vi, canonicalPlane(vi.size(), [&](std::size_t i) {
-                  return glm::dvec3(scene.position(vi[i]));
-                }));
-  info.eye_orientation = eyeOrientation(n, glm::dvec3(scene.position(vi[0])), ctx.camera, ctx.view_dir);
+  info.planar = vi.size() == 3 || isPlanar(scene, vi, canonicalPlane(vi.size(), [&](std::size_t i) {
+                                             return glm::dvec3(scene.position(vi[i]));
+                                           }));
+  info.eye_orientation =
+      eyeOrientation(n, glm::dvec3(scene.position(vi[0])), ctx.camera, ctx.view_dir);
   // Headlight Lambert, two-sided: light along the view axis, 20% ambient.
   float lambert = 1.0f;
   if (ctx.options.shade) {

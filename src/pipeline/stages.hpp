@@ -54,18 +54,18 @@ struct Context {
   const Scene& scene;
   const Camera& camera;
   const RenderOptions& options;
-  glm::mat4 mvp;                     // world -> clip, as the vertices are transformed (float)
+  glm::mat4 mvp;  // world -> clip, as the vertices are transformed (float)
   ClipSetup cs;
   Viewport vp;
-  glm::dvec3 view_dir;               // unit, eye -> target
-  glm::dmat4 device_plane_from_world_plane;  // planes: world -> device (depth planes)
-  glm::dmat4 device_from_world;      // points: world -> homogeneous device coordinates
-  glm::dmat4 eye_from_world;         // points: world -> eye
-  const std::vector<glm::vec4>& clip;            // clip-space vertex positions
-  const std::vector<VertexOut>& verts;           // per-vertex outcodes and window positions
-  const std::vector<std::uint8_t>& object_state; // ObjectState per object
-  std::vector<glm::vec3> material_rgb;           // per material: rgb clamped to [0,1], NaN 0
-  std::vector<std::uint32_t> material_alpha;     // per material: alpha byte << 24
+  glm::dvec3 view_dir;                            // unit, eye -> target
+  glm::dmat4 device_plane_from_world_plane;       // planes: world -> device (depth planes)
+  glm::dmat4 device_from_world;                   // points: world -> homogeneous device coordinates
+  glm::dmat4 eye_from_world;                      // points: world -> eye
+  const std::vector<glm::vec4>& clip;             // clip-space vertex positions
+  const std::vector<VertexOut>& verts;            // per-vertex outcodes and window positions
+  const std::vector<std::uint8_t>& object_state;  // ObjectState per object
+  std::vector<glm::vec3> material_rgb;            // per material: rgb clamped to [0,1], NaN 0
+  std::vector<std::uint32_t> material_alpha;      // per material: alpha byte << 24
 };
 
 // ---- shade: facing, colour and depth plane of a polygon
@@ -75,13 +75,13 @@ struct PolygonInfo {
   int eye_orientation = 0;  // +1 CCW seen from the eye, -1 CW, 0 edge-on
   std::uint32_t rgba = 0;
   bool transparent = false;
-  bool planar = true;       // false: each triangle gets the plane of its own vertices
+  bool planar = true;  // false: each triangle gets the plane of its own vertices
   // The vertices whose plane is the depth plane: the polygon's, or (own_triangle set) one
   // triangle of a non-planar polygon.
   std::span<const std::uint32_t> vertices;
   std::uint32_t triangle[3] = {0, 0, 0};
   bool own_triangle = false;
-  bool depth_known = false; // computed lazily: only for what is drawn
+  bool depth_known = false;  // computed lazily: only for what is drawn
   DepthPlane depth{};
 };
 // The polygon `id` with the given (absolute) vertex indices.
@@ -123,8 +123,8 @@ struct ChunkOut {
 
 // ---- project (continued): a snapped triangle through facing and culling into the output
 
-void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id,
-                 PolygonInfo& info, ChunkOut& out);
+void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id, PolygonInfo& info,
+                 ChunkOut& out);
 
 // ---- clip: one triangle of a polygon (clipped if it must be, then cullAndEmit per piece);
 // one polygon whole, for LINE/POINT mode and the window-polygon product

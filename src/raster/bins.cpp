@@ -26,7 +26,8 @@ PixelBox boxOf(const ScreenLine& l, int w, int h) {
   auto lo = [](float a, float b) { return std::floor(std::min(a, b)) - 1.0f; };
   auto hi = [](float a, float b) { return std::ceil(std::max(a, b)) + 1.0f; };
   const float x0 = std::max(lo(l.x0, l.x1), 0.0f), y0 = std::max(lo(l.y0, l.y1), 0.0f);
-  const float x1 = std::min(hi(l.x0, l.x1), float(w - 1)), y1 = std::min(hi(l.y0, l.y1), float(h - 1));
+  const float x1 = std::min(hi(l.x0, l.x1), float(w - 1)),
+              y1 = std::min(hi(l.y0, l.y1), float(h - 1));
   if (!(x0 <= x1) || !(y0 <= y1)) return {1, 1, 0, 0};
   return {int(x0), int(y0), int(x1), int(y1)};
 }

@@ -18,7 +18,7 @@ inline constexpr int kTile = 1 << kTileShift;
 // Per-tile lists of primitive indices, in submission order.
 struct Bins {
   int tiles_x = 0, tiles_y = 0;
-  std::vector<std::size_t> start;   // tiles + 1 offsets into items
+  std::vector<std::size_t> start;  // tiles + 1 offsets into items
   std::vector<std::uint32_t> items;
   std::size_t tiles() const { return static_cast<std::size_t>(tiles_x) * tiles_y; }
   std::size_t bytes() const { return start.size() * sizeof(std::size_t) + items.size() * 4; }

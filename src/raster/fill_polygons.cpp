@@ -12,8 +12,8 @@
 namespace hsr::detail {
 
 std::size_t fillPolygon(std::span<const glm::dvec2> vertices, const DepthPlane& depth, PolygonId id,
-                        std::uint32_t rgba, const FrameView& fb, DepthFunc func,
-                        bool depth_mask, FragmentCounts& counts) {
+                        std::uint32_t rgba, const FrameView& fb, DepthFunc func, bool depth_mask,
+                        FragmentCounts& counts) {
   // Snap as the pipeline does: 8 sub-pixel bits, round to nearest (for a coordinate that is a
   // float, as the pipeline's are, this is exactly its lrint(x * 256.0f)).
   constexpr double kLimit = 4194304.0;  // 2^22 pixels

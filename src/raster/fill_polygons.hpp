@@ -21,12 +21,12 @@
 
 namespace hsr::detail {
 
-// Fills one polygon (either winding; an alpha below 1 in rgba blends) in the caller's order, with the depth
-// test `func` and depth writes as `depth_mask` says. A polygon with a vertex beyond 2^22
+// Fills one polygon (either winding; an alpha below 1 in rgba blends) in the caller's order, with
+// the depth test `func` and depth writes as `depth_mask` says. A polygon with a vertex beyond 2^22
 // pixels, or of zero area on the grid, draws nothing. Returns the triangles filled.
 std::size_t fillPolygon(std::span<const glm::dvec2> vertices, const DepthPlane& depth, PolygonId id,
-                        std::uint32_t rgba, const FrameView& fb, DepthFunc func,
-                        bool depth_mask, FragmentCounts& counts);
+                        std::uint32_t rgba, const FrameView& fb, DepthFunc func, bool depth_mask,
+                        FragmentCounts& counts);
 
 // The same for any polygon type with `vertices` (glm::dvec2 or dvec3, x and y used), `depth`,
 // `id` and `rgba` members, e.g. the pipeline's WindowPolygon.

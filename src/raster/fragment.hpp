@@ -20,8 +20,12 @@ struct FrameView {
   std::uint32_t* overdraw = nullptr;
 
   explicit FrameView(Frame& f)
-      : width(f.width), height(f.height), rgba(f.color.data()), depth(f.depth.data()),
-        ids(f.ids.data()), overdraw(f.overdraw.data()) {}
+      : width(f.width),
+        height(f.height),
+        rgba(f.color.data()),
+        depth(f.depth.data()),
+        ids(f.ids.data()),
+        overdraw(f.overdraw.data()) {}
   std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width + x; }
 };
 
@@ -62,8 +66,8 @@ std::uint32_t blendOver(std::uint32_t src, std::uint32_t dst);
 
 // One fragment of triangle t at buffer index idx with depth z.
 template <DepthFunc F>
-inline void writeFragment(const ScreenTriangle& t, const FrameView& fb, std::size_t idx,
-                          float z, bool depth_mask, FragmentCounts& c) {
+inline void writeFragment(const ScreenTriangle& t, const FrameView& fb, std::size_t idx, float z,
+                          bool depth_mask, FragmentCounts& c) {
   c.tested++;
   if (!depthPasses<F>(z, fb.depth[idx])) return;
   c.written++;
@@ -82,14 +86,22 @@ inline void writeFragment(const ScreenTriangle& t, const FrameView& fb, std::siz
 template <class Fn>
 decltype(auto) withDepthFunc(DepthFunc func, Fn&& f) {
   switch (func) {
-    case DepthFunc::Never: return f.template operator()<DepthFunc::Never>();
-    case DepthFunc::Less: return f.template operator()<DepthFunc::Less>();
-    case DepthFunc::Equal: return f.template operator()<DepthFunc::Equal>();
-    case DepthFunc::LEqual: return f.template operator()<DepthFunc::LEqual>();
-    case DepthFunc::Greater: return f.template operator()<DepthFunc::Greater>();
-    case DepthFunc::NotEqual: return f.template operator()<DepthFunc::NotEqual>();
-    case DepthFunc::GEqual: return f.template operator()<DepthFunc::GEqual>();
-    case DepthFunc::Always: break;
+    case DepthFunc::Never:
+      return f.template operator()<DepthFunc::Never>();
+    case DepthFunc::Less:
+      return f.template operator()<DepthFunc::Less>();
+    case DepthFunc::Equal:
+      return f.template operator()<DepthFunc::Equal>();
+    case DepthFunc::LEqual:
+      return f.template operator()<DepthFunc::LEqual>();
+    case DepthFunc::Greater:
+      return f.template operator()<DepthFunc::Greater>();
+    case DepthFunc::NotEqual:
+      return f.template operator()<DepthFunc::NotEqual>();
+    case DepthFunc::GEqual:
+      return f.template operator()<DepthFunc::GEqual>();
+    case DepthFunc::Always:
+      break;
   }
   return f.template operator()<DepthFunc::Always>();
 }

@@ -50,7 +50,9 @@ LinePixel stepOf(const ScreenLine& l, const Walk& w, int k) {
           std::clamp(l.z0 + (l.z1 - l.z0) * t, 0.0f, 1.0f)};
 }
 
-bool inside(const PixelBox& b, int x, int y) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
+bool inside(const PixelBox& b, int x, int y) {
+  return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1;
+}
 
 }  // namespace
 

@@ -14,9 +14,9 @@ int windowOrientation(const std::int64_t x[3], const std::int64_t y_down[3]) {
   return area < 0 ? 1 : (area > 0 ? -1 : 0);
 }
 
-TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3],
-                                int orientation, int width, int height,
-                                const DepthPlane& depth, ScreenTriangle* out) {
+TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3], int orientation,
+                                int width, int height, const DepthPlane& depth,
+                                ScreenTriangle* out) {
   if (orientation == 0) return TriangleFate::kZeroArea;
   // Order the vertices so the y-down area is positive (every edge function > 0 inside):
   // counter-clockwise in y-up is negative area in y-down.
@@ -26,8 +26,10 @@ TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[
   auto ceilPixel = [](std::int64_t a) { return -((-a) >> kSubpixelBits); };
   const std::int64_t bx0 = std::max<std::int64_t>(0, ceilPixel(std::min({fx[0], fx[1], fx[2]})));
   const std::int64_t by0 = std::max<std::int64_t>(0, ceilPixel(std::min({fy[0], fy[1], fy[2]})));
-  const std::int64_t bx1 = std::min<std::int64_t>(width - 1, std::max({fx[0], fx[1], fx[2]}) >> kSubpixelBits);
-  const std::int64_t by1 = std::min<std::int64_t>(height - 1, std::max({fy[0], fy[1], fy[2]}) >> kSubpixelBits);
+  const std::int64_t bx1 =
+      std::min<std::int64_t>(width - 1, std::max({fx[0], fx[1], fx[2]}) >> kSubpixelBits);
+  const std::int64_t by1 =
+      std::min<std::int64_t>(height - 1, std::max({fy[0], fy[1], fy[2]}) >> kSubpixelBits);
   if (bx0 > bx1 || by0 > by1) return TriangleFate::kMissesPixelCentres;
   ScreenTriangle& t = *out;
   for (int k = 0; k < 3; ++k) {

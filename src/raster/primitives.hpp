@@ -30,7 +30,7 @@ struct ScreenTriangle {
   std::int16_t x0, y0, x1, y1;  // inclusive pixel bounding box, clamped to the viewport
   DepthPlane depth;             // its polygon's depth plane: THE depth (raster/depth.hpp)
   PolygonId id;
-  std::uint32_t rgba;           // shaded colour, R in the low byte, alpha in the high byte
+  std::uint32_t rgba;  // shaded colour, R in the low byte, alpha in the high byte
 
   PixelBox box() const { return {x0, y0, x1, y1}; }
   // Alpha below 1: blended over what it covers, in a second pass, without depth or id.
@@ -61,9 +61,9 @@ enum class TriangleFate {
 // above, |x|, |y| < 2^30) in a width x height viewport, with the given depth plane.
 // `orientation` is windowOrientation() of the vertices as given (+1 counter-clockwise in
 // GL's y-up window, -1 clockwise); the vertices are reordered to positive y-down area.
-TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3],
-                                int orientation, int width, int height,
-                                const DepthPlane& depth, ScreenTriangle* out);
+TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3], int orientation,
+                                int width, int height, const DepthPlane& depth,
+                                ScreenTriangle* out);
 
 // OpenGL's facing rule: the sign of a snapped triangle's area in window coordinates (y up).
 // +1 counter-clockwise, -1 clockwise, 0 zero area.

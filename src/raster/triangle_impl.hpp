@@ -25,8 +25,8 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameVi
       std::int64_t e2 = s.edge[2].row + s.edge[2].step_x * x0;
       const double row = depthRowStart(t.depth, y);
       std::size_t idx = fb.index(x0, y);
-      for (int x = x0; x <= x1; ++x, ++idx, e0 += s.edge[0].step_x, e1 += s.edge[1].step_x,
-               e2 += s.edge[2].step_x) {
+      for (int x = x0; x <= x1;
+           ++x, ++idx, e0 += s.edge[0].step_x, e1 += s.edge[1].step_x, e2 += s.edge[2].step_x) {
         if ((e0 | e1 | e2) < 0) continue;  // outside some edge (sign bit set)
         writeFragment<F>(t, fb, idx, depthInRow(row, t.depth, x), depth_mask, c);
       }

@@ -39,8 +39,7 @@ constexpr std::string_view kStepDone = "done";
 // whose centres lie inside it (the shared exact edge setup and fill rule, raster/edge.hpp);
 // along the span, compare each pixel's depth with the z-buffer.
 template <DepthFunc F>
-void scanConvert(const ScreenTriangle& t, const FrameView& fb, bool depth_mask,
-                 FragmentCounts& c) {
+void scanConvert(const ScreenTriangle& t, const FrameView& fb, bool depth_mask, FragmentCounts& c) {
   TriangleSetup edges = setupTriangle(t, t.y0);
   for (int y = t.y0; y <= t.y1; ++y, nextRow(edges)) {
     int x_left = t.x0, x_right = t.x1;
@@ -98,7 +97,8 @@ void drawPolygons(const AlgorithmInput& in, Frame& frame) {
                       "Initialise: every depth in the z-buffer to the maximum (1.0, the far "
                       "plane), every pixel to the background colour. " +
                           std::to_string(polygons) + " polygons to draw, in any order.",
-                      &frame, {}});
+                      &frame,
+                      {}});
 
   // For all polygons P, in the order they were submitted (the pipeline has cut each polygon
   // into triangles snapped to the sub-pixel grid; they share the polygon's plane). Opaque
@@ -115,15 +115,17 @@ void drawPolygons(const AlgorithmInput& in, Frame& frame) {
         if (in.trace && in.trace->wants(kStepDrawPolygon, drawn, polygons)) {
           const std::uint64_t tested = counts.tested - before.tested;
           const std::uint64_t written = counts.written - before.written;
-          in.trace->record(
-              {kStepDrawPolygon,
-               "Polygon " + std::to_string(drawn + 1) + " of " + std::to_string(polygons) +
-                   " (id " + std::to_string(tris[first].id) + "): of the " +
-                   std::to_string(tested) + " pixels of its projection, " +
-                   std::to_string(written) + " were nearer than the z-buffer: colour and depth "
-                   "written; at " + std::to_string(tested - written) +
-                   " something nearer was already drawn: skipped.",
-               &frame, outlinesOf(&tris[first], &tris[last - 1] + 1)});
+          in.trace->record({kStepDrawPolygon,
+                            "Polygon " + std::to_string(drawn + 1) + " of " +
+                                std::to_string(polygons) + " (id " +
+                                std::to_string(tris[first].id) + "): of the " +
+                                std::to_string(tested) + " pixels of its projection, " +
+                                std::to_string(written) +
+                                " were nearer than the z-buffer: colour and depth "
+                                "written; at " +
+                                std::to_string(tested - written) +
+                                " something nearer was already drawn: skipped.",
+                            &frame, outlinesOf(&tris[first], &tris[last - 1] + 1)});
         }
         ++drawn;
       }
@@ -136,16 +138,20 @@ void drawPolygons(const AlgorithmInput& in, Frame& frame) {
   const PixelBox viewport{0, 0, frame.width - 1, frame.height - 1};
   const DepthFunc func = effectiveDepthFunc(in.options);
   for (const ScreenLine& l : in.prepared.lines) drawLine(l, viewport, fb, func, depth_mask, counts);
-  for (const ScreenLine& p : in.prepared.points) drawLine(p, viewport, fb, func, depth_mask, counts);
+  for (const ScreenLine& p : in.prepared.points)
+    drawLine(p, viewport, fb, func, depth_mask, counts);
   for (const ScreenLine& o : in.prepared.outline) drawOutlinePen(o, viewport, fb);
 
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
                       "Done: every pixel shows the nearest polygon at its centre, whatever the "
-                      "drawing order. " + std::to_string(counts.written) + " of the " +
-                          std::to_string(counts.tested) + " pixels scan-converted passed the "
+                      "drawing order. " +
+                          std::to_string(counts.written) + " of the " +
+                          std::to_string(counts.tested) +
+                          " pixels scan-converted passed the "
                           "depth test (some were overwritten later by nearer ones).",
-                      &frame, {}});
+                      &frame,
+                      {}});
   frame.stats.fragments_tested += counts.tested;
   frame.stats.fragments_written += counts.written;
   frame.stats.state_bytes += frameBufferBytes(frame) + tris.capacity() * sizeof(ScreenTriangle);
@@ -157,10 +163,10 @@ void drawZBufferTextbook(const AlgorithmInput& in, Frame& frame) {
   const auto t0 = std::chrono::steady_clock::now();
   // glDepthFunc (LESS by default: "if the depth is smaller, overwrite"); with the depth test
   // disabled every fragment passes.
-  withDepthFunc(effectiveDepthFunc(in.options),
-                [&]<DepthFunc F>() { drawPolygons<F>(in, frame); });
-  frame.stats.addStage("scan convert", std::chrono::duration<double, std::milli>(
-                                           std::chrono::steady_clock::now() - t0).count());
+  withDepthFunc(effectiveDepthFunc(in.options), [&]<DepthFunc F>() { drawPolygons<F>(in, frame); });
+  frame.stats.addStage(
+      "scan convert",
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 }
 
 }  // namespace hsr::detail

@@ -63,8 +63,10 @@ FragmentCounts fillTile(const TileJob& job, std::size_t tile) {
   bool any_transparent = false;
   forEachInTile(job.bins.tri_bins, tile, [&](std::uint32_t i) {
     const ScreenTriangle& t = ps.triangles[i];
-    if (t.transparent()) any_transparent = true;
-    else rasterTriangle<F>(t, box, job.fb, job.depth_mask, job.span, c);
+    if (t.transparent())
+      any_transparent = true;
+    else
+      rasterTriangle<F>(t, box, job.fb, job.depth_mask, job.span, c);
   });
   if (any_transparent) {
     forEachInTile(job.bins.tri_bins, tile, [&](std::uint32_t i) {
@@ -140,14 +142,15 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
     for (std::size_t t = 0; t < tiles; ++t) {
       z.per_tile[t] = fill(job, t);
       if (in.trace->wants(kStepFillTile, t, tiles))
-        in.trace->record({kStepFillTile,
-                          "Tile " + std::to_string(t + 1) + " of " + std::to_string(tiles) +
-                              ": its " + std::to_string(z.tri_bins.start[t + 1] - z.tri_bins.start[t]) +
-                              " triangles scan-converted against its part of the z-buffer; " +
-                              std::to_string(z.per_tile[t].written) + " of " +
-                              std::to_string(z.per_tile[t].tested) +
-                              " pixels passed the depth test.",
-                          &frame, {boxOutline(z.tri_bins.tileBox(t, w, h))}});
+        in.trace->record(
+            {kStepFillTile,
+             "Tile " + std::to_string(t + 1) + " of " + std::to_string(tiles) + ": its " +
+                 std::to_string(z.tri_bins.start[t + 1] - z.tri_bins.start[t]) +
+                 " triangles scan-converted against its part of the z-buffer; " +
+                 std::to_string(z.per_tile[t].written) + " of " +
+                 std::to_string(z.per_tile[t].tested) + " pixels passed the depth test.",
+             &frame,
+             {boxOutline(z.tri_bins.tileBox(t, w, h))}});
     }
   }
   FragmentCounts total;
@@ -159,7 +162,8 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
     in.trace->record({kStepDone,
                       "Done: the same picture, depths and ids as drawing polygon by polygon on "
                       "one core (zbuffer-textbook), bit for bit.",
-                      &frame, {}});
+                      &frame,
+                      {}});
 
   frame.stats.state_bytes += frameBufferBytes(frame) + z.tri_bins.bytes() + z.line_bins.bytes() +
                              z.point_bins.bytes() + z.outline_bins.bytes() +

@@ -401,10 +401,30 @@ TEST(ZBufferMesaAgreement, EdgesThroughPixelCentresOwnTheirCentresAsMesaDoes) {
     int row_8, column_8;  // pixels Mesa draws there (the expected figures)
   };
   const Case cases[] = {
-      {"inside above a horizontal edge", {2.25f, 8.5f, 0}, {12.75f, 8.5f, 0}, {7.0f, 14.3f, 0}, 11, 5},
-      {"inside below a horizontal edge", {2.25f, 8.5f, 0}, {7.0f, 2.3f, 0}, {12.75f, 8.5f, 0}, 0, 4},
-      {"inside right of a vertical edge", {8.5f, 2.25f, 0}, {14.3f, 7.0f, 0}, {8.5f, 12.75f, 0}, 5, 11},
-      {"inside left of a vertical edge", {8.5f, 2.25f, 0}, {8.5f, 12.75f, 0}, {2.7f, 7.0f, 0}, 4, 0},
+      {"inside above a horizontal edge",
+       {2.25f, 8.5f, 0},
+       {12.75f, 8.5f, 0},
+       {7.0f, 14.3f, 0},
+       11,
+       5},
+      {"inside below a horizontal edge",
+       {2.25f, 8.5f, 0},
+       {7.0f, 2.3f, 0},
+       {12.75f, 8.5f, 0},
+       0,
+       4},
+      {"inside right of a vertical edge",
+       {8.5f, 2.25f, 0},
+       {14.3f, 7.0f, 0},
+       {8.5f, 12.75f, 0},
+       5,
+       11},
+      {"inside left of a vertical edge",
+       {8.5f, 2.25f, 0},
+       {8.5f, 12.75f, 0},
+       {2.7f, 7.0f, 0},
+       4,
+       0},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
@@ -476,7 +496,8 @@ TEST(ZBufferMesaAgreement, NearPlaneTraceAlongAPixelRowMatchesMesa) {
     cam.far = 5.0f;
     const int row = 121 + static_cast<int>(rng.next() % 110);  // image row of the trace
     const float y_ndc = 1.0f - 2.0f * (static_cast<float>(row) + 0.5f) / 240.0f;
-    cam.eye = glm::vec3(rng.uniform(-0.8f, 0.8f), -1.0f - y_ndc * cam.near, rng.uniform(-0.8f, 0.8f));
+    cam.eye =
+        glm::vec3(rng.uniform(-0.8f, 0.8f), -1.0f - y_ndc * cam.near, rng.uniform(-0.8f, 0.8f));
     const float yaw = rng.uniform(0.0f, 6.2831853f);
     cam.target = cam.eye + glm::vec3(std::cos(yaw), 0.0f, std::sin(yaw));
     const Frame ours = render(room, cam, o);

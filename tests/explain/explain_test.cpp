@@ -26,7 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hsr_explain_" + name + "_" + std::to_string(::getpid()));
+  const fs::path d =
+      fs::temp_directory_path() / ("hsr_explain_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   return d;
 }

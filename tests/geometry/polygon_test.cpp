@@ -24,7 +24,9 @@ double area(const std::vector<glm::dvec3>& v) {
   return 0.5 * glm::length(detail::newellNormal(v.size(), [&](std::size_t i) { return v[i]; }));
 }
 
-bool sameBits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+bool sameBits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
 
 // The same polygon listed from any vertex, in either direction, gives the same bits: what
 // makes identical polygons tie exactly in the depth test.
@@ -32,12 +34,14 @@ TEST(PolygonPlane, CanonicalPlaneIsTheSameBitsForEveryRotationAndReversal) {
   testing::Rng rng(0x91A7E);
   for (int c = 0; c < 500; ++c) {
     std::vector<glm::dvec3> v;
-    const glm::dvec3 n = glm::normalize(glm::dvec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1) + 2));
+    const glm::dvec3 n =
+        glm::normalize(glm::dvec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1) + 2));
     const glm::dvec3 u = glm::normalize(glm::cross(n, glm::dvec3(1, 0, 0))), w = glm::cross(n, u);
     const int count = 3 + static_cast<int>(rng.next() % 6);
     for (int k = 0; k < count; ++k) {
       const double a = 6.2831853 * k / count;
-      v.push_back(glm::dvec3(glm::vec3(glm::dvec3(3, 1, -2) + std::cos(a) * u * 2.0 + std::sin(a) * w * 2.0)));
+      v.push_back(glm::dvec3(
+          glm::vec3(glm::dvec3(3, 1, -2) + std::cos(a) * u * 2.0 + std::sin(a) * w * 2.0)));
     }
     const Plane ref = planeOf(v);
     for (int r = 0; r < count; ++r) {
@@ -84,7 +88,8 @@ TEST(PolygonSplit, PiecesKeepTheIdSumToTheAreaAndLieOnTheirSides) {
     EXPECT_EQ(front.id, p.id);
     EXPECT_EQ(behind.id, p.id);
     EXPECT_EQ(behind.rgba, p.rgba);
-    EXPECT_NEAR(area(front.vertices) + area(behind.vertices), area(p.vertices), 1e-9 * area(p.vertices));
+    EXPECT_NEAR(area(front.vertices) + area(behind.vertices), area(p.vertices),
+                1e-9 * area(p.vertices));
     for (const glm::dvec3& v : front.vertices) EXPECT_GE(cut.distance(v), -kEps);
     for (const glm::dvec3& v : behind.vertices) EXPECT_LE(cut.distance(v), kEps);
     if (side == PlaneSide::kFront) EXPECT_TRUE(behind.vertices.empty());
@@ -106,8 +111,7 @@ TEST(PolygonSplit, SharedEdgeGetsOneCrossingPointFromEitherSide) {
   detail::splitVertices(std::vector<glm::dvec3>{b, a, d}, cut, 1e-12, &f2, &b2);
   int shared = 0;
   for (const glm::dvec3& p : f1)
-    for (const glm::dvec3& q : f2)
-      shared += p == q && p != a && p != b;
+    for (const glm::dvec3& q : f2) shared += p == q && p != a && p != b;
   EXPECT_EQ(shared, 1);
 }
 
@@ -116,12 +120,14 @@ TEST(Clip2d, HalfPlaneClipsAreaExactlyOnAGrid) {
   detail::clipToHalfPlane(square, 1, 0, -1);  // x >= 1
   double a = 0;
   for (std::size_t i = 0; i < square.size(); ++i)
-    a += square[i].x * square[(i + 1) % square.size()].y - square[(i + 1) % square.size()].x * square[i].y;
+    a += square[i].x * square[(i + 1) % square.size()].y -
+         square[(i + 1) % square.size()].x * square[i].y;
   EXPECT_EQ(a / 2, 12.0);
   detail::clipToHalfPlane(square, -1, -1, 3);  // x + y <= 3
   a = 0;
   for (std::size_t i = 0; i < square.size(); ++i)
-    a += square[i].x * square[(i + 1) % square.size()].y - square[(i + 1) % square.size()].x * square[i].y;
+    a += square[i].x * square[(i + 1) % square.size()].y -
+         square[(i + 1) % square.size()].x * square[i].y;
   EXPECT_EQ(a / 2, 2.0);
   detail::clipToHalfPlane(square, 1, 0, -10);  // x >= 10: nothing left
   EXPECT_TRUE(square.empty());

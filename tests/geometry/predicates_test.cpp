@@ -19,7 +19,8 @@ using detail::orient2d;
 // below 2^(62 - shift): scaled to integers, the determinant fits in __int128.
 int exactOrient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, int shift) {
   auto q = [&](double v) { return static_cast<__int128>(std::ldexp(v, shift)); };
-  const __int128 det = (q(b.x) - q(a.x)) * (q(c.y) - q(a.y)) - (q(b.y) - q(a.y)) * (q(c.x) - q(a.x));
+  const __int128 det =
+      (q(b.x) - q(a.x)) * (q(c.y) - q(a.y)) - (q(b.y) - q(a.y)) * (q(c.x) - q(a.x));
   return det > 0 ? 1 : (det < 0 ? -1 : 0);
 }
 
@@ -37,7 +38,8 @@ TEST(Predicates, Orient2dIsExactOnUlpGridsOfNearlyCollinearPoints) {
   };
   const Config configs[] = {
       {{0.5, 0.5}, {12.0, 12.0}, {24.0, 24.0}},
-      {{0.50000000000002531, 0.5000000000000171}, {17.300000000000001, 17.300000000000001},
+      {{0.50000000000002531, 0.5000000000000171},
+       {17.300000000000001, 17.300000000000001},
        {24.00000000000005, 24.0000000000000053}},
       {{0.5, 0.5}, {8.8000000000000007, 8.8000000000000007}, {12.1, 12.1}},
   };
@@ -50,8 +52,8 @@ TEST(Predicates, Orient2dIsExactOnUlpGridsOfNearlyCollinearPoints) {
         for (int k = 0; k < j; ++k) p.y = std::nextafter(p.y, 1.0);
         // Every coordinate here is a multiple of 2^-53 and below 32.
         const int exact = exactOrient(p, c.q, c.r, 53);
-        ASSERT_EQ(orient2d(p, c.q, c.r), exact) << "config p=(" << c.p.x << "," << c.p.y
-                                                << ") + (" << i << "," << j << ") ulp";
+        ASSERT_EQ(orient2d(p, c.q, c.r), exact)
+            << "config p=(" << c.p.x << "," << c.p.y << ") + (" << i << "," << j << ") ulp";
         // The same triple in the other orders: the sign follows the permutation.
         ASSERT_EQ(orient2d(c.q, c.r, p), exact);
         ASSERT_EQ(orient2d(c.r, p, c.q), exact);
@@ -61,11 +63,12 @@ TEST(Predicates, Orient2dIsExactOnUlpGridsOfNearlyCollinearPoints) {
         calls += 4;
       }
   }
-  testing::printFigures("row 10 orient2d: 3 configurations x 256 x 256 ULP offsets, " +
-                        testing::grouped(calls) + " calls, 100% equal to the exact sign (" +
-                        testing::grouped(zero / 1) + " exactly collinear); plain double "
-                        "evaluation got " + testing::grouped(naive_wrong) + " of " +
-                        testing::grouped(calls / 4) + " wrong");
+  testing::printFigures(
+      "row 10 orient2d: 3 configurations x 256 x 256 ULP offsets, " + testing::grouped(calls) +
+      " calls, 100% equal to the exact sign (" + testing::grouped(zero / 1) +
+      " exactly collinear); plain double "
+      "evaluation got " +
+      testing::grouped(naive_wrong) + " of " + testing::grouped(calls / 4) + " wrong");
   EXPECT_GT(naive_wrong, 0u) << "the grids should defeat plain double evaluation";
 }
 

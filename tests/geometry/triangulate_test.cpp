@@ -33,14 +33,15 @@ double triangleArea2(std::span<const glm::dvec2> p, const Tri& t) {
 
 bool inside(std::span<const glm::dvec2> p, const Tri& t, const glm::dvec2& q) {
   const int o = detail::orient2d(p[t[0]], p[t[1]], p[t[2]]);
-  return detail::orient2d(p[t[0]], p[t[1]], q) * o > 0 && detail::orient2d(p[t[1]], p[t[2]], q) * o > 0 &&
+  return detail::orient2d(p[t[0]], p[t[1]], q) * o > 0 &&
+         detail::orient2d(p[t[1]], p[t[2]], q) * o > 0 &&
          detail::orient2d(p[t[2]], p[t[0]], q) * o > 0;
 }
 
 // A square ring: the outer square counter-clockwise, a zero-width bridge to the inner
 // square, around it clockwise, and back along the bridge (its two vertices appear twice).
 std::vector<glm::dvec2> squareKeyhole() {
-  return {{0, 0}, {10, 0}, {10, 10}, {5, 10}, {5, 7}, {7, 7},
+  return {{0, 0}, {10, 0}, {10, 10}, {5, 10}, {5, 7},  {7, 7},
           {7, 3}, {3, 3},  {3, 7},   {5, 7},  {5, 10}, {0, 10}};
 }
 
@@ -80,7 +81,8 @@ TEST(Triangulate, KeyholeModelsFromAssimpTestModelsAreRingsNotDiscs) {
     for (const detail::Triangle& t : tris) {
       Tri local{};
       for (int k = 0; k < 3; ++k)
-        local[k] = static_cast<std::uint32_t>(std::find(poly.begin(), poly.end(), t.v[k]) - poly.begin());
+        local[k] =
+            static_cast<std::uint32_t>(std::find(poly.begin(), poly.end(), t.v[k]) - poly.begin());
       sum += std::abs(triangleArea2(p, local));
       EXPECT_FALSE(inside(p, local, centre)) << "a triangle fills the hole";
     }

@@ -38,12 +38,13 @@ TEST(Accounting, SpheresMillionAt1080pAddsUp) {
   expectBalanced(s, "spheres:1000000");
   EXPECT_EQ(s.triangles_in, 984960u);
   EXPECT_GT(s.zero_area + s.missed_pixel_centres, 0u);
-  testing::printFigures("accounting spheres:1000000 1920x1080: " + testing::grouped(s.triangles_in) +
-                        " in = " + testing::grouped(s.triangles_rasterized) + " rasterized + " +
-                        testing::grouped(s.zero_area) + " zero area + " +
-                        testing::grouped(s.missed_pixel_centres) + " between pixel centres + " +
-                        testing::grouped(s.culled_frustum + s.clipped_away + s.culled_backface +
-                                         s.degenerate_dropped) + " culled, clipped or degenerate");
+  testing::printFigures(
+      "accounting spheres:1000000 1920x1080: " + testing::grouped(s.triangles_in) + " in = " +
+      testing::grouped(s.triangles_rasterized) + " rasterized + " + testing::grouped(s.zero_area) +
+      " zero area + " + testing::grouped(s.missed_pixel_centres) + " between pixel centres + " +
+      testing::grouped(s.culled_frustum + s.clipped_away + s.culled_backface +
+                       s.degenerate_dropped) +
+      " culled, clipped or degenerate");
 }
 
 // Random scenes through every mode; half of them seen from inside (near-plane clipping, parts
@@ -56,9 +57,9 @@ TEST(Accounting, EveryModeAndCameraAddsUp) {
     Scene scene = testing::agreementScene(seed);
     const std::uint32_t m = scene.addMaterial({});
     scene.beginObject("extras");
-    scene.addPolygonVertices({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, m);                 // collinear
-    scene.addPolygonVertices({{0, 0, 0}, {1, 0, 0}, {1, 1, 0.4f}, {0, 1, 0}}, m);   // non-planar
-    scene.addPolygonVertices({{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, m);      // repeated
+    scene.addPolygonVertices({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, m);                // collinear
+    scene.addPolygonVertices({{0, 0, 0}, {1, 0, 0}, {1, 1, 0.4f}, {0, 1, 0}}, m);  // non-planar
+    scene.addPolygonVertices({{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, m);     // repeated
     scene.beginObject("far away");
     scene.addPolygonVertices({{500, 0, 0}, {501, 0, 0}, {500, 1, 0}}, m);
     Camera cam = testing::agreementCamera(seed, 160, 120);
@@ -87,8 +88,8 @@ TEST(Accounting, EveryModeAndCameraAddsUp) {
   EXPECT_GT(added, 0u) << "some clipped triangle should have become two or more";
   testing::printFigures("accounting: " + testing::grouped(checked) +
                         " renders (random scenes, inside and outside, 3 polygon modes x 3 cull "
-                        "modes x every algorithm), every one adds up; " + testing::grouped(added) +
-                        " triangles made by clipping");
+                        "modes x every algorithm), every one adds up; " +
+                        testing::grouped(added) + " triangles made by clipping");
 }
 
 }  // namespace

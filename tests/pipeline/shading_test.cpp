@@ -44,17 +44,19 @@ void expectCoplanarPolygonsShareAColour(const Scene& scene, const Frame& f, int*
   for (auto i = colour.begin(); i != colour.end(); ++i)
     for (auto j = std::next(i); j != colour.end(); ++j) {
       const glm::dvec4 a = planeOf(scene, i->first), b = planeOf(scene, j->first);
-      if (glm::dot(glm::dvec3(a), glm::dvec3(b)) < 1.0 - 1e-9 || std::abs(a.w - b.w) > 1e-6) continue;
+      if (glm::dot(glm::dvec3(a), glm::dvec3(b)) < 1.0 - 1e-9 || std::abs(a.w - b.w) > 1e-6)
+        continue;
       ++*pairs;
-      EXPECT_EQ(i->second, j->second) << "coplanar polygons " << i->first << " and " << j->first
-                                      << " differ in colour: a seam";
+      EXPECT_EQ(i->second, j->second)
+          << "coplanar polygons " << i->first << " and " << j->first << " differ in colour: a seam";
     }
 }
 
 TEST(Shading, SquareFacesOfBoxModelsShowNoSeam) {
   int pairs = 0;
-  for (const char* model : {"glTF2/BoxTextured-glTF/BoxTextured.gltf", "Collada/cube_triangulate.dae",
-                            "3DS/cube_with_specular_texture.3DS", "OFF/Cube.off"}) {
+  for (const char* model :
+       {"glTF2/BoxTextured-glTF/BoxTextured.gltf", "Collada/cube_triangulate.dae",
+        "3DS/cube_with_specular_texture.3DS", "OFF/Cube.off"}) {
     SCOPED_TRACE(model);
     const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
     const Camera cam = frameScene(scene, 240, 240);
@@ -83,11 +85,11 @@ TEST(Shading, ClippedAndUnclippedTrianglesShadeTheSame) {
   testing::Rng rng(0x5ADE);
   Scene s;
   for (int i = 0; i < 1000; ++i) {
-    const std::uint32_t m =
-        s.addMaterial({{rng.uniform(), rng.uniform(), rng.uniform()}, 1.0f});
+    const std::uint32_t m = s.addMaterial({{rng.uniform(), rng.uniform(), rng.uniform()}, 1.0f});
     // Triangles around the view axis from z = -0.5 to z = -3 (the eye at the origin looks
     // down -z), each tilted at random, spread over a 40 x 25 grid.
-    const float x = -2.0f + 0.1f * static_cast<float>(i % 40), y = -1.2f + 0.1f * static_cast<float>(i / 40);
+    const float x = -2.0f + 0.1f * static_cast<float>(i % 40),
+                y = -1.2f + 0.1f * static_cast<float>(i / 40);
     const glm::vec3 base(x * 1.5f, y * 1.5f, -1.75f);
     const glm::vec3 d1(0.12f, rng.uniform(-0.05f, 0.05f), rng.uniform(-1.2f, 1.2f));
     const glm::vec3 d2(rng.uniform(-0.05f, 0.05f), 0.12f, rng.uniform(-1.2f, 1.2f));

@@ -60,8 +60,8 @@ TEST(FillPolygons, WindowPolygonsFilledInOrderAreTheZBufferFrame) {
     RenderOptions o;
     o.cull = i % 3 == 0 ? CullMode::Back : CullMode::None;
     const Diff d = compare(render(scene, camera, o), fillWindowPolygons(scene, camera, o));
-    EXPECT_EQ(d.ids + d.depth + d.colour, 0u) << "scene " << seed << ": " << d.ids << " ids, "
-                                              << d.depth << " depths differ";
+    EXPECT_EQ(d.ids + d.depth + d.colour, 0u)
+        << "scene " << seed << ": " << d.ids << " ids, " << d.depth << " depths differ";
     total.pixels += d.pixels;
     total.ids += d.ids;
     total.depth += d.depth;
@@ -73,9 +73,9 @@ TEST(FillPolygons, WindowPolygonsFilledInOrderAreTheZBufferFrame) {
     EXPECT_EQ(d.ids + d.depth + d.colour, 0u) << spec;
     total.pixels += d.pixels;
   }
-  testing::printFigures("window polygons filled whole vs the z-buffer: " + testing::grouped(total.pixels) +
-                        " pixels, " + testing::grouped(total.ids) + " ids and " +
-                        testing::grouped(total.depth) + " depths differ");
+  testing::printFigures("window polygons filled whole vs the z-buffer: " +
+                        testing::grouped(total.pixels) + " pixels, " + testing::grouped(total.ids) +
+                        " ids and " + testing::grouped(total.depth) + " depths differ");
 }
 
 // Seen from inside (the near plane cuts many polygons), a polygon clipped whole and one cut
@@ -96,7 +96,8 @@ TEST(FillPolygons, NearPlaneClippedPolygonsDifferOnlyAlongTheirClipEdges) {
       ++pixels;
       ids += z.ids[k] != f.ids[k];
       if (z.ids[k] == f.ids[k])
-        depth_where_same_id += std::bit_cast<std::uint32_t>(z.depth[k]) != std::bit_cast<std::uint32_t>(f.depth[k]);
+        depth_where_same_id +=
+            std::bit_cast<std::uint32_t>(z.depth[k]) != std::bit_cast<std::uint32_t>(f.depth[k]);
     }
   }
   EXPECT_GT(clipped, 100u) << "the near plane should cut many triangles";

@@ -27,7 +27,8 @@ TEST(Registry, EntriesAreWellFormedAndExactlyOneIsTheReference) {
     EXPECT_TRUE(names.insert(a.name).second) << "duplicate name " << a.name;
     EXPECT_FALSE(a.summary.empty()) << a.name;
     EXPECT_FALSE(a.source.empty()) << a.name;
-    for (char c : a.name) EXPECT_TRUE(std::islower(static_cast<unsigned char>(c)) || c == '-') << a.name;
+    for (char c : a.name)
+      EXPECT_TRUE(std::islower(static_cast<unsigned char>(c)) || c == '-') << a.name;
     references += a.reference;
     EXPECT_EQ(&findAlgorithm(a.name), &a);
   }

@@ -35,7 +35,7 @@ Scene twoSquares(bool near_first) {
     s.addPolygonVertices({{x, y, z}, {x + 20, y, z}, {x + 20, y + 20, z}, {x, y + 20, z}}, m);
   };
   if (near_first) {
-    square(4, 4, 2.0f, red);    // id 0: near
+    square(4, 4, 2.0f, red);      // id 0: near
     square(14, 14, -2.0f, blue);  // id 1: far
   } else {
     square(14, 14, -2.0f, blue);  // id 0: far
@@ -120,7 +120,8 @@ TEST(ZBuffer, IncrementalDepthMatchesThePlane) {
 
 TEST(ZBuffer, LineModeDrawsOnlyEdges) {
   Scene s;
-  s.addPolygonVertices({{8.5f, 8.5f, 0}, {56.5f, 8.5f, 0}, {56.5f, 56.5f, 0}, {8.5f, 56.5f, 0}}, s.addMaterial({}));
+  s.addPolygonVertices({{8.5f, 8.5f, 0}, {56.5f, 8.5f, 0}, {56.5f, 56.5f, 0}, {8.5f, 56.5f, 0}},
+                       s.addMaterial({}));
   const Camera cam = pixelCamera(64, 64);
   RenderOptions o;
   o.polygon_mode = PolygonMode::Line;
@@ -146,7 +147,7 @@ TEST(ZBuffer, OutlineDarkensSilhouetteOnly) {
   auto red = [&](int x, int y) {
     return hsr::testing::channel(f, static_cast<std::size_t>(63 - y) * 64 + x, 0);
   };
-  EXPECT_EQ(red(32, 8), 0);    // border edge of an open surface is a silhouette
+  EXPECT_EQ(red(32, 8), 0);     // border edge of an open surface is a silhouette
   EXPECT_GT(red(32, 32), 100);  // interior keeps its shade
 }
 
@@ -157,7 +158,8 @@ TEST(ZBuffer, BitIdenticalAtAnyThreadCount) {
   for (int i = 0; i < 3000; ++i) {
     const glm::vec3 c(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3));
     s.addPolygonVertices({c, c + glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), 0.3f),
-                          c + glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), -0.3f)}, m);
+                          c + glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), -0.3f)},
+                         m);
   }
   const Camera cam = frameBounds(s.bounds(), 333, 257);
   RenderOptions o;
@@ -188,13 +190,13 @@ TEST(ZBuffer, TransparentPolygonBlendsWithoutHidingWhatIsBehind) {
   Scene s;
   const std::uint32_t opaque = s.addMaterial({{1, 0, 0}, 1});
   const std::uint32_t glass = s.addMaterial({{0, 0, 1}, 0.5f});
-  s.addPolygonVertices({{4, 4, 3}, {40, 4, 3}, {40, 40, 3}, {4, 40, 3}}, glass);  // near, first
+  s.addPolygonVertices({{4, 4, 3}, {40, 4, 3}, {40, 40, 3}, {4, 40, 3}}, glass);   // near, first
   s.addPolygonVertices({{4, 4, 0}, {40, 4, 0}, {40, 40, 0}, {4, 40, 0}}, opaque);  // behind
   RenderOptions o;
   o.shade = false;
   const Frame f = render(s, pixelCamera(48, 48), o);
   const std::size_t k = static_cast<std::size_t>(47 - 20) * 48 + 20;
-  EXPECT_EQ(f.ids[k], 1u);  // the opaque polygon is the visible surface
+  EXPECT_EQ(f.ids[k], 1u);                         // the opaque polygon is the visible surface
   EXPECT_NEAR(testing::channel(f, k, 0), 128, 1);  // half red ...
   EXPECT_NEAR(testing::channel(f, k, 2), 128, 1);  // ... half blue
 }
@@ -274,10 +276,12 @@ TEST(ZBufferTiled, EqualsTheTextbookBitForBitOnTheAgreementScenes) {
     const std::uint64_t seed = 1 + static_cast<std::uint64_t>(i);
     const Scene scene = testing::agreementScene(seed);
     const Camera camera = testing::agreementCamera(seed);
-    expectTiledEqualsTextbook(scene, camera, variants[0], "agreement scene " + std::to_string(seed), t);
+    expectTiledEqualsTextbook(scene, camera, variants[0], "agreement scene " + std::to_string(seed),
+                              t);
     expectTiledEqualsTextbook(scene, camera, variants[1 + seed % (variants.size() - 1)],
                               "agreement scene " + std::to_string(seed) + " variant " +
-                                  std::to_string(1 + seed % (variants.size() - 1)), t);
+                                  std::to_string(1 + seed % (variants.size() - 1)),
+                              t);
   }
   testing::printFigures("two z-buffers, agreement scenes: " + testing::grouped(t.renders) +
                         " tiled renders (" + testing::grouped(t.scenes) +
@@ -296,13 +300,16 @@ TEST(ZBufferTiled, EqualsTheTextbookBitForBitOnBuiltinScenesAndRealModels) {
     std::string scene;
     int w, h;
   };
-  const Spec specs[] = {{"demo", 800, 600},        {"soup:3000:7", 640, 480},
-                        {"cyclic", 317, 211},      {"penetrating", 256, 256},
+  const Spec specs[] = {{"demo", 800, 600},
+                        {"soup:3000:7", 640, 480},
+                        {"cyclic", 317, 211},
+                        {"penetrating", 256, 256},
                         {"spheres:20000", 640, 480}};
   for (const Spec& sp : specs) {
     const Scene scene = loadScene(sp.scene);
     const Camera camera = frameScene(scene, sp.w, sp.h);
-    for (const RenderOptions& o : variants) expectTiledEqualsTextbook(scene, camera, o, sp.scene, t);
+    for (const RenderOptions& o : variants)
+      expectTiledEqualsTextbook(scene, camera, o, sp.scene, t);
   }
   for (const char* model : {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl",
                             "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"}) {
@@ -311,10 +318,10 @@ TEST(ZBufferTiled, EqualsTheTextbookBitForBitOnBuiltinScenesAndRealModels) {
     for (const RenderOptions& o : {variants[0], variants[1], variants[5]})
       expectTiledEqualsTextbook(scene, camera, o, model, t);
   }
-  testing::printFigures("two z-buffers, built-in scenes and 4 real models: " +
-                        testing::grouped(t.renders) + " tiled renders, " +
-                        testing::grouped(t.pixels) + " pixels, " + testing::grouped(t.differ) +
-                        " differ from the textbook");
+  testing::printFigures(
+      "two z-buffers, built-in scenes and 4 real models: " + testing::grouped(t.renders) +
+      " tiled renders, " + testing::grouped(t.pixels) + " pixels, " + testing::grouped(t.differ) +
+      " differ from the textbook");
 }
 
 // THE definition of a fragment's depth: every stored depth is the plane of a triangle of the

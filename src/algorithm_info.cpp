@@ -47,20 +47,28 @@ std::string_view toString(Precision p) { return p == Precision::kImage ? "image"
 
 std::string_view toString(InputKind k) {
   switch (k) {
-    case InputKind::kScreenTriangles: return "screen triangles";
-    case InputKind::kWindowPolygons: return "window polygons";
-    case InputKind::kWorldPolygons: return "world polygons";
-    case InputKind::kMap2D: return "2D map";
+    case InputKind::kScreenTriangles:
+      return "screen triangles";
+    case InputKind::kWindowPolygons:
+      return "window polygons";
+    case InputKind::kWorldPolygons:
+      return "world polygons";
+    case InputKind::kMap2D:
+      return "2D map";
   }
   return "?";
 }
 
 std::string capabilityList(std::uint32_t caps) {
   static constexpr std::pair<Capability, std::string_view> kNames[] = {
-      {kExactSharedCoverage, "exact-coverage"}, {kDepthFuncs, "depth-funcs"},
-      {kDepthMask, "depth-mask"},               {kPolygonModes, "polygon-modes"},
-      {kOutline, "outline"},                    {kTransparency, "transparency"},
-      {kVisibleSet, "visible-set"},             {kExplain, "explain"},
+      {kExactSharedCoverage, "exact-coverage"},
+      {kDepthFuncs, "depth-funcs"},
+      {kDepthMask, "depth-mask"},
+      {kPolygonModes, "polygon-modes"},
+      {kOutline, "outline"},
+      {kTransparency, "transparency"},
+      {kVisibleSet, "visible-set"},
+      {kExplain, "explain"},
       {kDrawOver, "draw-over"},
   };
   std::string out;

@@ -1,7 +1,7 @@
 // render(): the one orchestrator. Validate, look the algorithm up, prepare what its entry
 // asks for, clear, run, merge stats. The GL facade and `hsr explain` draw through it too.
 
-#include "render.hpp"
+#include "orchestrator.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -40,8 +40,8 @@ void checkSupported(const AlgorithmInfo& info, const Camera& camera, const Rende
   const std::uint64_t pixels = static_cast<std::uint64_t>(camera.width) * camera.height;
   if (info.max_pixels != 0 && pixels > info.max_pixels)
     throw Error("algorithm '" + std::string(info.name) + "' is limited to " +
-                std::to_string(info.max_pixels) + " pixels; " + std::to_string(camera.width) +
-                "x" + std::to_string(camera.height) + " has " + std::to_string(pixels));
+                std::to_string(info.max_pixels) + " pixels; " + std::to_string(camera.width) + "x" +
+                std::to_string(camera.height) + " has " + std::to_string(pixels));
 }
 
 }  // namespace
@@ -71,14 +71,15 @@ void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& o
   cache.owner = &entry;
   arena.execute([&] {
     PreparedScene& prepared = cache.prepared;
-    prepare(scene, camera, options, {.window_polygons = entry.info.input == InputKind::kWindowPolygons},
-            prepared);
+    prepare(scene, camera, options,
+            {.window_polygons = entry.info.input == InputKind::kWindowPolygons}, prepared);
     Stats stats = prepared.stats;
     if (mode == DrawMode::kClear) {
       const auto t0 = std::chrono::steady_clock::now();
       clearFrame(frame, camera.width, camera.height, options);
-      stats.addStage("clear", std::chrono::duration<double, std::milli>(
-                                  std::chrono::steady_clock::now() - t0).count());
+      stats.addStage(
+          "clear",
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     frame.stats = Stats{};
     entry.draw(AlgorithmInput{scene, camera, options, prepared, &cache.algorithm, trace}, frame);
