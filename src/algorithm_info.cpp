@@ -1,6 +1,9 @@
 // The registry's public face: the table's entries as AlgorithmInfo, lookup by name.
 
 #include <string>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "hsr/algorithms.hpp"
 #include "hsr/error.hpp"
@@ -13,10 +16,9 @@ namespace detail {
 const AlgorithmEntry& findEntry(std::string_view name) {
   for (const AlgorithmEntry& e : algorithmTable())
     if (e.info.name == name) return e;
-  std::string names;
-  for (const AlgorithmEntry& e : algorithmTable())
-    names += (names.empty() ? "" : ", ") + std::string(e.info.name);
-  throw Error("unknown algorithm '" + std::string(name) + "' (known: " + names + ")");
+  std::vector<std::string_view> names;
+  for (const AlgorithmEntry& e : algorithmTable()) names.push_back(e.info.name);
+  throw Error(fmt::format("unknown algorithm '{}' (known: {})", name, fmt::join(names, ", ")));
 }
 
 }  // namespace detail
@@ -71,10 +73,10 @@ std::string capabilityList(std::uint32_t caps) {
       {kExplain, "explain"},
       {kDrawOver, "draw-over"},
   };
-  std::string out;
+  std::vector<std::string_view> names;
   for (const auto& [cap, name] : kNames)
-    if (caps & cap) out += (out.empty() ? "" : ", ") + std::string(name);
-  return out;
+    if (caps & cap) names.push_back(name);
+  return fmt::format("{}", fmt::join(names, ", "));
 }
 
 }  // namespace hsr

@@ -11,6 +11,7 @@
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
+#include "core/check.hpp"
 #include "core/frame.hpp"
 #include "hsr/error.hpp"
 #include "visibility/algorithm.hpp"
@@ -81,6 +82,7 @@ void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& o
           "clear",
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
+    HSR_CHECK_EQ(frame.ids.size(), static_cast<std::size_t>(camera.width) * camera.height);
     frame.stats = Stats{};
     entry.draw(AlgorithmInput{scene, camera, options, prepared, &cache.algorithm, trace}, frame);
     // The pipeline's counts and stage times first, then the algorithm's.

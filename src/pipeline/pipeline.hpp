@@ -28,6 +28,7 @@ namespace hsr::detail {
 struct WindowPolygon {
   std::vector<glm::dvec3> vertices;  // in the polygon's own winding
   PolygonId id = kNoPolygon;
+  std::uint32_t material = 0;        // index into Scene::materials
   std::uint32_t rgba = 0;            // shaded colour, as its screen triangles
   bool transparent = false;
   bool front = true;                 // front-facing under the front-face rule

@@ -39,6 +39,7 @@ void emitPiece(const Context& ctx, PolygonId id, std::span<const std::uint32_t> 
   wp.front = isFront(ctx, area < 0 ? 1 : -1, info.eye_orientation);
   if (culled(ctx.options.cull, wp.front)) return;
   wp.id = id;
+  wp.material = ctx.scene.material(id);
   wp.rgba = info.rgba;
   wp.transparent = info.transparent;
   wp.depth = depthPlaneOf(ctx, info);

@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "core/check.hpp"
 #include "hsr/error.hpp"
 
 namespace hsr::detail {
@@ -81,6 +82,11 @@ void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std:
               static_cast<std::uint32_t>(i);
     }
   });
+  // The second pass wrote exactly what the first counted: the last chunk's cursor of every
+  // tile ends where the next tile begins.
+  if (chunks > 0)
+    for (std::size_t t = 0; t < tiles; ++t)
+      HSR_CHECK_EQ(counts[(chunks - 1) * tiles + t], bins.start[t + 1]);
 }
 
 }  // namespace

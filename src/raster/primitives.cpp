@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "core/check.hpp"
+
 namespace hsr::detail {
 
 int windowOrientation(const std::int64_t x[3], const std::int64_t y_down[3]) {
@@ -32,6 +34,8 @@ TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[
       std::min<std::int64_t>(height - 1, std::max({fy[0], fy[1], fy[2]}) >> kSubpixelBits);
   if (bx0 > bx1 || by0 > by1) return TriangleFate::kMissesPixelCentres;
   ScreenTriangle& t = *out;
+  // The box lies in the viewport and the vertices within the 2^30 the int32 fields hold.
+  HSR_CHECK(bx1 < 32768 && by1 < 32768);
   for (int k = 0; k < 3; ++k) {
     t.x[k] = static_cast<std::int32_t>(fx[o[k]]);
     t.y[k] = static_cast<std::int32_t>(fy[o[k]]);
