@@ -113,15 +113,25 @@ void drawLabel(std::vector<std::uint8_t>& rgb, int width, int height, int x, int
   }
 }
 
+namespace {
+constexpr int kLabel = 24, kGap = 8;
+}  // namespace
+
+SheetSize comparisonSheetSize(int columns, int frame_width, int frame_height) {
+  return {static_cast<long long>(columns) * frame_width + (columns + 1LL) * kGap,
+          3LL * (frame_height + kLabel) + 4LL * kGap};
+}
+
 std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows, int* width,
                                           int* height) {
-  constexpr int kLabel = 24, kGap = 8;
   constexpr const char* kKinds[] = {"color", "ids", "overdraw"};
   const int fw = rows.empty() ? 0 : rows[0].frame.width;
   const int fh = rows.empty() ? 0 : rows[0].frame.height;
   const int cols = static_cast<int>(rows.size());
-  *width = cols * fw + (cols + 1) * kGap;
-  *height = 3 * (fh + kLabel) + 4 * kGap;
+  const SheetSize size = comparisonSheetSize(cols, fw, fh);
+  checkPngSize("comparison sheet", size.width, size.height, 3);
+  *width = static_cast<int>(size.width);
+  *height = static_cast<int>(size.height);
   std::vector<std::uint8_t> sheet(static_cast<std::size_t>(*width) * *height * 3, 32);
   for (int c = 0; c < cols; ++c) {
     const ComparisonRow& r = rows[c];

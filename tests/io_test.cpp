@@ -520,7 +520,10 @@ TEST(Writers, PngDecodesBack) {
 }
 
 TEST(Writers, FailedWritesThrowNamingTheFile) {
-  const fs::path bad = tempDir() / "no_such_dir" / "x.png";
+  // The writers create missing folders, but not through a file
+  const fs::path not_a_dir = tempDir() / "a_file";
+  std::ofstream(not_a_dir) << "x";
+  const fs::path bad = not_a_dir / "x.png";
   const std::uint8_t px[3] = {1, 2, 3};
   const float z = 0.5f;
   for (int which = 0; which < 2; ++which) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 
@@ -20,8 +21,12 @@ float parseFloat(const std::string& s, const char* what) {
   char* end = nullptr;
   errno = 0;
   const float v = std::strtof(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE)
+  if (s.empty() || end != s.c_str() + s.size())
     throw hsr::Error(fmt::format("{} must be a number (got '{}')", what, s));
+  if (errno == ERANGE)
+    throw hsr::Error(fmt::format("{} {} is {} than a float holds ({})", what, s,
+                                 std::isinf(v) ? "larger" : "closer to 0",
+                                 std::isinf(v) ? "3.4e38 at most" : "1.2e-38 at least"));
   return v;
 }
 
@@ -47,11 +52,31 @@ void parseSize(const std::string& s, int* w, int* h) {
   *h = static_cast<int>(b);
 }
 
+constexpr float kMaxCoordinate = 1e18f;
+
+// A scene the camera's float arithmetic can frame: coordinates within +-1e18 (at 1e19 the
+// squared distances overflow), and, unless the view is given, some extent to frame.
+void checkFrameable(const Args& a, const hsr::Scene& scene) {
+  const hsr::Bounds b = scene.bounds();
+  if (b.empty()) return;
+  const float reach = std::max({std::abs(b.lo.x), std::abs(b.lo.y), std::abs(b.lo.z),
+                                std::abs(b.hi.x), std::abs(b.hi.y), std::abs(b.hi.z)});
+  if (reach > kMaxCoordinate)
+    throw hsr::Error(fmt::format("{}: coordinates reach {:.3g}, beyond the +-1e18 within which "
+                                 "the camera's float arithmetic works; scale the model",
+                                 a.scene, reach));
+  if (b.lo == b.hi && !scene.camera && (a.eye.empty() || a.target.empty()))
+    throw hsr::Error(fmt::format("{}: every vertex lies at the same point ({:g}, {:g}, {:g}): "
+                                 "there is nothing with an extent to frame, or an area to draw",
+                                 a.scene, b.lo.x, b.lo.y, b.lo.z));
+}
+
 }  // namespace
 
 hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene) {
   int w = 0, h = 0;
   parseSize(a.size, &w, &h);
+  checkFrameable(a, scene);
   const bool fov_given = !a.fov.empty();
   const float fov = fov_given ? parseFloat(a.fov, "--fov") : 45.0f;
   if (!(fov > 0.0f && fov < 180.0f))
@@ -125,8 +150,16 @@ void addViewOptions(CLI::App* app, Args& a) {
   app->add_flag("--flat", a.flat, "material colour without headlight shading");
   app->add_option("--algorithm", a.algorithm, "visibility algorithm (see `hsr scenes`)")
       ->capture_default_str();
+  app->add_flag("--allow-outside-refs", a.allow_outside_refs,
+                "let a model read files it references outside its own folder (mtllib, buffers)");
   app->add_option("--threads", a.threads, "worker threads (0 = all); output is identical for any")
       ->capture_default_str();
+}
+
+hsr::ImportLimits importLimits(const Args& a) {
+  hsr::ImportLimits limits;
+  limits.allow_outside_references = a.allow_outside_refs;
+  return limits;
 }
 
 }  // namespace hsr::cli

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "hsr/camera.hpp"
+#include "hsr/io.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
 
@@ -30,6 +31,7 @@ struct Args {
   std::string raw_dir, stats_file, sheet_file;
   int threads = 0;
   bool quiet = false;
+  bool allow_outside_refs = false;
 };
 
 // Adds SCENE and the view options (--size, --eye, ..., --threads) to a CLI11 (sub)command.
@@ -38,6 +40,9 @@ void addViewOptions(CLI::App* app, Args& a);
 // The camera the arguments describe for SCENE (fitted to it where not given); throws
 // hsr::Error with one line for malformed or inconsistent values.
 hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene);
+
+// What a model file may read and spend (the import's limits).
+hsr::ImportLimits importLimits(const Args& a);
 
 // The render state the arguments describe; throws hsr::Error on unknown names.
 hsr::RenderOptions makeOptions(const Args& a);

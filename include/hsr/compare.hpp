@@ -28,6 +28,12 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
 // Returns RGB8 top row first and sets width and height.
 std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows, int* width,
                                           int* height);
+// The sheet's size for `columns` algorithms at frame_width x frame_height (known before any
+// rendering, so that a sheet too large to write is refused at once).
+struct SheetSize {
+  long long width, height;
+};
+SheetSize comparisonSheetSize(int columns, int frame_width, int frame_height);
 
 // Draws text with a built-in 5x7 pixel font into an RGB8 image (for labels).
 void drawLabel(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y,

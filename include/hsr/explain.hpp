@@ -32,8 +32,9 @@ struct Explanation {
   Frame frame;                  // the finished frame
 };
 
-// Explains options.algorithm on the scene into `dir` (created if missing): NN-step-name.png
-// per step, sheet.png and steps.md. Throws hsr::Error when the algorithm cannot explain
+// Explains options.algorithm on the scene into `dir`: NN-step-name.png per step, sheet.png,
+// steps.md and manifest.json, put in place as a whole (hsr/output.hpp: `dir` must be new,
+// empty or an earlier hsr output). Throws hsr::Error when the algorithm cannot explain
 // itself (no kExplain capability) or a file cannot be written.
 Explanation explain(const Scene& scene, const Camera& camera, const RenderOptions& options,
                     const std::filesystem::path& dir, const ExplainOptions& explain_options = {});

@@ -12,18 +12,21 @@
 
 namespace hsr {
 
-// Loads SCENE: an existing file wins; otherwise a built-in name. Throws hsr::Error with a
-// one-line reason (missing file, unreadable format, empty scene, non-finite coordinates...).
-Scene loadScene(std::string_view spec);
-// What a mesh import may spend. assimp runs in a child process that is killed after
-// timeout_seconds, and may use memory_bytes beyond what this process holds when it starts;
-// past either limit the file is refused with one line. memory_bytes = 0 sizes it by the file:
-// 256 bytes per byte on disk (a dense OBJ needs 140), at least 1 GiB, at most 16 GiB; for
-// glTF, the files beside it (its buffers) count as its size too.
+// What a mesh import may spend and read. assimp runs in a child process that is killed after
+// timeout_seconds (and with this process), and may use memory_bytes beyond what this process
+// holds when it starts; past either limit the file is refused with one line. memory_bytes = 0
+// sizes it by the input: 256 bytes per byte of the file and of every file it references (a
+// dense OFF or OBJ needs up to 140), at least 1 GiB, at most 16 GiB. The files a model
+// references (an OBJ's mtllib, a glTF's buffers) must be regular files inside the model's own
+// folder tree, symbolic links resolved, unless allow_outside_references.
 struct ImportLimits {
   int timeout_seconds = 120;
   std::uint64_t memory_bytes = 0;
+  bool allow_outside_references = false;
 };
+// Loads SCENE: an existing file wins; otherwise a built-in name. Throws hsr::Error with a
+// one-line reason (missing file, unreadable format, empty scene, non-finite coordinates...).
+Scene loadScene(std::string_view spec, const ImportLimits& limits = {});
 // Mesh files: anything assimp reads. Polygons stay polygons (no triangulation), node
 // transforms are applied, ids follow node order then face order. Safe on untrusted input.
 Scene loadMeshFile(const std::filesystem::path& path, const ImportLimits& limits = {});
@@ -39,12 +42,23 @@ const std::vector<BuiltinScene>& builtinScenes();
 inline constexpr std::uint64_t kMaxBuiltinTriangles = 20'000'000;
 Scene makeBuiltinScene(std::string_view spec, std::uint64_t max_triangles = kMaxBuiltinTriangles);
 
-// Writers. Images are written top row first. All throw hsr::Error on I/O failure.
+// Writers. Images are written top row first. Every file appears whole or not at all
+// (hsr/output.hpp); on failure hsr::Error names the file and the reason, and an earlier file
+// of the same name is left as it was.
 void writePng(const std::filesystem::path& path, int width, int height, int channels,
               const std::uint8_t* pixels);
 void writeNpy(const std::filesystem::path& path, int width, int height, const float* data);
 void writeNpy(const std::filesystem::path& path, int width, int height,
               const std::uint32_t* data);
+// A PNG in memory; checkPngSize refuses (hsr::Error naming `path`) a size it cannot encode,
+// before anything is computed: at most 16384x16384 RGB.
+std::string encodePng(int width, int height, int channels, const std::uint8_t* pixels);
+void checkPngSize(const std::filesystem::path& path, long long width, long long height,
+                  int channels);
+// A frame's raw buffers as one set: DIR/depth.npy, ids.npy, overdraw.npy and manifest.json,
+// put in place together (a reader never sees the buffers of two frames mixed).
+void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
+                   const std::string& algorithm);
 
 // Pictures of a frame's buffers, RGB8 top row first.
 std::vector<std::uint8_t> depthPicture(const Frame& frame);     // normalised grey, near = light

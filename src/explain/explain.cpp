@@ -7,13 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include "core/trace.hpp"
 #include "hsr/compare.hpp"
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
+#include "hsr/output.hpp"
 #include "orchestrator.hpp"
 
 namespace hsr {
@@ -90,8 +90,8 @@ Picture shrink(const Picture& src, int factor) {
 
 class Recorder : public detail::Trace {
  public:
-  Recorder(const std::filesystem::path& dir, DepthRange range, int per_step)
-      : dir_(dir), range_(range), per_step_(std::max(per_step, 2)) {}
+  Recorder(OutputDirectory& out, DepthRange range, int per_step)
+      : out_(out), range_(range), per_step_(std::max(per_step, 2)) {}
 
   bool wants(std::string_view, std::uint64_t index, std::uint64_t count) override {
     // Evenly spaced, the first and the last always.
@@ -132,8 +132,8 @@ class Recorder : public detail::Trace {
           drawSegment(p, o[i], o[(i + 1) % o.size()], ox, top, w, h);
     char name[160];
     std::snprintf(name, sizeof name, "%02d-%s.png", s.number, fileSafe(s.name).c_str());
-    s.picture = dir_ / name;
-    writePng(s.picture, p.width, p.height, 3, p.rgb.data());
+    s.picture = out_.path() / name;
+    out_.write(name, {encodePng(p.width, p.height, 3, p.rgb.data())});
     // A thumbnail of the two panels for the contact sheet.
     Picture panels(2 * w + kGap, h);
     for (int y = 0; y < h; ++y)
@@ -147,7 +147,7 @@ class Recorder : public detail::Trace {
   const std::vector<Picture>& thumbs() const { return thumbs_; }
 
  private:
-  std::filesystem::path dir_;
+  OutputDirectory& out_;
   DepthRange range_;
   int per_step_;
   std::vector<ExplainedStep> steps_;
@@ -178,22 +178,20 @@ Explanation explain(const Scene& scene, const Camera& camera, const RenderOption
   const AlgorithmInfo& info = findAlgorithm(options.algorithm);
   if (!info.has(kExplain))
     throw Error("algorithm '" + std::string(info.name) + "' cannot explain its steps yet");
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw Error(dir.string() + ": cannot create the directory: " + ec.message());
+  OutputDirectory files(dir);
   Explanation out;
   // First run: the finished frame, whose depth range every picture's depth half uses.
   render(scene, camera, options, out.frame);
-  Recorder recorder(dir, drawnDepthRange(out.frame), explain_options.pictures_per_step);
+  Recorder recorder(files, drawnDepthRange(out.frame), explain_options.pictures_per_step);
   Frame traced;
   detail::renderInto(scene, camera, options, traced, detail::DrawMode::kClear, &recorder);
   out.steps = std::move(recorder.steps());
   const Picture sheet = contactSheet(recorder.thumbs(), out.steps);
-  out.sheet = dir / "sheet.png";
-  writePng(out.sheet, sheet.width, sheet.height, 3, sheet.rgb.data());
+  out.sheet = files.path() / "sheet.png";
+  files.write("sheet.png", {encodePng(sheet.width, sheet.height, 3, sheet.rgb.data())});
   // The index: every step's caption, linked to its picture.
-  out.index = dir / "steps.md";
-  std::ofstream md(out.index);
+  out.index = files.path() / "steps.md";
+  std::ostringstream md;
   md << "# " << info.name << ": " << info.summary << "\n\n"
      << "Source: " << info.source << ". Left: the colour buffer; right: the depth buffer "
      << "(near is light); what the step works on is outlined in red.\n\n"
@@ -201,8 +199,8 @@ Explanation explain(const Scene& scene, const Camera& camera, const RenderOption
   for (const ExplainedStep& s : out.steps)
     md << s.number << ". **" << s.name << "**: " << s.caption << " [picture]("
        << s.picture.filename().string() << ")\n";
-  md.close();
-  if (!md) throw Error(out.index.string() + ": cannot write");
+  files.write("steps.md", {md.str()});
+  files.commit();
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include "geometry/triangulate.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -21,6 +22,53 @@ double signedArea2(std::span<const glm::dvec2> p) {
   }
   return a;
 }
+
+// The ring's vertices bucketed in a uniform grid over their bounding box, about one per cell:
+// any(lo, hi, test) asks `test` of the vertices in the cells that the box [lo, hi] touches (a
+// superset of the vertices inside the box, since a vertex's cell is monotone in its position).
+class VertexGrid {
+ public:
+  VertexGrid(std::span<const glm::dvec2> p, const std::vector<std::uint32_t>& ring) {
+    lo_ = hi_ = p[ring[0]];
+    for (std::uint32_t v : ring) lo_ = glm::min(lo_, p[v]), hi_ = glm::max(hi_, p[v]);
+    side_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(ring.size()))));
+    const glm::dvec2 extent = hi_ - lo_;
+    scale_ =
+        glm::dvec2(extent.x > 0 ? side_ / extent.x : 0.0, extent.y > 0 ? side_ / extent.y : 0.0);
+    start_.assign(static_cast<std::size_t>(side_) * side_ + 1, 0);
+    for (std::uint32_t v : ring) ++start_[cellOf(p[v]) + 1];
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    members_.resize(ring.size());
+    for (std::size_t k = 0; k < ring.size(); ++k)
+      members_[fill[cellOf(p[ring[k]])]++] = static_cast<std::uint32_t>(k);
+  }
+
+  template <class Test>
+  bool any(glm::dvec2 lo, glm::dvec2 hi, Test test) const {
+    const int x0 = axis(lo.x, 0), x1 = axis(hi.x, 0), y0 = axis(lo.y, 1), y1 = axis(hi.y, 1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const std::size_t cell = static_cast<std::size_t>(y) * side_ + x;
+        for (std::uint32_t i = start_[cell]; i < start_[cell + 1]; ++i)
+          if (test(members_[i])) return true;
+      }
+    return false;
+  }
+
+ private:
+  int axis(double v, int d) const {
+    const double t = std::floor((v - lo_[d]) * scale_[d]);
+    return t <= 0 ? 0 : (t >= side_ - 1 ? side_ - 1 : static_cast<int>(t));
+  }
+  std::size_t cellOf(glm::dvec2 v) const {
+    return static_cast<std::size_t>(axis(v.y, 1)) * side_ + axis(v.x, 0);
+  }
+
+  glm::dvec2 lo_, hi_, scale_;
+  int side_ = 1;
+  std::vector<std::uint32_t> start_, members_;  // members_[start_[c] .. start_[c+1]): cell c
+};
 
 }  // namespace
 
@@ -65,40 +113,59 @@ void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::ui
   // closed triangle. A vertex at the same position as a, b or c does not block the ear: it is
   // the other end of a zero-width bridge to a hole. A corner with a, b, c collinear (a straight
   // vertex, or the tip of a zero-width spike) encloses nothing and is simply removed.
-  auto blocked = [&](std::size_t at) {
-    const std::size_t m = ring.size();
-    const glm::dvec2& a = p[ring[(at + m - 1) % m]];
+  //
+  // The ring is a circular list (a removal costs O(1)), and the test for blocking vertices
+  // looks only at the grid cells under the corner's bounding box: a polygon of 32,767 vertices
+  // takes milliseconds, not the seconds of a scan of every vertex for every corner.
+  std::vector<std::uint32_t> next(m), prev(m);
+  for (std::size_t k = 0; k < m; ++k) {
+    next[k] = static_cast<std::uint32_t>((k + 1) % m);
+    prev[k] = static_cast<std::uint32_t>((k + m - 1) % m);
+  }
+  std::vector<char> alive(m, 1);
+  const VertexGrid grid(p, ring);
+  auto blocked = [&](std::uint32_t at) {
+    const glm::dvec2& a = p[ring[prev[at]]];
     const glm::dvec2& b = p[ring[at]];
-    const glm::dvec2& c = p[ring[(at + 1) % m]];
-    for (std::size_t k = 0; k < m; ++k) {
+    const glm::dvec2& c = p[ring[next[at]]];
+    return grid.any(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)), [&](std::uint32_t k) {
+      if (!alive[k]) return false;
       const glm::dvec2& q = p[ring[k]];
-      if (q == a || q == b || q == c) continue;
-      if (orient2d(a, b, q) >= 0 && orient2d(b, c, q) >= 0 && orient2d(c, a, q) >= 0) return true;
-    }
-    return false;
+      if (q == a || q == b || q == c) return false;
+      return orient2d(a, b, q) >= 0 && orient2d(b, c, q) >= 0 && orient2d(c, a, q) >= 0;
+    });
   };
-  std::size_t i = 0, misses = 0;
-  while (ring.size() > 3 && misses < ring.size()) {
-    const std::size_t m = ring.size();
-    i %= m;
-    const std::uint32_t a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
+  std::uint32_t head = 0, at = 0;
+  std::size_t count = m, misses = 0;
+  while (count > 3 && misses < count) {
+    const std::uint32_t a = ring[prev[at]], b = ring[at], c = ring[next[at]];
     const int turn = orient2d(p[a], p[b], p[c]);
-    if (turn == 0 || (turn > 0 && !blocked(i))) {
+    if (turn == 0 || (turn > 0 && !blocked(at))) {
       if (turn > 0) emit(a, b, c);
-      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+      // Unlink the corner and go on past the next one, as earcut does: the ears of one lap are
+      // every other corner, so they stay small (a fan from one corner would make every later
+      // ear span the polygon, and each blocking test scan it)
+      alive[at] = 0;
+      const std::uint32_t after = next[at];
+      next[prev[at]] = after;
+      prev[after] = prev[at];
+      if (at == head) head = after;
+      at = next[after];
+      --count;
       misses = 0;
-      if (i > 0) --i;  // the corner before the removed one has changed
     } else {
-      ++i;
+      at = next[at];
       ++misses;
     }
   }
-  if (ring.size() == 3) {
-    if (orient2d(p[ring[0]], p[ring[1]], p[ring[2]]) > 0) emit(ring[0], ring[1], ring[2]);
+  std::vector<std::uint32_t> left;
+  for (std::uint32_t k = head, i = 0; i < count; k = next[k], ++i) left.push_back(ring[k]);
+  if (left.size() == 3) {
+    if (orient2d(p[left[0]], p[left[1]], p[left[2]]) > 0) emit(left[0], left[1], left[2]);
     return;
   }
   // Self-intersecting or otherwise hopeless leftovers: close with a fan so nothing vanishes.
-  for (std::size_t k = 1; k + 1 < ring.size(); ++k) emit(ring[0], ring[k], ring[k + 1]);
+  for (std::size_t k = 1; k + 1 < left.size(); ++k) emit(left[0], left[k], left[k + 1]);
 }
 
 glm::dvec3 newellNormal(const Scene& scene, std::span<const std::uint32_t> poly) {

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <initializer_list>
 #include <new>
 #include <optional>
@@ -28,15 +29,18 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/scene.hpp"
+#include "io/confined_io.hpp"
 #include "io/import_preflight.hpp"
 
 #include <poll.h>
 #include <sys/mman.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -362,14 +366,21 @@ void preflight(const aiScene* ai, const std::string& file) {
                                  : ": no polygons (the file holds no meshes)"));
 }
 
-// The importer proper (assimp), run inside the isolated child process.
-Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes,
-                       const std::string& over_budget) {
+// The importer proper (assimp), run inside the isolated child process. Every file it opens
+// goes through a ConfinedIOSystem; on_open(bytes) hears of each one the model references.
+Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes, const std::string& over_budget,
+                       bool allow_outside, std::function<void(std::uint64_t)> on_open) {
   const std::string file = path.string();
   try {
     // Header counts first: assimp allocates by them before reading any data
     const detail::HeaderFix fix = detail::checkHeaderAgainstSize(path, bytes);
     Assimp::Importer importer;  // no logger is attached: assimp stays quiet
+    auto* io = new detail::ConfinedIOSystem(path, allow_outside, std::move(on_open));
+    importer.SetIOHandler(io);  // the importer owns it
+    // A refused reference is the import's answer, whatever assimp made of the missing file
+    const auto refused = [&] {
+      if (!io->refusal().empty()) throw Error(io->refusal());
+    };
     // Keep only what we use, so that identical positions join into shared vertices
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
                                 aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
@@ -388,10 +399,13 @@ Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes,
       if (f) std::fclose(f);
       if (!read) throw Error(file + ": cannot read it");
       data.insert(static_cast<std::size_t>(fix.insert_cr_at), 1, '\r');
-      if (!importer.ReadFileFromMemory(data.data(), data.size(), 0, "ply"))
-        throw assimpFailure(file, importer.GetErrorString(), over_budget);
-    } else if (!importer.ReadFile(file, 0)) {
-      throw assimpFailure(file, importer.GetErrorString(), over_budget);
+      const bool read_ok = importer.ReadFileFromMemory(data.data(), data.size(), 0, "ply");
+      refused();
+      if (!read_ok) throw assimpFailure(file, importer.GetErrorString(), over_budget);
+    } else {
+      const bool read_ok = importer.ReadFile(file, 0) != nullptr;
+      refused();
+      if (!read_ok) throw assimpFailure(file, importer.GetErrorString(), over_budget);
     }
     preflight(importer.GetScene(), file);
     const aiScene* ai =
@@ -592,32 +606,25 @@ constexpr std::uint64_t kBudgetPerFileByte = 256;
 constexpr std::uint64_t kMinImportBudget = 1ull << 30;  // 1 GiB
 constexpr std::uint64_t kMaxImportBudget = 16ull << 30;
 
-std::uint64_t importMemoryBudget(const fs::path& path, std::uintmax_t bytes,
-                                 const ImportLimits& limits) {
-  if (limits.memory_bytes > 0) return limits.memory_bytes;
-  std::uint64_t counted = bytes;
-  if (isGltf(path)) {
-    // A .gltf names its buffers and images by relative path: the files beside it count
-    std::error_code ec;
-    int seen = 0;
-    for (fs::directory_iterator it(path.parent_path().empty() ? "." : path.parent_path(), ec), end;
-         !ec && it != end && ++seen <= 10'000; it.increment(ec)) {
-      std::error_code size_ec;
-      if (!it->is_regular_file(size_ec) || it->path() == path) continue;
-      const std::uintmax_t size = it->file_size(size_ec);
-      if (!size_ec) counted += std::min<std::uintmax_t>(size, kMaxFileBytes);
-    }
-  }
-  const std::uint64_t scaled = counted > kMaxImportBudget / kBudgetPerFileByte
-                                   ? kMaxImportBudget
-                                   : counted * kBudgetPerFileByte;
-  return std::clamp(scaled, kMinImportBudget, kMaxImportBudget);
+std::uint64_t budgetFor(std::uint64_t bytes) {
+  return std::clamp(bytes > kMaxImportBudget / kBudgetPerFileByte ? kMaxImportBudget
+                                                                   : bytes * kBudgetPerFileByte,
+                    kMinImportBudget, kMaxImportBudget);
 }
 
-std::string overBudget(const std::string& file, std::uint64_t budget, std::uintmax_t bytes) {
-  return file + ": importing it needs more than " + std::to_string(budget >> 20) +
-         " MiB, the limit for a file of " + std::to_string(bytes) +
-         " bytes; refused (a corrupt count in the file?)";
+std::string overBudget(const std::string& file, std::uint64_t budget, std::uint64_t bytes,
+                       bool with_references) {
+  return fmt::format("{}: importing it needs more than {} MiB, the limit for {} bytes of {}; "
+                     "refused (a corrupt count in the file?)",
+                     file, budget >> 20, bytes,
+                     with_references ? "the file and the files it references" : "file");
+}
+
+std::string overOuterLimit(const std::string& file, std::uint64_t limit, std::uint64_t budget) {
+  return fmt::format("{}: the import ran out of memory under this process's own address-space "
+                     "limit ({} MiB, set by ulimit -v or prlimit), below the {} MiB an import of "
+                     "this file may use; raise that limit",
+                     file, limit >> 20, budget >> 20);
 }
 
 // This process's address space in bytes (/proc/self/statm), 0 if unknown.
@@ -693,23 +700,88 @@ std::string reportKind(std::string_view report) {
 }
 #endif
 
-// In the child, before the import: at most `budget` more bytes of address space (and, under
-// ASan, of live heap); past it, `over_answer` goes to answer_fd.
-void limitChildMemory(std::uint64_t budget, int answer_fd, const std::string& over_answer,
-                      void (*before_exit)()) {
-  if (const std::uint64_t now = addressSpaceBytes(); now > 0) {
-    const rlimit limit{now + budget, now + budget};
-    ::setrlimit(RLIMIT_AS, &limit);
+// The import's memory, in the child: at most `budget` more bytes of address space (and, under
+// ASan, of live heap) than it held when it started. The budget starts from the model's size and
+// grows with every file the model references; past it, the over-budget answer goes to the
+// parent. Where this process's own hard limit (ulimit -v, prlimit) is lower, that limit binds,
+// and the answer says so.
+struct ChildMemory {
+  std::string file;
+  std::uint64_t base = 0;     // address space at the start, 0 if unknown
+  std::uint64_t counted = 0;  // bytes of the model and its references
+  std::uint64_t budget = 0;
+  std::uint64_t model_bytes = 0;
+  bool fixed = false;  // ImportLimits::memory_bytes was given
+  rlim_t outer = RLIM_INFINITY;
+  std::string line;    // the one line for running out...
+  std::string answer;  // ...as the child's answer: 'E' + line
+  void apply() {
+    const bool outer_binds = base > 0 && outer != RLIM_INFINITY && base + budget > outer;
+    line = outer_binds ? overOuterLimit(file, outer, budget)
+                       : overBudget(file, budget, counted, counted != model_bytes);
+    answer = "E" + line;
+    if (base > 0) {
+      const rlimit limit{outer_binds ? outer : base + budget, outer};
+      ::setrlimit(RLIMIT_AS, &limit);
+    }
   }
+} g_child_memory;
+
 #if HSR_ASAN
-  g_heap_watch = {__sanitizer_get_current_allocated_bytes() + budget, answer_fd, &over_answer,
-                  before_exit};
+std::uint64_t g_heap_base = 0;
+#endif
+
+void limitChildMemory(const std::string& file, std::uint64_t model_bytes, std::uint64_t budget,
+                      bool fixed, int answer_fd, void (*before_exit)()) {
+  ChildMemory& m = g_child_memory;
+  m.file = file;
+  m.base = addressSpaceBytes();
+  m.counted = m.model_bytes = model_bytes;
+  m.budget = budget;
+  m.fixed = fixed;
+  rlimit outer{};
+  if (::getrlimit(RLIMIT_AS, &outer) == 0) m.outer = outer.rlim_max;
+  m.apply();
+#if HSR_ASAN
+  g_heap_base = __sanitizer_get_current_allocated_bytes();
+  g_heap_watch = {g_heap_base + budget, answer_fd, &m.answer, before_exit};
   __sanitizer_install_malloc_and_free_hooks(heapWatchHook, heapWatchFreeHook);
 #else
   (void)answer_fd;
-  (void)over_answer;
   (void)before_exit;
 #endif
+}
+
+// ConfinedIOSystem's report of a referenced file: the budget counts it (unless it was given).
+void growChildMemory(std::uint64_t bytes) {
+  ChildMemory& m = g_child_memory;
+  m.counted += std::min<std::uint64_t>(bytes, kMaxFileBytes);
+  if (m.fixed) return;
+  m.budget = budgetFor(m.counted);
+  m.apply();
+#if HSR_ASAN
+  g_heap_watch.limit = g_heap_base + m.budget;
+#endif
+}
+
+// What the C++ runtime printed when an exception escaped inside the importer ("terminate
+// called after throwing an instance of 'T'\n  what():  message"), as "an exception it did not
+// catch: T: message"; empty if it printed nothing of the kind.
+std::string uncaughtException(std::string_view text) {
+  constexpr std::string_view kThrown = "terminate called after throwing an instance of '";
+  const std::size_t at = text.find(kThrown);
+  if (at == std::string_view::npos)
+    return text.find("terminate called") != std::string_view::npos
+               ? "the C++ runtime terminated it"
+               : "";
+  std::string_view rest = text.substr(at + kThrown.size());
+  std::string what(rest.substr(0, std::min<std::size_t>(rest.find('\''), 120)));
+  if (const std::size_t w = rest.find("what():"); w != std::string_view::npos) {
+    std::string_view message = rest.substr(w + 7);
+    message.remove_prefix(std::min(message.find_first_not_of(' '), message.size()));
+    what += ": " + firstLine(message.substr(0, std::min<std::size_t>(message.size(), 200)));
+  }
+  return "an exception it did not catch: " + what;
 }
 
 // In the child: a crash inside assimp must end the child quietly by its signal (the parent
@@ -736,30 +808,42 @@ constexpr void (*kBeforeChildExit)() = nullptr;
 Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLimits& limits) {
   const std::string file = path.string();
   const int timeout_seconds = std::max(limits.timeout_seconds, 1);
-  const std::uint64_t budget = importMemoryBudget(path, bytes, limits);
-  const std::string over_budget = overBudget(file, budget, bytes);
+  const bool fixed = limits.memory_bytes > 0;
+  const std::uint64_t budget = fixed ? limits.memory_bytes : budgetFor(bytes);
+  const std::string over_budget = overBudget(file, budget, bytes, false);
+  const bool allow_outside = limits.allow_outside_references;
 #if HSR_FUZZING
   const SharedCoverage coverage;
   g_child_coverage = &coverage;
 #endif
-  // The answer comes through one pipe; under the sanitizers the child's stderr through a
-  // second, so that the parent can tell a failed allocation from a sanitizer's bug report.
+  // The answer comes through one pipe, the child's stderr through a second: what assimp or the
+  // C++ runtime prints there ("terminate called after throwing...") is read, never shown raw,
+  // and under the sanitizers it tells a failed allocation from a bug report.
   int fds[2], err_fds[2] = {-1, -1};
-  if (::pipe(fds) != 0) return importWithAssimp(path, bytes, over_budget);  // no pipe: in process
-  if (HSR_ASAN && ::pipe(err_fds) != 0) err_fds[0] = err_fds[1] = -1;
+  const auto inProcess = [&] {
+    return importWithAssimp(path, bytes, over_budget, allow_outside, nullptr);
+  };
+  if (::pipe(fds) != 0) return inProcess();  // no pipe: in process
+  if (::pipe(err_fds) != 0) err_fds[0] = err_fds[1] = -1;
   const auto closeAll = [&] {
     for (int fd : {fds[0], fds[1], err_fds[0], err_fds[1]})
       if (fd >= 0) ::close(fd);
   };
   std::fflush(nullptr);
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     closeAll();
-    return importWithAssimp(path, bytes, over_budget);  // no fork: in process
+    return inProcess();  // no fork: in process
   }
   if (pid == 0) {
     // Child: import, answer 'S' + scene or 'E' + message, and leave without running any
-    // destructor or exit handler of the parent's state.
+    // destructor or exit handler of the parent's state. It dies with the parent (a supervisor
+    // that kills hsr must not leave an import running), also if the parent died before the
+    // request took effect.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(1);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, SIG_DFL);
     ::close(fds[0]);
     if (err_fds[1] >= 0) {
       ::dup2(err_fds[1], STDERR_FILENO);
@@ -767,11 +851,13 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLim
       ::close(err_fds[1]);
     }
     childCrashesBySignal();
-    const std::string over_answer = "E" + over_budget;
-    limitChildMemory(budget, fds[1], over_answer, kBeforeChildExit);
+    limitChildMemory(file, bytes, budget, fixed, fds[1], kBeforeChildExit);
+    // The over-budget line changes as the references are counted: read where it is kept
+    const std::string& over_answer = g_child_memory.answer;
     std::string answer;
     try {
-      const Scene scene = importWithAssimp(path, bytes, over_budget);
+      const Scene scene =
+          importWithAssimp(path, bytes, g_child_memory.line, allow_outside, growChildMemory);
       answer.assign(1, 'S');
       answer += serializeScene(scene);
     } catch (const Error& e) {
@@ -851,10 +937,14 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLim
     }
   }
 #endif
-  if (WIFSIGNALED(status))
+  if (WIFSIGNALED(status)) {
+    if (const std::string what = uncaughtException(child_stderr); !what.empty())
+      throw Error(file + ": the importer (assimp) failed on this file (" + what +
+                  "); refused as malformed");
     throw Error(file + ": the importer (assimp) crashed on this file (signal " +
                 std::to_string(WTERMSIG(status)) + "); refused as malformed");
-  if (!child_stderr.empty()) std::fwrite(child_stderr.data(), 1, child_stderr.size(), stderr);
+  }
+  // Whatever else the child printed is not shown: the answer is the one line
   if (answer.empty()) throw Error(file + ": the importer (assimp) ended without an answer");
   if (answer[0] == 'E') throw Error(answer.substr(1));
   return deserializeScene(std::string_view(answer).substr(1));
@@ -868,6 +958,8 @@ Scene loadMeshFile(const fs::path& path, const ImportLimits& limits) {
   // not empty, not absurdly large
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    throw Error(file + ": " + ec.message());  // a loop of links, a folder it may not search
   if (ec || !fs::exists(status)) throw Error(file + ": no such file");
   if (fs::is_directory(status)) throw Error(file + ": is a directory, not a mesh file");
   if (!fs::is_regular_file(status)) throw Error(file + ": not a regular file");
@@ -879,12 +971,15 @@ Scene loadMeshFile(const fs::path& path, const ImportLimits& limits) {
   return importIsolated(path, bytes, limits);
 }
 
-Scene loadScene(std::string_view spec) {
+Scene loadScene(std::string_view spec, const ImportLimits& limits) {
   // An existing file wins over a built-in of the same name
   if (!spec.empty()) {
     std::error_code ec;
     const fs::path path{std::string(spec)};
-    if (fs::exists(path, ec)) return loadMeshFile(path);
+    if (fs::exists(path, ec)) return loadMeshFile(path, limits);
+    // A path that exists but cannot be reached (a loop of links, a folder it may not search)
+    if (ec && ec != std::errc::no_such_file_or_directory && ec != std::errc::not_a_directory)
+      throw Error(std::string(spec) + ": " + ec.message());
   }
   const std::string_view name = spec.substr(0, spec.find(':'));
   for (const BuiltinScene& b : builtinScenes())

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -14,10 +13,12 @@
 #include <string_view>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
+#include "hsr/output.hpp"
 
 // stb_image_write: implementation here only, with internal linkage so that no other
 // translation unit (or library) that embeds stb can clash with it.
@@ -34,10 +35,6 @@
 namespace hsr {
 namespace {
 
-std::string systemReason() {
-  return errno != 0 ? std::string(": ") + std::strerror(errno) : std::string();
-}
-
 std::size_t pixelCount(int width, int height, const std::filesystem::path& path) {
   if (width <= 0 || height <= 0)
     throw Error(path.string() + ": cannot write an image of size " + std::to_string(width) + "x" +
@@ -48,11 +45,7 @@ std::size_t pixelCount(int width, int height, const std::filesystem::path& path)
 // NumPy .npy version 1.0: magic, version, little-endian u16 header length, a Python dict
 // literal padded with spaces to a multiple of 64 bytes (as numpy writes it) ending in '\n',
 // then the raw little-endian data in C order.
-template <typename T>
-void writeNpyData(const std::filesystem::path& path, int width, int height, const T* data,
-                  const char* descr) {
-  static_assert(sizeof(T) == 4, "the byte swap below handles 4-byte elements");
-  const std::size_t n = pixelCount(width, height, path);
+std::string npyHeader(int width, int height, const char* descr) {
   std::string header = std::string("{'descr': '") + descr +
                        "', 'fortran_order': False, 'shape': (" + std::to_string(height) + ", " +
                        std::to_string(width) + "), }";
@@ -62,42 +55,26 @@ void writeNpyData(const std::filesystem::path& path, int width, int height, cons
   header.append(total - kPrefix - header.size() - 1, ' ');
   header.push_back('\n');
   const auto header_len = static_cast<std::uint16_t>(header.size());
-  const unsigned char prefix[kPrefix] = {0x93,
-                                         'N',
-                                         'U',
-                                         'M',
-                                         'P',
-                                         'Y',
-                                         1,
-                                         0,
-                                         static_cast<unsigned char>(header_len & 0xFF),
-                                         static_cast<unsigned char>(header_len >> 8)};
-
-  errno = 0;
-  std::FILE* f = std::fopen(path.string().c_str(), "wb");
-  if (!f) throw Error(path.string() + ": cannot open for writing" + systemReason());
-  bool ok = std::fwrite(prefix, 1, kPrefix, f) == kPrefix &&
-            std::fwrite(header.data(), 1, header.size(), f) == header.size();
-  if constexpr (std::endian::native == std::endian::little) {
-    ok = ok && std::fwrite(data, sizeof(T), n, f) == n;
-  } else {
-    // Byte-swap in chunks on big-endian hosts
-    std::vector<std::uint32_t> chunk;
-    for (std::size_t i = 0; ok && i < n; i += 65536) {
-      const std::size_t m = std::min<std::size_t>(65536, n - i);
-      chunk.resize(m);
-      std::memcpy(chunk.data(), data + i, m * sizeof(T));
-      for (std::uint32_t& w : chunk)
-        w = (w >> 24) | ((w >> 8) & 0xFF00u) | ((w << 8) & 0xFF0000u) | (w << 24);
-      ok = std::fwrite(chunk.data(), sizeof(T), m, f) == m;
-    }
-  }
-  const int saved_errno = errno;
-  if (std::fclose(f) != 0 || !ok) {
-    errno = errno != 0 ? errno : saved_errno;
-    throw Error(path.string() + ": write failed" + systemReason());
-  }
+  const char prefix[kPrefix] = {'\x93', 'N', 'U', 'M', 'P', 'Y', 1, 0,
+                                static_cast<char>(header_len & 0xFF),
+                                static_cast<char>(header_len >> 8)};
+  return std::string(prefix, kPrefix) + header;
 }
+
+static_assert(std::endian::native == std::endian::little,
+              ".npy data is written as the host holds it: little-endian hosts only");
+
+template <typename T>
+std::string_view npyData(int width, int height, const T* data, const std::filesystem::path& path) {
+  static_assert(sizeof(T) == 4);
+  return {reinterpret_cast<const char*>(data), pixelCount(width, height, path) * sizeof(T)};
+}
+
+// stb_image_write encodes in memory with int arithmetic: the filtered image, (width * channels
+// + 1) * height bytes, and its compressed form must stay far below 2^31. The largest render
+// (kMaxDimension squared, RGB) is the largest PNG hsr writes; it was encoded and decoded in a
+// test of this limit.
+constexpr long long kMaxPngFilteredBytes = (16384LL * 3 + 1) * 16384LL;
 
 // A good 32-bit integer hash (Chris Wellons' lowbias32): neighbouring ids get unrelated colours.
 std::uint32_t hashId(std::uint32_t x) {
@@ -164,24 +141,66 @@ std::size_t framePixels(const Frame& frame) {
 
 }  // namespace
 
+void checkPngSize(const std::filesystem::path& path, long long width, long long height,
+                  int channels) {
+  if (width <= 0 || height <= 0)
+    throw Error(fmt::format("{}: cannot write an image of size {}x{}", path.string(), width,
+                            height));
+  if (channels < 1 || channels > 4)
+    throw Error(fmt::format("{}: a PNG has 1 to 4 channels, not {}", path.string(), channels));
+  if (width > kMaxPngFilteredBytes || height > kMaxPngFilteredBytes ||
+      (width * channels + 1) * height > kMaxPngFilteredBytes)
+    throw Error(fmt::format(
+        "{}: a {}x{} picture is larger than the PNG writer can encode (16384x16384 RGB at most)",
+        path.string(), width, height));
+}
+
+std::string encodePng(int width, int height, int channels, const std::uint8_t* pixels) {
+  checkPngSize("PNG", width, height, channels);
+  std::string out;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<std::size_t>(size));
+  };
+  if (stbi_write_png_to_func(append, &out, width, height, channels, pixels, width * channels) == 0)
+    throw std::bad_alloc();  // stb fails only when an allocation does
+  return out;
+}
+
 void writePng(const std::filesystem::path& path, int width, int height, int channels,
               const std::uint8_t* pixels) {
-  pixelCount(width, height, path);
-  if (channels < 1 || channels > 4)
-    throw Error(path.string() + ": a PNG has 1 to 4 channels, not " + std::to_string(channels));
-  if (static_cast<long long>(width) * channels > 0x7FFFFFFF)
-    throw Error(path.string() + ": image too wide for PNG");
-  errno = 0;
-  if (stbi_write_png(path.string().c_str(), width, height, channels, pixels, width * channels) == 0)
-    throw Error(path.string() + ": cannot write PNG" + systemReason());
+  checkPngSize(path, width, height, channels);
+  writeFileAtomically(path, {encodePng(width, height, channels, pixels)});
 }
 
 void writeNpy(const std::filesystem::path& path, int width, int height, const float* data) {
-  writeNpyData(path, width, height, data, "<f4");
+  writeFileAtomically(path, {npyHeader(width, height, "<f4"), npyData(width, height, data, path)});
 }
 
 void writeNpy(const std::filesystem::path& path, int width, int height, const std::uint32_t* data) {
-  writeNpyData(path, width, height, data, "<u4");
+  writeFileAtomically(path, {npyHeader(width, height, "<u4"), npyData(width, height, data, path)});
+}
+
+void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
+                   const std::string& algorithm) {
+  const int w = frame.width, h = frame.height;
+  const std::size_t n = pixelCount(w, h, dir);
+  if (frame.depth.size() != n || frame.ids.size() != n || frame.overdraw.size() != n)
+    throw Error(dir.string() + ": the frame has no depth, id or overdraw buffer to write");
+  OutputDirectory out(dir, {"depth.npy", "ids.npy", "overdraw.npy"});
+  out.write("depth.npy", {npyHeader(w, h, "<f4"), npyData(w, h, frame.depth.data(), dir)});
+  out.write("ids.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.ids.data(), dir)});
+  out.write("overdraw.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.overdraw.data(), dir)});
+  nlohmann::ordered_json about;
+  about["scene"] = scene;
+  about["algorithm"] = algorithm;
+  about["width"] = w;
+  about["height"] = h;
+  about["rows"] = "top row first";
+  about["depth.npy"] = "float32 window z in [0, 1], 1.0 where nothing was drawn";
+  about["ids.npy"] = "uint32 polygon id, 4294967295 where nothing was drawn";
+  about["overdraw.npy"] = "uint32 fragments written at the pixel (passed the depth test)";
+  out.commit(about.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
 }
 
 namespace {

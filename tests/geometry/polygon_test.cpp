@@ -92,8 +92,12 @@ TEST(PolygonSplit, PiecesKeepTheIdSumToTheAreaAndLieOnTheirSides) {
                 1e-9 * area(p.vertices));
     for (const glm::dvec3& v : front.vertices) EXPECT_GE(cut.distance(v), -kEps);
     for (const glm::dvec3& v : behind.vertices) EXPECT_LE(cut.distance(v), kEps);
-    if (side == PlaneSide::kFront) EXPECT_TRUE(behind.vertices.empty());
-    if (side == PlaneSide::kBehind) EXPECT_TRUE(front.vertices.empty());
+    if (side == PlaneSide::kFront) {
+      EXPECT_TRUE(behind.vertices.empty());
+    }
+    if (side == PlaneSide::kBehind) {
+      EXPECT_TRUE(front.vertices.empty());
+    }
     spanning += side == PlaneSide::kSpanning;
   }
   EXPECT_GT(spanning, 500);
