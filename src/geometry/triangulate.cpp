@@ -72,7 +72,8 @@ class VertexGrid {
 
 }  // namespace
 
-void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::uint32_t, 3>>& out) {
+void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::uint32_t, 3>>& out,
+                   std::uint64_t* vertex_tests) {
   const std::size_t n = p.size();
   if (n < 3) return;
   if (n == 3) {
@@ -129,6 +130,7 @@ void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::ui
     const glm::dvec2& b = p[ring[at]];
     const glm::dvec2& c = p[ring[next[at]]];
     return grid.any(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)), [&](std::uint32_t k) {
+      if (vertex_tests) ++*vertex_tests;
       if (!alive[k]) return false;
       const glm::dvec2& q = p[ring[k]];
       if (q == a || q == b || q == c) return false;

@@ -27,7 +27,10 @@ struct Triangle {
 // index triples into p, appended to `out`. Zero-width spikes, straight and repeated vertices
 // add no triangle (a polygon of n vertices gives at most n - 2). A polygon the ear clipper cannot
 // finish (self-intersecting) is closed with a fan of what is left, so nothing vanishes.
-void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::uint32_t, 3>>& out);
+// `vertex_tests`, when given, counts the vertices tested against candidate ears: the work,
+// about proportional to n for the polygons of real models (tests pin it).
+void triangulate2d(std::span<const glm::dvec2> p, std::vector<std::array<std::uint32_t, 3>>& out,
+                   std::uint64_t* vertex_tests = nullptr);
 
 // Triangles of one polygon of the scene, appended to `out`. Polygons with fewer than 3
 // vertices or a non-finite vertex yield nothing.

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace hsr::detail {
 
@@ -30,5 +31,11 @@ struct HeaderFix {
 // assimp is known to misread or overflow on. Reads the first 64 KiB, and for PLY walks the
 // data once without storing it: O(file size), constant memory. Safe on untrusted input.
 HeaderFix checkHeaderAgainstSize(const std::filesystem::path& path, std::uintmax_t bytes);
+
+// What the C++ runtime printed in the import child when an exception escaped inside the
+// importer ("terminate called after throwing an instance of 'T'\n  what():  message"), as one
+// phrase for the refusal ("an exception it did not catch: T: message"); empty if nothing of
+// the kind.
+std::string uncaughtException(std::string_view child_stderr);
 
 }  // namespace hsr::detail

@@ -60,8 +60,9 @@
 // From the sanitizer runtime's allocator interface (clang ships its header, GCC 12 does not)
 extern "C" {
 std::size_t __sanitizer_get_current_allocated_bytes();
-int __sanitizer_install_malloc_and_free_hooks(
-    void (*malloc_hook)(const volatile void*, std::size_t), void (*free_hook)(const volatile void*));
+int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*,
+                                                                  std::size_t),
+                                              void (*free_hook)(const volatile void*));
 }
 #endif
 #ifndef HSR_FUZZING
@@ -478,8 +479,16 @@ std::string serializeScene(const Scene& s) {
 class Reader {
  public:
   explicit Reader(std::string_view data) : data_(data) {}
-  std::uint32_t u32() { std::uint32_t v; take(&v, 4); return v; }
-  float f32() { float v; take(&v, 4); return v; }
+  std::uint32_t u32() {
+    std::uint32_t v;
+    take(&v, 4);
+    return v;
+  }
+  float f32() {
+    float v;
+    take(&v, 4);
+    return v;
+  }
   std::string str() {
     const std::uint32_t n = u32();
     if (n > data_.size() - pos_) throw Error("corrupt scene from the importer process");
@@ -607,24 +616,25 @@ constexpr std::uint64_t kMinImportBudget = 1ull << 30;  // 1 GiB
 constexpr std::uint64_t kMaxImportBudget = 16ull << 30;
 
 std::uint64_t budgetFor(std::uint64_t bytes) {
-  return std::clamp(bytes > kMaxImportBudget / kBudgetPerFileByte ? kMaxImportBudget
-                                                                   : bytes * kBudgetPerFileByte,
-                    kMinImportBudget, kMaxImportBudget);
+  return std::clamp(
+      bytes > kMaxImportBudget / kBudgetPerFileByte ? kMaxImportBudget : bytes * kBudgetPerFileByte,
+      kMinImportBudget, kMaxImportBudget);
 }
 
 std::string overBudget(const std::string& file, std::uint64_t budget, std::uint64_t bytes,
                        bool with_references) {
-  return fmt::format("{}: importing it needs more than {} MiB, the limit for {} bytes of {}; "
-                     "refused (a corrupt count in the file?)",
-                     file, budget >> 20, bytes,
-                     with_references ? "the file and the files it references" : "file");
+  return fmt::format(
+      "{}: importing it needs more than {} MiB, the limit for {} bytes of {}; "
+      "refused (a corrupt count in the file?)",
+      file, budget >> 20, bytes, with_references ? "the file and the files it references" : "file");
 }
 
 std::string overOuterLimit(const std::string& file, std::uint64_t limit, std::uint64_t budget) {
-  return fmt::format("{}: the import ran out of memory under this process's own address-space "
-                     "limit ({} MiB, set by ulimit -v or prlimit), below the {} MiB an import of "
-                     "this file may use; raise that limit",
-                     file, limit >> 20, budget >> 20);
+  return fmt::format(
+      "{}: the import ran out of memory under this process's own address-space "
+      "limit ({} MiB, set by ulimit -v or prlimit), below the {} MiB an import of "
+      "this file may use; raise that limit",
+      file, limit >> 20, budget >> 20);
 }
 
 // This process's address space in bytes (/proc/self/statm), 0 if unknown.
@@ -670,9 +680,9 @@ bool isAllocationFailureReport(std::string_view report) {
 }
 // ...and when they find a bug (then the child exits, or aborts with abort_on_error=1).
 bool isSanitizerReport(std::string_view report) {
-  return containsAny(report, {"ERROR: AddressSanitizer", "ERROR: LeakSanitizer",
-                              "ERROR: UndefinedBehaviorSanitizer", "runtime error:",
-                              "ERROR: libFuzzer"});
+  return containsAny(report,
+                     {"ERROR: AddressSanitizer", "ERROR: LeakSanitizer",
+                      "ERROR: UndefinedBehaviorSanitizer", "runtime error:", "ERROR: libFuzzer"});
 }
 
 // Whose bug a report is: assimp is not instrumented, but ASan's interceptors (memcpy,
@@ -762,26 +772,6 @@ void growChildMemory(std::uint64_t bytes) {
 #if HSR_ASAN
   g_heap_watch.limit = g_heap_base + m.budget;
 #endif
-}
-
-// What the C++ runtime printed when an exception escaped inside the importer ("terminate
-// called after throwing an instance of 'T'\n  what():  message"), as "an exception it did not
-// catch: T: message"; empty if it printed nothing of the kind.
-std::string uncaughtException(std::string_view text) {
-  constexpr std::string_view kThrown = "terminate called after throwing an instance of '";
-  const std::size_t at = text.find(kThrown);
-  if (at == std::string_view::npos)
-    return text.find("terminate called") != std::string_view::npos
-               ? "the C++ runtime terminated it"
-               : "";
-  std::string_view rest = text.substr(at + kThrown.size());
-  std::string what(rest.substr(0, std::min<std::size_t>(rest.find('\''), 120)));
-  if (const std::size_t w = rest.find("what():"); w != std::string_view::npos) {
-    std::string_view message = rest.substr(w + 7);
-    message.remove_prefix(std::min(message.find_first_not_of(' '), message.size()));
-    what += ": " + firstLine(message.substr(0, std::min<std::size_t>(message.size(), 200)));
-  }
-  return "an exception it did not catch: " + what;
 }
 
 // In the child: a crash inside assimp must end the child quietly by its signal (the parent
@@ -920,8 +910,8 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLim
   if (WIFEXITED(status)) coverage.mergeIntoParent();
 #endif
   if (timed_out)
-    throw Error(file + ": the importer did not finish within " +
-                std::to_string(timeout_seconds) + " s; refused");
+    throw Error(file + ": the importer did not finish within " + std::to_string(timeout_seconds) +
+                " s; refused");
 #if HSR_ASAN
   if (answer.empty() && (WIFSIGNALED(status) || WEXITSTATUS(status) != 0)) {
     if (isAllocationFailureReport(child_stderr)) throw Error(over_budget);
@@ -931,14 +921,14 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLim
     if (isSanitizerReport(child_stderr)) {
       // A sanitizer's report from the import child: a bug, never a refusal. Show it and
       // stop, as the sanitizer would have stopped the program had the import run in process.
-      std::fprintf(stderr, "hsr: the import child for %s failed; its report:\n%s\n",
-                   file.c_str(), child_stderr.c_str());
+      std::fprintf(stderr, "hsr: the import child for %s failed; its report:\n%s\n", file.c_str(),
+                   child_stderr.c_str());
       std::abort();
     }
   }
 #endif
   if (WIFSIGNALED(status)) {
-    if (const std::string what = uncaughtException(child_stderr); !what.empty())
+    if (const std::string what = detail::uncaughtException(child_stderr); !what.empty())
       throw Error(file + ": the importer (assimp) failed on this file (" + what +
                   "); refused as malformed");
     throw Error(file + ": the importer (assimp) crashed on this file (signal " +
@@ -951,6 +941,29 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLim
 }
 
 }  // namespace
+
+namespace detail {
+
+// What the C++ runtime printed when an exception escaped inside the importer ("terminate
+// called after throwing an instance of 'T'\n  what():  message"), as "an exception it did not
+// catch: T: message"; empty if it printed nothing of the kind.
+std::string uncaughtException(std::string_view text) {
+  constexpr std::string_view kThrown = "terminate called after throwing an instance of '";
+  const std::size_t at = text.find(kThrown);
+  if (at == std::string_view::npos)
+    return text.find("terminate called") != std::string_view::npos ? "the C++ runtime terminated it"
+                                                                   : "";
+  std::string_view rest = text.substr(at + kThrown.size());
+  std::string what(rest.substr(0, std::min<std::size_t>(rest.find('\''), 120)));
+  if (const std::size_t w = rest.find("what():"); w != std::string_view::npos) {
+    std::string_view message = rest.substr(w + 7);
+    message.remove_prefix(std::min(message.find_first_not_of(' '), message.size()));
+    what += ": " + firstLine(message.substr(0, std::min<std::size_t>(message.size(), 200)));
+  }
+  return "an exception it did not catch: " + what;
+}
+
+}  // namespace detail
 
 Scene loadMeshFile(const fs::path& path, const ImportLimits& limits) {
   const std::string file = path.string();

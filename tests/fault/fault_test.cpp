@@ -1,0 +1,648 @@
+// The fault suite: hsr met the way a service or a CI job that renders uploaded models meets it.
+// Full disks (a file-size limit everywhere, a small tmpfs where the machine lets a test mount
+// one), /dev/full, signals in the middle of writing, concurrent writers, hostile references,
+// supervisors that kill hsr, and the messages each gives. Every case runs the real `hsr`
+// binary in a child process and checks what is left on the disk afterwards.
+
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/import_preflight.hpp"
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// A directory of its own, removed with everything in it at the end of the test.
+struct Scratch {
+  fs::path dir;
+  explicit Scratch(const std::string& name) {
+    dir = fs::temp_directory_path() /
+          ("hsr_fault_" + name + "_" + std::to_string(::getpid()) + "_" +
+           std::to_string(Clock::now().time_since_epoch().count() % 1000000));
+    fs::create_directories(dir);
+  }
+  ~Scratch() {
+    std::error_code ec;
+    fs::permissions(dir, fs::perms::owner_all, fs::perm_options::add, ec);
+    fs::remove_all(dir, ec);
+  }
+  fs::path operator/(const std::string& name) const { return dir / name; }
+};
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeFile(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+struct Launch {
+  std::vector<std::string> args;
+  fs::path out, err;           // where stdout and stderr go (empty: /dev/null)
+  rlim_t file_size_limit = 0;  // RLIMIT_FSIZE in the child, 0: none (a "full disk")
+  rlim_t address_limit = 0;    // RLIMIT_AS in the child, 0: none
+};
+
+pid_t spawn(const Launch& l) {
+  std::vector<std::string> argv{HSR_CLI_PATH};
+  argv.insert(argv.end(), l.args.begin(), l.args.end());
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  const auto redirect = [](const fs::path& p, int fd) {
+    const int f = ::open(p.empty() ? "/dev/null" : p.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (f >= 0) ::dup2(f, fd);
+  };
+  redirect(l.out, STDOUT_FILENO);
+  redirect(l.err, STDERR_FILENO);
+  if (l.file_size_limit > 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // a write past the limit fails with EFBIG, as on a full disk
+    const rlimit r{l.file_size_limit, l.file_size_limit};
+    ::setrlimit(RLIMIT_FSIZE, &r);
+  }
+  if (l.address_limit > 0) {
+    const rlimit r{l.address_limit, l.address_limit};
+    ::setrlimit(RLIMIT_AS, &r);
+  }
+  std::vector<char*> c;
+  for (std::string& a : argv) c.push_back(a.data());
+  c.push_back(nullptr);
+  ::execv(c[0], c.data());
+  ::_exit(127);
+}
+
+struct Result {
+  int code = -1;    // exit status, 124 on our timeout
+  int signal = 0;   // the signal that ended it, 0 if it exited
+  std::string err;  // stderr
+  std::string out;  // stdout
+};
+
+Result wait(pid_t pid, const Launch& l, double timeout_s = 60) {
+  Result r;
+  int status = 0;
+  const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (Clock::now() > deadline) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      r.code = 124;
+      return r;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (WIFEXITED(status)) r.code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  // (a device such as /dev/full is not read back: it reads as endless zeros)
+  const auto readBack = [](const fs::path& p) { return fs::is_regular_file(p) ? readFile(p) : ""; };
+  r.err = readBack(l.err);
+  r.out = readBack(l.out);
+  return r;
+}
+
+Result hsr(const Scratch& s, std::vector<std::string> args, rlim_t file_size_limit = 0) {
+  Launch l{std::move(args), s / "stdout.txt", s / "stderr.txt", file_size_limit};
+  return wait(spawn(l), l);
+}
+
+int lineCount(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+// Exit 2 with one line on stderr that mentions `what`.
+void expectRefusal(const Result& r, const std::string& what, const std::string& context) {
+  EXPECT_EQ(r.code, 2) << context << "\n" << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << context << "\n" << r.err;
+  EXPECT_EQ(r.err.rfind("hsr: ", 0), 0u) << context << "\n" << r.err;
+  EXPECT_NE(r.err.find(what), std::string::npos) << context << ": no '" << what << "' in\n"
+                                                 << r.err;
+}
+
+// The names of the temporaries hsr writes beside an output (".NAME.hsr-tmp-PID-N").
+std::vector<std::string> temporariesIn(const fs::path& dir) {
+  std::vector<std::string> found;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename().string().find(".hsr-tmp-") != std::string::npos)
+      found.push_back(e.path().filename().string());
+  return found;
+}
+
+bool decodesAsPng(const std::string& bytes, int* w = nullptr, int* h = nullptr) {
+  int x = 0, y = 0, c = 0;
+  stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                                      static_cast<int>(bytes.size()), &x, &y, &c, 3);
+  if (px) stbi_image_free(px);
+  if (w) *w = x;
+  if (h) *h = y;
+  return px != nullptr;
+}
+
+// A raw frame set is whole: its manifest names exactly its files, each of the listed size.
+void expectWholeRawSet(const fs::path& dir, const std::string& context) {
+  const nlohmann::json m = nlohmann::json::parse(readFile(dir / "manifest.json"), nullptr, false);
+  ASSERT_TRUE(m.is_object()) << context;
+  EXPECT_EQ(m["written_by"], "hsr") << context;
+  std::set<std::string> listed;
+  for (const auto& f : m["files"]) {
+    listed.insert(f["name"].get<std::string>());
+    EXPECT_EQ(fs::file_size(dir / f["name"].get<std::string>()), f["bytes"].get<std::uint64_t>())
+        << context << ": " << f["name"];
+  }
+  EXPECT_EQ(listed, (std::set<std::string>{"depth.npy", "ids.npy", "overdraw.npy"})) << context;
+}
+
+std::string fingerprint(const fs::path& dir) {
+  std::string all;
+  for (const char* f : {"manifest.json", "depth.npy", "ids.npy", "overdraw.npy"})
+    all += readFile(dir / f);
+  return all;
+}
+
+// ---- Outputs: never half-written or lost ---------------------------------------------------
+
+TEST(FaultOutputs, DevFullAndStdoutErrorsFailNamingTheReason) {
+  Scratch s("devfull");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", "/dev/full"}), "No space left on device",
+                "-o /dev/full");
+  expectRefusal(
+      hsr(s, {"render", "demo", "-q", "-o", (s / "x.png").string(), "--stats", "/dev/full"}),
+      "/dev/full", "--stats /dev/full");
+  expectRefusal(hsr(s, {"compare", "demo", "--size", "64x48", "--sheet", "/dev/full"}),
+                "No space left on device", "--sheet /dev/full");
+  // stdout on a full device: the listing cannot be delivered, and hsr says so
+  Launch l{{"scenes"}, "/dev/full", s / "err.txt"};
+  const Result r = wait(spawn(l), l);
+  expectRefusal(r, "standard output", "hsr scenes > /dev/full");
+}
+
+TEST(FaultOutputs, FullDiskKeepsTheOldOutputsAndLeavesNoTemporaries) {
+  Scratch s("fulldisk");
+  const std::string png = (s / "out" / "x.png").string(), raw = (s / "out" / "raw").string(),
+                    stats = (s / "out" / "s.json").string();
+  const std::vector<std::string> first = {"render", "demo",  "-q", "--size",  "320x240", "-o",
+                                          png,      "--raw", raw,  "--stats", stats};
+  ASSERT_EQ(hsr(s, first).code, 0);
+  const std::string old_png = readFile(png), old_stats = readFile(stats);
+  const std::string old_raw = fingerprint(raw);
+  // The same outputs from another view, on a "disk" that holds 4 KiB more per file: each write
+  // fails with the reason, and what was there stays as it was.
+  struct Case {
+    std::string only, name, size;
+    rlim_t limit;  // bytes a file may have: the failing output's, not the others'
+  };
+  for (const Case& c : std::vector<Case>{{"png", "x.png", "320x240", 4096},
+                                         {"raw", "raw", "320x240", 100000},
+                                         {"stats", "s.json", "4x3", 300}}) {
+    std::vector<std::string> args = {"render", "demo", "-q", "--size", c.size, "--eye", "3,2,5"};
+    if (c.only == "png") args.insert(args.end(), {"-o", png});
+    if (c.only == "raw")
+      args.insert(args.end(), {"-o", (s / "elsewhere.png").string(), "--raw", raw});
+    if (c.only == "stats")
+      args.insert(args.end(), {"-o", (s / "elsewhere.png").string(), "--stats", stats});
+    const Result r = hsr(s, args, c.limit);
+    expectRefusal(r, "File too large", "full disk, " + c.only);
+    EXPECT_NE(r.err.find(c.name), std::string::npos) << r.err;
+    EXPECT_EQ(readFile(png), old_png) << c.only;
+    EXPECT_EQ(readFile(stats), old_stats) << c.only;
+    EXPECT_EQ(fingerprint(raw), old_raw) << c.only;
+    const std::vector<std::string> left = temporariesIn(s / "out");
+    EXPECT_TRUE(left.empty()) << c.only << ": " << (left.empty() ? "" : left[0]);
+  }
+}
+
+// A real full file system where the machine lets an unprivileged user namespace mount a tmpfs.
+TEST(FaultOutputs, FullTmpfsKeepsTheOldOutput) {
+  Scratch s("tmpfs");
+  const fs::path mnt = s / "mnt";
+  fs::create_directories(mnt);
+  // Inside one shell in a new mount namespace: mount 64 KiB, write a small PNG, then a large
+  // one that cannot fit; report both exit codes and whether the first survived intact.
+  const std::string script =
+      "mount -t tmpfs -o size=64k tmpfs " + mnt.string() + " || exit 77; " + HSR_CLI_PATH +
+      " render demo -q --size 64x48 -o " + (mnt / "x.png").string() + " || exit 78; cp " +
+      (mnt / "x.png").string() + " " + (s / "before.png").string() + "; " + HSR_CLI_PATH +
+      " render spheres:20000 -q --size 1200x900 -o " + (mnt / "x.png").string() + " 2>" +
+      (s / "err.txt").string() + "; echo $? > " + (s / "code.txt").string() + "; cmp -s " +
+      (mnt / "x.png").string() + " " + (s / "before.png").string() + " && echo same > " +
+      (s / "same.txt").string() + "; ls -a " + mnt.string() + " > " + (s / "ls.txt").string();
+  const int status = std::system(("unshare -rm sh -c '" + script + "' 2>/dev/null").c_str());
+  if (!WIFEXITED(status) || WEXITSTATUS(status) == 77 || !fs::exists(s / "code.txt")) {
+    std::printf(
+        "[ note ] no tmpfs could be mounted here (no user namespaces); the file-size "
+        "limit case above stands for a full disk\n");
+    return;
+  }
+  EXPECT_EQ(readFile(s / "code.txt"), "2\n");
+  EXPECT_NE(readFile(s / "err.txt").find("No space left on device"), std::string::npos)
+      << readFile(s / "err.txt");
+  EXPECT_TRUE(fs::exists(s / "same.txt")) << "the old x.png was changed";
+  EXPECT_EQ(readFile(s / "ls.txt").find(".hsr-tmp-"), std::string::npos) << readFile(s / "ls.txt");
+}
+
+// SIGTERM and SIGINT at times spread over a run that writes a large PNG and raw set over an
+// earlier one: afterwards every output is the old one or the new one, whole, and no temporary
+// is left.
+TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
+  Scratch s("signals");
+  const std::string png = (s / "x.png").string(), raw = (s / "raw").string();
+  const auto args = [&](const char* eye) {
+    return std::vector<std::string>{
+        "render", "spheres:20000", "-q", "--size",    "1200x900", "--eye", eye, "-o",
+        png,      "--raw",         raw,  "--threads", "1"};
+  };
+  ASSERT_EQ(hsr(s, args("0,0,6")).code, 0);
+  const std::string old_png = readFile(png), old_raw = fingerprint(raw);
+  // The new outputs, for comparison, and the run's length
+  Scratch ref("signals_ref");
+  const auto t0 = Clock::now();
+  std::vector<std::string> ref_args = args("4,1,5");
+  ref_args[8] = (ref / "x.png").string();
+  ref_args[10] = (ref / "raw").string();
+  ASSERT_EQ(hsr(ref, ref_args).code, 0);
+  const double run_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  const std::string new_png = readFile(ref / "x.png");
+
+  int interrupted = 0, finished = 0;
+  const int kRuns = 8;
+  for (int i = 0; i < kRuns; ++i) {
+    Launch l{args("4,1,5"), {}, s / "err.txt"};
+    const pid_t pid = spawn(l);
+    // From a third of the run (rendering) to past its end (writing), evenly
+    std::this_thread::sleep_for(
+        std::chrono::duration<double>(run_s * (0.35 + 0.75 * i / (kRuns - 1))));
+    ::kill(pid, i % 2 ? SIGINT : SIGTERM);
+    const Result r = wait(pid, l);
+    (r.signal != 0 ? interrupted : finished)++;
+    const std::string now_png = readFile(png);
+    EXPECT_TRUE(now_png == old_png || now_png == new_png) << "run " << i << ": a mixed PNG";
+    EXPECT_TRUE(decodesAsPng(now_png)) << "run " << i;
+    expectWholeRawSet(raw, "run " + std::to_string(i));
+    const std::string now_raw = fingerprint(raw);
+    EXPECT_TRUE(now_raw == old_raw || now_raw == fingerprint(ref / "raw"))
+        << "run " << i << ": a raw set from neither run";
+    EXPECT_EQ(temporariesIn(s.dir), std::vector<std::string>{}) << "run " << i;
+    // Back to the old outputs for the next run
+    ASSERT_EQ(hsr(s, args("0,0,6")).code, 0);
+  }
+  std::printf("[ figures ] %d runs signalled, %d ended by the signal, %d finished first\n", kRuns,
+              interrupted, finished);
+  EXPECT_GT(interrupted, 0);
+}
+
+TEST(FaultOutputs, ConcurrentWritersLeaveOneWholeOutput) {
+  Scratch s("concurrent");
+  const char* eyes[] = {"0,0,6", "4,1,5", "-3,2,4", "1,5,3"};
+  std::vector<std::string> pngs, raws;
+  for (int k = 0; k < 4; ++k) {  // each view alone, for comparison
+    Scratch ref("concurrent_ref");
+    ASSERT_EQ(hsr(ref, {"render", "demo", "-q", "--size", "640x480", "--eye", eyes[k], "-o",
+                        (ref / "x.png").string(), "--raw", (ref / "raw").string()})
+                  .code,
+              0);
+    pngs.push_back(readFile(ref / "x.png"));
+    raws.push_back(fingerprint(ref / "raw"));
+  }
+  for (int round = 0; round < 3; ++round) {
+    std::vector<std::pair<pid_t, Launch>> runs;
+    for (int k = 0; k < 4; ++k) {
+      Launch l{{"render", "demo", "-q", "--size", "640x480", "--eye", eyes[k], "-o",
+                (s / "x.png").string(), "--raw", (s / "raw").string()},
+               {},
+               s / ("err" + std::to_string(k) + ".txt")};
+      runs.emplace_back(spawn(l), l);
+    }
+    for (auto& [pid, l] : runs) {
+      const Result r = wait(pid, l);
+      EXPECT_EQ(r.code, 0) << r.err;
+    }
+    const std::string png = readFile(s / "x.png"), raw = fingerprint(s / "raw");
+    EXPECT_TRUE(decodesAsPng(png));
+    bool png_known = false, raw_known = false;
+    for (int k = 0; k < 4; ++k) png_known |= png == pngs[k], raw_known |= raw == raws[k];
+    EXPECT_TRUE(png_known) << "round " << round << ": the PNG is none of the four";
+    EXPECT_TRUE(raw_known) << "round " << round << ": the raw set mixes runs";
+    EXPECT_EQ(temporariesIn(s.dir), std::vector<std::string>{});
+  }
+}
+
+TEST(FaultOutputs, CollisionsEmptyNamesAndForeignDirectoriesRefusedBeforeWork) {
+  Scratch s("collide");
+  const std::string model = (s / "m.obj").string();
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  writeFile(model, obj);
+  expectRefusal(hsr(s, {"render", model, "-q", "-o", model}), "input model", "-o model");
+  expectRefusal(hsr(s, {"render", model, "-q", "--stats", model}), "input model", "--stats model");
+  expectRefusal(hsr(s, {"render", model, "-q", "--raw", s.dir.string()}), "input model",
+                "--raw holding the model");
+  EXPECT_EQ(readFile(model), obj);
+  const std::string x = (s / "x.png").string();
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", x, "--stats", x}), "same output",
+                "-o = --stats");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", (s / "r" / "x.png").string(), "--raw",
+                        (s / "r").string()}),
+                "inside", "-o inside --raw");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", ""}), "empty", "-o \"\"");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", x, "--raw", ""}), "empty", "--raw \"\"");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", x, "--stats", ""}), "empty", "--stats \"\"");
+  expectRefusal(hsr(s, {"compare", "demo", "--sheet", ""}), "empty", "--sheet \"\"");
+  expectRefusal(hsr(s, {"explain", "zbuffer-textbook", "demo", "-q", "-o", ""}), "empty",
+                "explain -o \"\"");
+  // A directory holding the user's own files is never replaced
+  fs::create_directories(s / "mine");
+  writeFile(s / "mine" / "notes.txt", "keep me");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", x, "--raw", (s / "mine").string()}),
+                "did not write", "--raw over a user's directory");
+  expectRefusal(hsr(s, {"explain", "zbuffer-textbook", "demo", "-q", "-o", (s / "mine").string()}),
+                "did not write", "explain over a user's directory");
+  EXPECT_EQ(readFile(s / "mine" / "notes.txt"), "keep me");
+  EXPECT_FALSE(fs::exists(x)) << "refused, yet an output was written";
+}
+
+TEST(FaultOutputs, SheetTooLargeToEncodeRefusedBeforeRendering) {
+  Scratch s("sheet");
+  const auto t0 = Clock::now();
+  expectRefusal(
+      hsr(s, {"compare", "demo", "--size", "16384x16384", "--sheet", (s / "sheet.png").string()}),
+      "larger than the PNG writer can encode", "16384x16384 sheet");
+  // Refused before any rendering: two renders at this size take far longer than this bound
+  EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 10.0);
+  EXPECT_FALSE(fs::exists(s / "sheet.png"));
+}
+
+// ---- Inputs: a model cannot reach outside its folder, or stall the import ---------------------
+
+std::string objWithMtllib(const std::string& mtllib) {
+  return "mtllib " + mtllib + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+}
+
+std::string gltfWithBuffer(const std::string& uri) {
+  return R"({"asset":{"version":"2.0"},"buffers":[{"uri":")" + uri +
+         R"(","byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],)"
+         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",)"
+         R"("min":[0,0,0],"max":[1,1,0]}],"meshes":[{"primitives":[{"attributes":)"
+         R"({"POSITION":0}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})";
+}
+
+// Whether a flat-shaded picture shows the secret material's pure red.
+bool hasRed(const fs::path& png) {
+  int w = 0, h = 0, c = 0;
+  stbi_uc* px = stbi_load(png.c_str(), &w, &h, &c, 3);
+  bool red = false;
+  for (int k = 0; px && k < w * h && !red; ++k)
+    red = px[3 * k] > 200 && px[3 * k + 1] < 60 && px[3 * k + 2] < 60;
+  if (px) stbi_image_free(px);
+  return red;
+}
+
+TEST(FaultInputs, ReferencesOutsideTheModelsFolderAreRefused) {
+  Scratch s("refs");
+  fs::create_directories(s / "models" / "sub");
+  fs::create_directories(s / "secret");
+  writeFile(s / "secret" / "x.mtl", "newmtl red\nKd 1 0 0\n");
+  std::string triangle(36, '\0');  // three float32 vertices
+  const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::memcpy(triangle.data(), v, 36);
+  writeFile(s / "secret" / "s.bin", triangle);
+  fs::create_symlink(s / "secret" / "x.mtl", s / "models" / "link.mtl");
+  const std::string out = (s / "x.png").string();
+  struct Case {
+    std::string file, text;
+  };
+  // Relative references and links that leave the folder: refused, naming the reference; with
+  // --allow-outside-refs the secret material (red) or buffer is read
+  const std::vector<Case> hostile = {
+      {"up.obj", objWithMtllib("../secret/x.mtl")},
+      {"link.obj", objWithMtllib("link.mtl")},
+      {"sub/deep.obj", objWithMtllib("../../secret/x.mtl")},
+      {"up.gltf", gltfWithBuffer("../secret/s.bin")},
+  };
+  int refused = 0;
+  for (const Case& c : hostile) {
+    const fs::path model = s / "models" / c.file;
+    writeFile(model, c.text);
+    const Result r = hsr(s, {"render", model.string(), "-q", "-o", out});
+    expectRefusal(r, "outside the model's folder", c.file);
+    refused += r.code == 2;
+    const Result allowed =
+        hsr(s, {"render", model.string(), "-q", "--flat", "-o", out, "--allow-outside-refs"});
+    EXPECT_EQ(allowed.code, 0) << c.file << ": " << allowed.err;
+    if (c.file.find(".obj") != std::string::npos) EXPECT_TRUE(hasRed(out)) << c.file;
+  }
+  // Absolute references: assimp 5.2 joins them to the model's folder, so they name nothing;
+  // whatever happens, the secret is not read (no red, or refused)
+  for (const Case& c :
+       std::vector<Case>{{"abs.obj", objWithMtllib((s / "secret" / "x.mtl").string())},
+                         {"abs.gltf", gltfWithBuffer((s / "secret" / "s.bin").string())}}) {
+    const fs::path model = s / "models" / c.file;
+    writeFile(model, c.text);
+    fs::remove(out);
+    const Result r = hsr(s, {"render", model.string(), "-q", "--flat", "-o", out});
+    EXPECT_TRUE(r.code == 2 || (r.code == 0 && !hasRed(out))) << c.file << ": " << r.err;
+    if (r.code == 2) EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  }
+  std::printf("[ figures ] %d of %zu hostile references refused\n", refused, hostile.size());
+  // Inside the folder (a sub-folder, a link within it) is fine
+  fs::copy_file(s / "secret" / "x.mtl", s / "models" / "sub" / "ok.mtl");
+  writeFile(s / "models" / "inside.obj", objWithMtllib("sub/ok.mtl"));
+  EXPECT_EQ(hsr(s, {"render", (s / "models" / "inside.obj").string(), "-q", "-o", out}).code, 0);
+}
+
+TEST(FaultInputs, FifoDeviceOrDirectoryReferencesAreRefusedAtOnce) {
+  Scratch s("fifo");
+  ASSERT_EQ(::mkfifo((s / "f.mtl").c_str(), 0644), 0);
+  ASSERT_EQ(::mkfifo((s / "f.bin").c_str(), 0644), 0);
+  fs::create_directories(s / "d.mtl");
+  fs::create_symlink("/dev/zero", s / "zero.bin");
+  const std::string out = (s / "x.png").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"fifo.obj", objWithMtllib("f.mtl")},
+      {"dir.obj", objWithMtllib("d.mtl")},
+      {"fifo.gltf", gltfWithBuffer("f.bin")},
+      {"zero.gltf", gltfWithBuffer("zero.bin")},
+  };
+  for (const auto& [file, text] : cases) {
+    writeFile(s / file, text);
+    const auto t0 = Clock::now();
+    Launch l{{"render", (s / file).string(), "-q", "-o", out}, {}, s / "err.txt"};
+    const Result r = wait(spawn(l), l, /*timeout_s=*/30);
+    ASSERT_NE(r.code, 124) << file << ": the import stalled";
+    EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 20.0) << file;
+    expectRefusal(r, "not a file", file);
+  }
+}
+
+// A supervisor kills hsr (SIGKILL: no handler runs) while the import child works: the child
+// must not go on alone.
+TEST(FaultInputs, ImportChildDiesWithItsParent) {
+  Scratch s("orphan");
+  // An OBJ that keeps assimp busy for seconds (19,000 objects, 9,500 material names)
+  std::string obj;
+  for (int i = 0; i < 19000; ++i)
+    obj += "o obj" + std::to_string(i) + "\nusemtl m" + std::to_string(i % 9500) + "\nv " +
+           std::to_string(i) + " 0 0\nv " + std::to_string(i + 1) + " 0 0\nv " + std::to_string(i) +
+           " 1 0\nf -3 -2 -1\n";
+  writeFile(s / "slow.obj", obj);
+  for (const int sig : {SIGKILL, SIGTERM}) {
+    Launch l{{"render", (s / "slow.obj").string(), "-q", "-o", (s / "x.png").string()},
+             {},
+             s / "err.txt"};
+    const pid_t pid = spawn(l);
+    // The import child appears in the parent's list of children
+    pid_t child = 0;
+    const auto deadline = Clock::now() + std::chrono::seconds(20);
+    while (child == 0 && Clock::now() < deadline) {
+      std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) +
+                       "/children");
+      in >> child;
+      if (child == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ASSERT_GT(child, 0) << "no import child seen";
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    ::kill(pid, sig);
+    wait(pid, l);
+    // Gone (or a zombie waiting for init) within a second, not after its seconds of work
+    bool alive = true;
+    for (int i = 0; i < 200 && alive; ++i) {
+      std::ifstream stat("/proc/" + std::to_string(child) + "/stat");
+      std::string pid_s, comm, state;
+      alive = static_cast<bool>(stat >> pid_s >> comm >> state) && state != "Z";
+      if (alive) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    EXPECT_FALSE(alive) << "signal " << sig << ": the import child " << child
+                        << " outlived its parent";
+    if (alive) ::kill(child, SIGKILL);
+  }
+}
+
+// An exception escaping inside assimp ends the child by std::terminate, whose runtime prints
+// two lines on the child's stderr; the refusal carries them as one phrase (the text below is
+// what libstdc++ prints).
+TEST(FaultInputs, UncaughtExceptionInTheChildBecomesOnePhrase) {
+  EXPECT_EQ(hsr::detail::uncaughtException(
+                "terminate called after throwing an instance of 'Assimp::DeadlyImportError'\n"
+                "  what():  GLTF: buffer too short\nAborted\n"),
+            "an exception it did not catch: Assimp::DeadlyImportError: GLTF: buffer too short");
+  EXPECT_EQ(hsr::detail::uncaughtException("terminate called without an active exception\n"),
+            "the C++ runtime terminated it");
+  EXPECT_EQ(hsr::detail::uncaughtException("Segmentation fault\n"), "");
+}
+
+TEST(FaultInputs, OuterMemoryLimitIsNamedAsSuch) {
+#if defined(__SANITIZE_ADDRESS__)
+  std::printf(
+      "[ note ] under ASan the process reserves terabytes of address space, so an "
+      "address-space limit cannot be set on it; the Release run checks this case\n");
+#else
+  Scratch s("prlimit");
+  // A dense OBJ of 6 MB: its import may use 1.5 GiB, and needs about 0.8 GiB
+  std::string obj;
+  for (int i = 0; i < 3; ++i)
+    obj += "v " + std::to_string(i) + " " + std::to_string(i % 2) + " 0\n";
+  while (obj.size() < 6'000'000) obj += "f 1 2 3\n";
+  writeFile(s / "dense.obj", obj);
+  Launch l{
+      {"render", (s / "dense.obj").string(), "-q", "-o", (s / "x.png").string(), "--threads", "1"},
+      {},
+      s / "err.txt",
+      0,
+      /*address_limit=*/600ull << 20};
+  const Result r = wait(spawn(l), l);
+  expectRefusal(r, "own address-space limit", "prlimit 600 MiB");
+#endif
+}
+
+// ---- Messages: one line, honest -------------------------------------------------------------
+
+TEST(FaultMessages, OneLineWhateverTheInput) {
+  Scratch s("messages");
+  const std::string out = (s / "x.png").string();
+  // Control characters in user text are shown escaped
+  Result r = hsr(s, {"render", "no\nsuch\x1b[31m", "-q", "-o", out});
+  expectRefusal(r, "no\\nsuch\\x1b[31m", "newline and escape in a name");
+  // A loop of symbolic links is not "no such file"
+  fs::create_symlink(s / "loop_a", s / "loop_b");
+  fs::create_symlink(s / "loop_b", s / "loop_a");
+  expectRefusal(hsr(s, {"render", (s / "loop_a").string(), "-q", "-o", out}),
+                "Too many levels of symbolic links", "symlink loop");
+  // A model whose vertices coincide, and one beyond float camera arithmetic
+  writeFile(s / "point.obj", "v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n");
+  expectRefusal(hsr(s, {"render", (s / "point.obj").string(), "-q", "-o", out}),
+                "every vertex lies at the same point", "coincident vertices");
+  writeFile(s / "huge.obj", "v 1e19 0 0\nv 0 1e19 0\nv 0 0 1e19\nf 1 2 3\n");
+  expectRefusal(hsr(s, {"render", (s / "huge.obj").string(), "-q", "-o", out}),
+                "coordinates reach 1e+19", "coordinates near 1e19");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", out, "--near", "1e-40"}),
+                "closer to 0 than a float holds", "--near 1e-40");
+  // Valid values that draw nothing: a warning, the picture, exit 0
+  r = hsr(s, {"render", "demo", "-q", "-o", out, "--near", "1e-7"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: far/near"), std::string::npos) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  if (::geteuid() != 0) {  // root searches any folder
+    fs::create_directories(s / "closed");
+    writeFile(s / "closed" / "m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    fs::permissions(s / "closed", fs::perms::none);
+    expectRefusal(hsr(s, {"render", (s / "closed" / "m.obj").string(), "-q", "-o", out}),
+                  "Permission denied", "unsearchable folder");
+    fs::permissions(s / "closed", fs::perms::owner_all);
+  }
+}
+
+// ---- Cost bounded by the input ------------------------------------------------------------
+
+TEST(FaultCost, ObjFilesAssimpCannotReadInTimeAreRefusedAtOnce) {
+  Scratch s("objcost");
+  std::string many;
+  for (int i = 0; i < 300000; ++i)
+    many += "o o" + std::to_string(i) + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n";
+  writeFile(s / "objects.obj", many);
+  const auto t0 = Clock::now();
+  expectRefusal(
+      hsr(s, {"render", (s / "objects.obj").string(), "-q", "-o", (s / "x.png").string()}),
+      "more than 20000 objects", "300,000 objects");
+  EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 20.0);
+  std::string names = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  for (int i = 0; i < 10001; ++i) names += "usemtl m" + std::to_string(i) + "\nf 1 2 3\n";
+  writeFile(s / "names.obj", names);
+  expectRefusal(hsr(s, {"render", (s / "names.obj").string(), "-q", "-o", (s / "x.png").string()}),
+                "distinct material names", "10,001 material names");
+}
+
+}  // namespace
