@@ -11,9 +11,12 @@
 
 #include <sys/wait.h>
 
+#include "test_util.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
+using hsr::testing::ScratchDir;
 
 struct CliRun {
   int code;
@@ -21,14 +24,9 @@ struct CliRun {
   std::string out;
 };
 
-fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("hsr_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
-
 CliRun runCli(const std::string& args) {
-  const fs::path err = tempDir() / "stderr.txt";
+  const ScratchDir scratch("hsr_cli_stderr");
+  const fs::path err = scratch / "stderr.txt";
   const std::string cmd = "timeout 60 " + std::string(HSR_CLI_PATH) + " " + args + " 2>" +
                           err.string();
   CliRun r;
@@ -59,7 +57,8 @@ void expectCleanError(const std::string& args, const std::string& must_mention =
 }
 
 TEST(Cli, BadCameraAndSizeGiveOneLineAndExit2) {
-  const std::string out = "-o " + (tempDir() / "x.png").string();
+  const ScratchDir scratch("hsr_cli_test");
+  const std::string out = "-o " + (scratch.path() / "x.png").string();
   expectCleanError("render demo --near 0 " + out, "near");
   expectCleanError("render demo --near -1 " + out, "near");
   expectCleanError("render demo --near 5 --far 2 " + out, "far");
@@ -79,7 +78,8 @@ TEST(Cli, BadCameraAndSizeGiveOneLineAndExit2) {
 }
 
 TEST(Cli, BadFilesGiveOneLineAndExit2) {
-  const fs::path d = tempDir();
+  const ScratchDir scratch("hsr_cli_test");
+  const fs::path d = scratch.path();
   const std::string out = "-o " + (d / "x.png").string();
   expectCleanError("render " + (d / "does_not_exist.obj").string() + " " + out, "does_not_exist");
   {
@@ -123,7 +123,8 @@ TEST(Cli, BadFilesGiveOneLineAndExit2) {
 }
 
 TEST(Cli, RendersDemoWithEveryOutput) {
-  const fs::path d = tempDir() / "demo";
+  const ScratchDir scratch("hsr_cli_test");
+  const fs::path d = scratch.path() / "demo";
   const CliRun r = runCli("render demo --size 160x120 --output color,depth,ids,overdraw -o " +
                        (d / "demo.png").string() + " --raw " + (d / "raw").string() +
                        " --stats " + (d / "stats.json").string());
@@ -137,7 +138,8 @@ TEST(Cli, RendersDemoWithEveryOutput) {
 }
 
 TEST(Cli, NoArgumentRendersTheDemo) {
-  const fs::path d = tempDir() / "noarg";
+  const ScratchDir scratch("hsr_cli_test");
+  const fs::path d = scratch.path() / "noarg";
   fs::create_directories(d);
   const std::string cmd = "cd " + d.string() + " && timeout 60 " + HSR_CLI_PATH + " >/dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
@@ -153,7 +155,8 @@ TEST(Cli, ScenesListsBuiltinsAndAlgorithms) {
 }
 
 TEST(Cli, CompareWritesTableAndSheet) {
-  const fs::path sheet = tempDir() / "sheet.png";
+  const ScratchDir scratch("hsr_cli_test");
+  const fs::path sheet = scratch.path() / "sheet.png";
   const CliRun r = runCli("compare cyclic --size 120x90 --sheet " + sheet.string());
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("zbuffer"), std::string::npos);
@@ -162,7 +165,8 @@ TEST(Cli, CompareWritesTableAndSheet) {
 }
 
 TEST(Cli, ExplainWritesNumberedPicturesASheetAndAnIndex) {
-  const fs::path dir = tempDir() / "explain";
+  const ScratchDir scratch("hsr_cli_test");
+  const fs::path dir = scratch.path() / "explain";
   const CliRun r = runCli("explain zbuffer demo --size 160x120 -o " + dir.string());
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("fill tile"), std::string::npos) << r.out;
@@ -179,7 +183,8 @@ TEST(Cli, ExplainWritesNumberedPicturesASheetAndAnIndex) {
 TEST(Cli, CameraInsideModelStillRenders) {
   // Inside a closed cube the z-buffer shows the inside faces; near-plane clipping handles the
   // polygons around the eye. It renders, with a warning line.
-  const fs::path d = tempDir();
+  const ScratchDir scratch("hsr_cli_test");
+  const fs::path d = scratch.path();
   {
     std::ofstream f(d / "cube.obj");
     f << "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"

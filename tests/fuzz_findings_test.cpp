@@ -8,10 +8,10 @@
 #include <string_view>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
+#include "test_util.hpp"
 
 namespace hsr {
 namespace {
@@ -19,8 +19,8 @@ namespace {
 // Writes bytes to a temporary file with the given extension, loads it, and returns the error
 // message ("" if it loaded).
 std::string loadError(std::string_view bytes, const std::string& ext) {
-  const std::filesystem::path p = std::filesystem::temp_directory_path() /
-                                  ("hsr_finding_" + std::to_string(::getpid()) + ext);
+  const testing::ScratchDir scratch("hsr_finding");
+  const std::filesystem::path p = scratch / ("finding" + ext);
   std::FILE* f = std::fopen(p.c_str(), "wb");
   EXPECT_NE(f, nullptr);
   if (!f) return "cannot write " + p.string();
@@ -32,7 +32,6 @@ std::string loadError(std::string_view bytes, const std::string& ext) {
   } catch (const Error& e) {
     message = e.what();
   }
-  std::filesystem::remove(p);
   return message;
 }
 

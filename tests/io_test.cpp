@@ -16,36 +16,25 @@
 #include <tuple>
 #include <vector>
 
-#include <unistd.h>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
+#include "png_read.hpp"
 
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/scene.hpp"
+#include "test_util.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using hsr::Scene;
+using hsr::testing::ScratchDir;
 
 const fs::path kModels = HSR_TEST_MODELS;
-
-fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("hsr_io_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
 
 void writeFile(const fs::path& p, const std::string& bytes) {
   std::ofstream f(p, std::ios::binary);
@@ -346,7 +335,8 @@ void writeTinyGltf(const fs::path& dir) {
 }
 
 TEST(MeshImport, AppliesNodeTransformsInNodeOrder) {
-  const fs::path d = tempDir();
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path d = scratch.path();
   writeTinyGltf(d);
   const Scene s = hsr::loadMeshFile(d / "tiny.gltf");
   ASSERT_EQ(s.polygonCount(), 2u);
@@ -398,7 +388,8 @@ TEST(MeshImport, InvalidModelsNeverCrash) {
 }
 
 TEST(MeshImport, TruncatedBinaryStlThrows) {
-  const fs::path d = tempDir();
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path d = scratch.path();
   const std::string stl = readFile(kModels / "STL/Spider_binary.stl");
   ASSERT_GT(stl.size(), 5000u);
   writeFile(d / "truncated.stl", stl.substr(0, 5000));
@@ -413,7 +404,8 @@ TEST(MeshImport, TruncatedBinaryStlThrows) {
 }
 
 TEST(MeshImport, GarbageAndEmptyFilesThrowNamingTheFile) {
-  const fs::path d = tempDir();
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path d = scratch.path();
   writeFile(d / "garbage.obj", "this is not a mesh\njust some words\n");
   writeFile(d / "empty.obj", "");
   writeFile(d / "lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n");
@@ -444,7 +436,8 @@ TEST(MeshImport, GarbageAndEmptyFilesThrowNamingTheFile) {
 }
 
 TEST(LoadScene, ExistingFileWinsOverBuiltin) {
-  const fs::path d = tempDir() / "wins";
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path d = scratch.path() / "wins";
   fs::create_directories(d);
   writeFile(d / "cyclic", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   const fs::path old = fs::current_path();
@@ -477,7 +470,8 @@ TEST(LoadScene, NeitherFileNorBuiltinIsNamed) {
 // Writers
 
 TEST(Writers, NpyParsesBack) {
-  const fs::path d = tempDir();
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path d = scratch.path();
   const float depth[6] = {0.0f, 0.25f, 0.5f, 0.75f, 1.0f, -2.0f};
   const std::uint32_t ids[6] = {0, 1, 2, 0xFFFFFFFFu, 7, 123456789};
   hsr::writeNpy(d / "depth.npy", 3, 2, depth);
@@ -506,22 +500,22 @@ TEST(Writers, NpyParsesBack) {
 }
 
 TEST(Writers, PngDecodesBack) {
-  const fs::path d = tempDir();
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path d = scratch.path();
   std::vector<std::uint8_t> rgb(5 * 3 * 3);
   for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<std::uint8_t>(i * 7);
   hsr::writePng(d / "p.png", 5, 3, 3, rgb.data());
-  int w = 0, h = 0, c = 0;
-  stbi_uc* back = stbi_load((d / "p.png").string().c_str(), &w, &h, &c, 3);
-  ASSERT_NE(back, nullptr);
-  EXPECT_EQ(w, 5);
-  EXPECT_EQ(h, 3);
-  EXPECT_EQ(std::memcmp(back, rgb.data(), rgb.size()), 0);  // first row first
-  stbi_image_free(back);
+  const auto back = hsr::testing::decodePng(d / "p.png");
+  ASSERT_TRUE(back.ok()) << back.error;
+  EXPECT_EQ(back.width, 5);
+  EXPECT_EQ(back.height, 3);
+  EXPECT_EQ(back.rgb, rgb);  // first row first
 }
 
 TEST(Writers, FailedWritesThrowNamingTheFile) {
   // The writers create missing folders, but not through a file
-  const fs::path not_a_dir = tempDir() / "a_file";
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path not_a_dir = scratch.path() / "a_file";
   std::ofstream(not_a_dir) << "x";
   const fs::path bad = not_a_dir / "x.png";
   const std::uint8_t px[3] = {1, 2, 3};
@@ -643,7 +637,8 @@ std::string binaryPly(const std::string& eol, const std::uint32_t (&bits)[9], bo
 // the header counts. 1 binary PLY in 256 with "\n" headers starts so. The import inserts the
 // '\r' that makes assimp read it right; headers ended by "\r\n" or "\r" are read as written.
 TEST(MeshImport, BinaryPlyWhoseDataStartsWithByte0x0ALoadsExactly) {
-  const fs::path d = tempDir();
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path d = scratch.path();
   // The first x is 1.0000012f: its low byte (first in little-endian order) is 0x0A
   const std::uint32_t bits[9] = {0x3F80000Au, 0, 0, 0x40000000u, 0, 0, 0, 0x40400000u, 0};
   // Big-endian: the first byte is the sign and exponent; 0x0A... is about 6.2e-33
@@ -685,7 +680,8 @@ TEST(MeshImport, PlyWithASecondVertexElementIsRefused) {
       "end_header\n0 0 0\n";
   for (int i = 1; i <= 40; ++i) ply += std::to_string(i) + " 0 0\n";
   ply += "3 0 1 2\n";
-  const fs::path p = tempDir() / "two_vertex_elements.ply";
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path p = scratch.path() / "two_vertex_elements.ply";
   writeFile(p, ply);
   try {
     hsr::loadMeshFile(p);
@@ -721,7 +717,8 @@ TEST(MeshImport, ImportOverItsMemoryLimitIsRefused) {
   // One large allocation instead of many small ones (under ASan the two fail differently:
   // the heap watch, or the address-space limit inside the sanitizer's allocator): a binary
   // STL of 1M triangles, for which assimp allocates 36 MB of positions at once
-  const fs::path stl = tempDir() / "million.stl";
+  const ScratchDir scratch("hsr_io_test");
+  const fs::path stl = scratch.path() / "million.stl";
   {
     std::string bytes(84 + 50 * 1'000'000ull, '\0');
     const std::uint32_t n = 1'000'000;
@@ -767,8 +764,8 @@ TEST(MeshImport, BinaryPlyThatCrashesAssimpIsRefused) {
       0x00, 0x03, 0x00, 0x00, 0x00, 0x03, 0x03, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x04, 0x00,
       0x00, 0x00, 0x03, 0x03, 0x00, 0x00, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
   };
-  const std::filesystem::path p =
-      std::filesystem::temp_directory_path() / ("hsr_assimp_crash_" + std::to_string(::getpid()) + ".ply");
+  const ScratchDir scratch("hsr_assimp_crash");
+  const std::filesystem::path p = scratch / "crash.ply";
   {
     std::ofstream f(p, std::ios::binary);
     f.write(reinterpret_cast<const char*>(bytes), sizeof bytes);
@@ -779,7 +776,6 @@ TEST(MeshImport, BinaryPlyThatCrashesAssimpIsRefused) {
   } catch (const hsr::Error& e) {
     EXPECT_NE(std::string(e.what()).find(p.filename().string()), std::string::npos) << e.what();
   }
-  std::filesystem::remove(p);
 }
 
 }  // namespace

@@ -1,13 +1,17 @@
 #pragma once
-// Small helpers shared by the tests: deterministic random numbers and scene builders.
+// Small helpers shared by the tests: deterministic random numbers, scene builders and scratch
+// directories.
 
 #include <cctype>
+#include <cerrno>
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -24,6 +28,41 @@ using Rng = hsr::detail::SplitMix64;
 
 // Channel c (0 = R, 1 = G, 2 = B) of pixel k of a frame's packed RGBA colour.
 inline int channel(const Frame& f, std::size_t k, int c) { return (f.color[k] >> (8 * c)) & 0xFF; }
+
+// A fresh, empty directory of its own under the system's temporary directory (TAG_XXXXXX,
+// made unique by mkdtemp, so tests running in parallel never share one), removed with all it
+// holds when the object goes out of scope: a test run leaves nothing behind in /tmp.
+class ScratchDir {
+ public:
+  explicit ScratchDir(std::string_view tag = "hsr_test") {
+    std::string name = (std::filesystem::temp_directory_path() / tag).string() + "_XXXXXX";
+    if (::mkdtemp(name.data()) == nullptr)
+      throw std::system_error(errno, std::generic_category(), "mkdtemp " + name);
+    path_ = name;
+  }
+  ~ScratchDir() {
+    namespace fs = std::filesystem;
+    // A test may have taken away its own permissions on a folder inside: give them back
+    // (to folders only, never through a link) so that everything can be removed. A destructor
+    // must not throw: what cannot go stays.
+    std::error_code ec;
+    fs::permissions(path_, fs::perms::owner_all, fs::perm_options::add, ec);
+    for (fs::recursive_directory_iterator it(path_, ec), end; !ec && it != end; it.increment(ec)) {
+      std::error_code ignored;
+      if (it->symlink_status(ignored).type() == fs::file_type::directory)
+        fs::permissions(it->path(), fs::perms::owner_all, fs::perm_options::add, ignored);
+    }
+    fs::remove_all(path_, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::filesystem::path& p) const { return path_ / p; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 // HSR_TEST_INTENSITY: 1 in CI (default), 3 for long local runs (10x the cases), 5 for 100x.
 inline int testIntensity() {

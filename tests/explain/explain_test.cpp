@@ -10,35 +10,17 @@
 #include "hsr/io.hpp"
 #include "test_util.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wshadow"
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
+#include "png_read.hpp"
 
 namespace hsr {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("hsr_explain_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  return d;
-}
-
 // Width and height of a PNG, or {0, 0} when it does not decode.
 std::pair<int, int> pngSize(const fs::path& p) {
-  int w = 0, h = 0, n = 0;
-  unsigned char* data = stbi_load(p.string().c_str(), &w, &h, &n, 3);
-  if (!data) return {0, 0};
-  stbi_image_free(data);
-  return {w, h};
+  const auto png = hsr::testing::decodePng(p);
+  return {png.width, png.height};
 }
 
 TEST(Explain, TextbookZBufferShowsEachPolygonBeingDrawn) {
@@ -46,7 +28,8 @@ TEST(Explain, TextbookZBufferShowsEachPolygonBeingDrawn) {
   const Camera cam = frameScene(scene, 240, 180);
   RenderOptions o;
   o.algorithm = "zbuffer-textbook";
-  const fs::path dir = freshDir("textbook");
+  const testing::ScratchDir scratch("hsr_explain");
+  const fs::path dir = scratch / "textbook";
   const Explanation e = explain(scene, cam, o, dir, {.pictures_per_step = 6});
   ASSERT_GE(e.steps.size(), 4u);
   EXPECT_EQ(e.steps.front().name, "initialise");
@@ -80,7 +63,8 @@ TEST(Explain, TiledZBufferShowsItsTiles) {
   const Camera cam = frameScene(scene, 200, 150);
   RenderOptions o;
   o.algorithm = "zbuffer";
-  const fs::path dir = freshDir("tiled");
+  const testing::ScratchDir scratch("hsr_explain");
+  const fs::path dir = scratch / "tiled";
   const Explanation e = explain(scene, cam, o, dir);
   ASSERT_GE(e.steps.size(), 3u);
   EXPECT_EQ(e.steps.front().name, "bin");

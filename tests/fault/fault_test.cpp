@@ -29,16 +29,11 @@
 #include <nlohmann/json.hpp>
 
 #include "io/import_preflight.hpp"
+#include "test_util.hpp"
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
+#include "png_read.hpp"
 
 namespace {
 
@@ -46,20 +41,8 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 // A directory of its own, removed with everything in it at the end of the test.
-struct Scratch {
-  fs::path dir;
-  explicit Scratch(const std::string& name) {
-    dir = fs::temp_directory_path() /
-          ("hsr_fault_" + name + "_" + std::to_string(::getpid()) + "_" +
-           std::to_string(Clock::now().time_since_epoch().count() % 1000000));
-    fs::create_directories(dir);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::permissions(dir, fs::perms::owner_all, fs::perm_options::add, ec);
-    fs::remove_all(dir, ec);
-  }
-  fs::path operator/(const std::string& name) const { return dir / name; }
+struct Scratch : hsr::testing::ScratchDir {
+  explicit Scratch(const std::string& name) : ScratchDir("hsr_fault_" + name) {}
 };
 
 std::string readFile(const fs::path& p) {
@@ -165,13 +148,10 @@ std::vector<std::string> temporariesIn(const fs::path& dir) {
 }
 
 bool decodesAsPng(const std::string& bytes, int* w = nullptr, int* h = nullptr) {
-  int x = 0, y = 0, c = 0;
-  stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                                      static_cast<int>(bytes.size()), &x, &y, &c, 3);
-  if (px) stbi_image_free(px);
-  if (w) *w = x;
-  if (h) *h = y;
-  return px != nullptr;
+  const auto png = hsr::testing::decodePngBytes(bytes);
+  if (w) *w = png.width;
+  if (h) *h = png.height;
+  return png.ok();
 }
 
 // A raw frame set is whole: its manifest names exactly its files, each of the listed size.
@@ -317,7 +297,7 @@ TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
     const std::string now_raw = fingerprint(raw);
     EXPECT_TRUE(now_raw == old_raw || now_raw == fingerprint(ref / "raw"))
         << "run " << i << ": a raw set from neither run";
-    EXPECT_EQ(temporariesIn(s.dir), std::vector<std::string>{}) << "run " << i;
+    EXPECT_EQ(temporariesIn(s.path()), std::vector<std::string>{}) << "run " << i;
     // Back to the old outputs for the next run
     ASSERT_EQ(hsr(s, args("0,0,6")).code, 0);
   }
@@ -358,7 +338,7 @@ TEST(FaultOutputs, ConcurrentWritersLeaveOneWholeOutput) {
     for (int k = 0; k < 4; ++k) png_known |= png == pngs[k], raw_known |= raw == raws[k];
     EXPECT_TRUE(png_known) << "round " << round << ": the PNG is none of the four";
     EXPECT_TRUE(raw_known) << "round " << round << ": the raw set mixes runs";
-    EXPECT_EQ(temporariesIn(s.dir), std::vector<std::string>{});
+    EXPECT_EQ(temporariesIn(s.path()), std::vector<std::string>{});
   }
 }
 
@@ -369,7 +349,7 @@ TEST(FaultOutputs, CollisionsEmptyNamesAndForeignDirectoriesRefusedBeforeWork) {
   writeFile(model, obj);
   expectRefusal(hsr(s, {"render", model, "-q", "-o", model}), "input model", "-o model");
   expectRefusal(hsr(s, {"render", model, "-q", "--stats", model}), "input model", "--stats model");
-  expectRefusal(hsr(s, {"render", model, "-q", "--raw", s.dir.string()}), "input model",
+  expectRefusal(hsr(s, {"render", model, "-q", "--raw", s.path().string()}), "input model",
                 "--raw holding the model");
   EXPECT_EQ(readFile(model), obj);
   const std::string x = (s / "x.png").string();
@@ -422,13 +402,10 @@ std::string gltfWithBuffer(const std::string& uri) {
 
 // Whether a flat-shaded picture shows the secret material's pure red.
 bool hasRed(const fs::path& png) {
-  int w = 0, h = 0, c = 0;
-  stbi_uc* px = stbi_load(png.c_str(), &w, &h, &c, 3);
-  bool red = false;
-  for (int k = 0; px && k < w * h && !red; ++k)
-    red = px[3 * k] > 200 && px[3 * k + 1] < 60 && px[3 * k + 2] < 60;
-  if (px) stbi_image_free(px);
-  return red;
+  const auto px = hsr::testing::decodePng(png).rgb;
+  for (std::size_t k = 0; k + 2 < px.size(); k += 3)
+    if (px[k] > 200 && px[k + 1] < 60 && px[k + 2] < 60) return true;
+  return false;
 }
 
 TEST(FaultInputs, ReferencesOutsideTheModelsFolderAreRefused) {
@@ -463,7 +440,9 @@ TEST(FaultInputs, ReferencesOutsideTheModelsFolderAreRefused) {
     const Result allowed =
         hsr(s, {"render", model.string(), "-q", "--flat", "-o", out, "--allow-outside-refs"});
     EXPECT_EQ(allowed.code, 0) << c.file << ": " << allowed.err;
-    if (c.file.find(".obj") != std::string::npos) EXPECT_TRUE(hasRed(out)) << c.file;
+    if (c.file.find(".obj") != std::string::npos) {
+      EXPECT_TRUE(hasRed(out)) << c.file;
+    }
   }
   // Absolute references: assimp 5.2 joins them to the model's folder, so they name nothing;
   // whatever happens, the secret is not read (no red, or refused)
@@ -475,7 +454,9 @@ TEST(FaultInputs, ReferencesOutsideTheModelsFolderAreRefused) {
     fs::remove(out);
     const Result r = hsr(s, {"render", model.string(), "-q", "--flat", "-o", out});
     EXPECT_TRUE(r.code == 2 || (r.code == 0 && !hasRed(out))) << c.file << ": " << r.err;
-    if (r.code == 2) EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    if (r.code == 2) {
+      EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    }
   }
   std::printf("[ figures ] %d of %zu hostile references refused\n", refused, hostile.size());
   // Inside the folder (a sub-folder, a link within it) is fine

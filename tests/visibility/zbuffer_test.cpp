@@ -282,6 +282,15 @@ TEST(ZBufferTiled, EqualsTheTextbookBitForBitOnTheAgreementScenes) {
                               "agreement scene " + std::to_string(seed) + " variant " +
                                   std::to_string(1 + seed % (variants.size() - 1)),
                               t);
+    // Glass: three of the eight materials see-through, so that transparent layers overlap
+    // each other and the opaque ones: both must blend the same layers in the same order.
+    if (seed % 4 == 0) {
+      Scene glass = scene;
+      for (std::size_t m = 0; m < 3 && m < glass.materials.size(); ++m)
+        glass.materials[m].alpha = 0.25f + 0.2f * static_cast<float>(m);
+      expectTiledEqualsTextbook(glass, camera, variants[0],
+                                "agreement scene " + std::to_string(seed) + " with glass", t);
+    }
   }
   testing::printFigures("two z-buffers, agreement scenes: " + testing::grouped(t.renders) +
                         " tiled renders (" + testing::grouped(t.scenes) +
