@@ -23,7 +23,8 @@
 #endif
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  // One file per process, rewritten for each input (the import reads it by name)
+  // One file per process, written for each input (the import reads it by name) and removed
+  // after it, so that a run that ends leaves nothing in the temporary directory
   static const std::filesystem::path path =
       std::filesystem::temp_directory_path() /
       ("hsr_fuzz_" + std::to_string(::getpid()) + HSR_FUZZ_EXT);
@@ -42,5 +43,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     hsr::render(scene, camera, options);
   } catch (const hsr::Error&) {
   }
+  std::remove(path.c_str());
   return 0;
 }
