@@ -72,6 +72,7 @@ std::string capabilityList(std::uint32_t caps) {
       {kVisibleSet, "visible-set"},
       {kExplain, "explain"},
       {kDrawOver, "draw-over"},
+      {kBackToFront, "back-to-front"},
   };
   std::vector<std::string_view> names;
   for (const auto& [cap, name] : kNames)

@@ -27,7 +27,9 @@ constexpr double kMargin = 0.01;
 
 RenderOptions countEveryFragment(const std::string& algorithm) {
   RenderOptions o = testing::optionsFor(algorithm);
-  o.depth_test = false;  // every fragment writes: overdraw counts all of them
+  // Every fragment writes, so overdraw counts all of them: with the depth test off, or with
+  // no depth test at all (a painter).
+  if (findAlgorithm(algorithm).has(kDepthFuncs)) o.depth_test = false;
   o.frustum_cull = false;
   o.threads = 2;
   return o;

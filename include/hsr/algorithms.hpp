@@ -32,6 +32,9 @@ enum Capability : std::uint32_t {
   kVisibleSet = 1u << 6,           // the exact visible parts of polygons, as geometry
   kExplain = 1u << 7,              // shows its steps to `hsr explain`
   kDrawOver = 1u << 8,             // draws into buffers it did not clear (the GL facade)
+  kBackToFront = 1u << 9,          // blends transparent polygons in depth order, farthest
+                                   // first (without it: in submission order, after the
+                                   // opaque ones, as the z-buffer)
 };
 
 struct AlgorithmInfo {
@@ -43,6 +46,9 @@ struct AlgorithmInfo {
   std::uint32_t capabilities = 0;
   std::uint64_t max_pixels = 0;  // a slow algorithm refuses larger images (0: no limit)
   bool reference = false;        // the row others are compared with (hsr compare)
+  bool demonstration = false;    // wrong on purpose, to show a failure the notes describe
+                                 // (painter-naive): in compare and explain, not held to the
+                                 // visibility suites
 
   bool has(Capability c) const { return (capabilities & c) != 0; }
 };

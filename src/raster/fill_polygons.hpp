@@ -39,4 +39,25 @@ std::size_t fillPolygon(const P& p, const FrameView& fb, DepthFunc func, bool de
   return fillPolygon(xy, p.depth, p.id, p.rgba, fb, func, depth_mask, counts);
 }
 
+// A half-plane of the picture: the pixel centres (x, y) (column, row; pixel centres at
+// integers, as depth planes) where value = (c + b y) + a x is >= 0, or < 0 when `negative`.
+// Two pieces cut from one polygon by the same line take opposite sides of one PixelHalfPlane,
+// so every pixel centre of the polygon goes to exactly one of them, on the line as well.
+struct PixelHalfPlane {
+  double a = 0, b = 0, c = 0;
+  bool negative = false;
+  bool contains(int x, int y) const {
+    const double v = (c + b * static_cast<double>(y)) + a * static_cast<double>(x);
+    return negative ? v < 0.0 : v >= 0.0;
+  }
+};
+
+// Paints, with no depth test (depth written, an alpha below 1 blending), the pixels of polygon
+// `vertices` (filled exactly as fillPolygon fills it) whose centres lie in every half-plane of
+// `cuts`: a piece of a polygon split along lines, covering exactly its share of the whole
+// polygon's pixels. Returns the triangles filled.
+std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<const PixelHalfPlane> cuts,
+                             const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
+                             const FrameView& fb, FragmentCounts& counts);
+
 }  // namespace hsr::detail

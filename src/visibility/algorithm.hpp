@@ -45,5 +45,7 @@ T& algorithmScratch(const AlgorithmInput& in, std::unique_ptr<T>& fallback) {
 // The algorithms (one file each in src/visibility/).
 void drawZBufferTextbook(const AlgorithmInput& input, Frame& frame);  // zbuffer.cpp
 void drawZBufferTiled(const AlgorithmInput& input, Frame& frame);     // zbuffer_tiled.cpp
+void drawPainter(const AlgorithmInput& input, Frame& frame);          // painter.cpp
+void drawPainterNaive(const AlgorithmInput& input, Frame& frame);     // painter_naive.cpp
 
 }  // namespace hsr::detail

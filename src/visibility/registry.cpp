@@ -24,6 +24,21 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .capabilities = kExactSharedCoverage | kDepthFuncs | kDepthMask | kPolygonModes |
                         kOutline | kTransparency | kExplain | kDrawOver},
        &drawZBufferTextbook},
+      {{.name = "painter",
+        .summary = "painter's algorithm with Newell's depth sort: tests, swaps, splits cycles",
+        .source = "Newell, Newell & Sancha 1972; the notes' \"depth sort\"",
+        .precision = Precision::kObject,
+        .input = InputKind::kWindowPolygons,
+        .capabilities = kExactSharedCoverage | kTransparency | kBackToFront | kExplain},
+       &drawPainter},
+      {{.name = "painter-naive",
+        .summary = "painter's algorithm sorting by mean depth only: shows where that fails",
+        .source = "the notes' painter's algorithm before Newell's tests",
+        .precision = Precision::kObject,
+        .input = InputKind::kWindowPolygons,
+        .capabilities = kTransparency | kBackToFront,
+        .demonstration = true},
+       &drawPainterNaive},
   };
   return table;
 }

@@ -327,8 +327,9 @@ TEST(PinningOrientationFiles, CliRawFilesAndPicturesAreTopRowFirst) {
 // ---------------------------------------------------------------------------------------------
 // 2. Transparency. Catches: transparent polygons blended in reverse submission order, and the
 // blend's weights swapped. The documented rule (raster/fragment.hpp, docs/algorithms.md):
-// opaque polygons first; then each transparent polygon, in submission order, depth-tested,
-// blends over what is there as src * a + dst * (1 - a) per channel (a = its alpha byte / 255),
+// opaque polygons first; then each transparent polygon, in submission order (in depth order,
+// farthest first, for an algorithm that paints back to front), depth-tested, blends over what
+// is there as src * a + dst * (1 - a) per channel (a = its alpha byte / 255),
 // rounded to the nearest byte, leaving depth and id alone.
 
 struct Layer {
@@ -363,6 +364,12 @@ TEST_P(PinningTransparency, LayersBlendInSubmissionOrderWithTheirOwnAlpha) {
     const std::string what = order[0] == &a ? "A, floor, B" : "B, A, floor";
     SCOPED_TRACE(what);
     const Frame f = render(s, testing::pixelCamera(kW, kH), flatOptions(GetParam()));
+    // The z-buffer blends in submission order; an algorithm that paints back to front blends
+    // in depth order, farthest first (a at z = 0 before b at z = 2), whatever the scene lists.
+    std::vector<const Layer*> blendOrder = order;
+    if (findAlgorithm(GetParam()).has(kBackToFront))
+      std::stable_sort(blendOrder.begin(), blendOrder.end(),
+                       [](const Layer* x, const Layer* y) { return x->z < y->z; });
     int wrong = 0, blended_twice = 0;
     for (int row = 0; row < kH; ++row) {
       for (int col = 0; col < kW; ++col) {
@@ -378,7 +385,7 @@ TEST_P(PinningTransparency, LayersBlendInSubmissionOrderWithTheirOwnAlpha) {
             if (order[i] == &ground) want_id = static_cast<PolygonId>(i);
         }
         std::uint32_t layers = ground.covers(c);
-        for (const Layer* l : order) {
+        for (const Layer* l : blendOrder) {
           if (l == &ground || !l->covers(c)) continue;
           want = over(toRgb(l->color), toByte(l->alpha), want);
           ++layers;
@@ -619,7 +626,9 @@ TEST_P(PinningOverdraw, CountsOnlyFragmentsThatPassTheDepthTest) {
     EXPECT_EQ(f.stats.fragments_written, written);
   }
 }
-HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(PinningOverdraw, kExactSharedCoverage);
+// Overdraw as fragments that passed a depth test: the algorithms with one (a painter has none
+// and counts every fragment it paints; tests/visibility/painter_test.cpp pins that).
+HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(PinningOverdraw, kExactSharedCoverage | kDepthFuncs);
 
 // ---------------------------------------------------------------------------------------------
 // 6. LINE mode. Catches: LINE mode drawing the edges that clipping makes (GL draws only the

@@ -51,5 +51,42 @@ TEST(Registry, BothZBuffersPromiseTheSame) {
   EXPECT_EQ(findAlgorithm("zbuffer").input, InputKind::kScreenTriangles);
 }
 
+// What an algorithm lacks is refused in one line naming it, never silently ignored.
+TEST(Registry, OptionsAnAlgorithmLacksAreRefused) {
+  Scene s;
+  s.addPolygonVertices({{0, 0, 0}, {4, 0, 0}, {0, 4, 0}}, s.addMaterial({}));
+  const Camera camera = testing::pixelCamera(8, 8);
+  struct Case {
+    Capability needs;
+    void (*set)(RenderOptions&);
+  };
+  const Case cases[] = {
+      {kDepthFuncs, [](RenderOptions& o) { o.depth_func = DepthFunc::Greater; }},
+      {kDepthFuncs, [](RenderOptions& o) { o.depth_test = false; }},
+      {kDepthMask, [](RenderOptions& o) { o.depth_mask = false; }},
+      {kPolygonModes, [](RenderOptions& o) { o.polygon_mode = PolygonMode::Line; }},
+      {kOutline, [](RenderOptions& o) { o.outline = true; }},
+  };
+  int refused = 0;
+  for (const AlgorithmInfo& a : algorithms()) {
+    for (const Case& c : cases) {
+      RenderOptions o = testing::optionsFor(std::string(a.name));
+      c.set(o);
+      if (a.has(c.needs)) {
+        EXPECT_NO_THROW(render(s, camera, o)) << a.name;
+        continue;
+      }
+      try {
+        render(s, camera, o);
+        ADD_FAILURE() << a.name << " accepted what it lacks: " << capabilityList(c.needs);
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(std::string(a.name)), std::string::npos) << e.what();
+        ++refused;
+      }
+    }
+  }
+  EXPECT_GT(refused, 0);
+}
+
 }  // namespace
 }  // namespace hsr

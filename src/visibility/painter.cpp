@@ -1,0 +1,621 @@
+// The painter's algorithm with Newell, Newell & Sancha's depth sort (1972; the notes' "depth
+// sort"). A painter puts the far things on the canvas first and paints the near ones over
+// them; there is no depth test. The whole difficulty is the order:
+//
+//   1. Sort the polygons by their farthest depth, farthest first.
+//   2. Take P, the polygon at the far end of the list. Before painting it, look at every Q
+//      whose depth extent overlaps P's, and ask, cheapest test first, whether P can be painted
+//      before Q (P cannot hide any part of Q):
+//        a. the depth extents do not overlap (P is wholly farther);
+//        b. the x extents of their projections do not overlap;
+//        c. the y extents do not overlap;
+//        d. P is wholly behind Q's plane;
+//        e. Q is wholly in front of P's plane;
+//        f. the projections do not overlap;
+//        g. (hsr's addition) where the projections overlap, P is behind Q.
+//      If one test succeeds for every Q, paint P and take it off the list.
+//   3. If every test fails for some Q, ask the same of Q before P (tests d and e reversed). If
+//      Q can go first, swap: move Q to the far end and mark it. A polygon that has to move
+//      again while marked closes a cycle (the notes' three sticks, which no order can paint).
+//   4. A cycle, or a pair that cannot go in either order (interpenetrating polygons), is
+//      broken by splitting one polygon along the other's plane; the pieces take its place in
+//      the list and the sort goes on.
+//
+// How hsr does each step. Every polygon is the pipeline's clipped window-space polygon
+// (pipeline/pipeline.hpp, WindowPolygon) with the depth plane its screen triangles use: the
+// depth of a point (x, y) of it is z = z0 + dzdy y + dzdx x (raster/depth.hpp). Depth grows
+// away from the viewer and the view direction is +z, so "P's plane" is that plane, "behind" is
+// deeper, and the line along which two planes cross is where z_P(x, y) = z_Q(x, y): a line in
+// the picture. Splitting along it keeps both pieces on their parent's plane, with its id and
+// colour, so the depth a piece paints is the depth the z-buffer would have written there.
+// Test f is exact: the projections' convex hulls on the sub-pixel grid the filler snaps to
+// (8 bits, as the pipeline), separated by one of their edges (separating axes), decided with
+// integer orientation; interiors that only touch share no pixel centre under the fill rule.
+// Test g clips one hull by the other and compares the two planes at the overlap's corners:
+// without it, two polygons that overlap only where one is clearly behind (each crossing the
+// other's plane somewhere else) fail every test both ways and are split for nothing (8,679
+// splits on 60 random scenes; see painter_test's figures for what it leaves).
+// The Q to test are found through a grid of screen cells, not by looking at every pair.
+// Transparent polygons are blended as they are painted: back to front.
+//
+// Guarantee: each pixel shows the nearest polygon at its centre, as the z-buffer does, except
+// where two depths are within kOnPlane of each other (a tie) or a piece's snapped split
+// vertex moves an edge by under 1/256 pixel. If splitting would exceed kMaxSplitsPerPolygon
+// per polygon the rest is painted in the order reached and the render reports the unresolved
+// orderings in its stats ("painter: unresolved") and on stderr: never a silent wrong order.
+// Cost: O(n log n) for the sort plus the tests, about (candidates per polygon) x n, where the
+// candidates are the polygons overlapping it in the picture and in depth; memory ~200 bytes
+// per polygon and piece. Tests: tests/visibility/painter_test.cpp and every suite of the
+// registry its capabilities join.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <queue>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "core/frame.hpp"
+#include "geometry/clip.hpp"
+#include "geometry/predicates.hpp"
+#include "raster/edge.hpp"
+#include "raster/fill_polygons.hpp"
+#include "visibility/algorithm.hpp"
+
+namespace hsr::detail {
+namespace {
+
+// Step names: what `hsr explain painter` shows.
+constexpr std::string_view kStepSort = "sort";
+constexpr std::string_view kStepSwap = "swap";
+constexpr std::string_view kStepSplit = "split";
+constexpr std::string_view kStepPaint = "paint";
+constexpr std::string_view kStepDone = "done";
+
+// Two depths closer than this (window depth, 0..1) are equal for the plane tests: a vertex
+// this close to a plane is on it, and is on both sides of a split. Far below what a float
+// depth buffer resolves (6e-8 near 1; distant surfaces of a real model are 1e-8 apart), far
+// above double's rounding of a plane's value (~1e-16 of its terms).
+constexpr double kOnPlane = 1e-12;
+// Splits allowed, per polygon of the input, before the rest is painted as reached.
+constexpr std::uint64_t kMaxSplitsPerPolygon = 64;
+
+double depthAt(const DepthPlane& p, const glm::dvec2& v) { return (p.z0 + p.dzdy * v.y) + p.dzdx * v.x; }
+
+// A polygon in the list: the parent's outline (or a piece of it) and what it paints with.
+struct Piece {
+  std::vector<glm::dvec2> xy;        // window space, pixel centres at integers, y down
+  std::vector<std::int64_t> hull;    // convex hull on the sub-pixel grid: x0, y0, x1, y1, ...
+  std::vector<PixelHalfPlane> cuts;  // the lines it was cut along, and its side of each
+  const WindowPolygon* parent = nullptr;
+  std::uint32_t polygon = 0;         // the parent's index in the pipeline's list
+  double zmin = 0, zmax = 0;         // depth extent (on the parent's plane)
+  std::int64_t x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // extent of the hull, sub-pixel grid
+  bool alive = true;                 // in the list, not yet painted or split
+  bool marked = false;               // at the far end (taken from the list's end, or moved
+                                     // there by a swap), still waiting
+  std::uint32_t seen = 0;            // stamp of the last candidate search that met it
+};
+
+// The convex hull of snapped points (Andrew's monotone chain), counter-clockwise with y up in
+// the orientation predicate's sense; fewer than 3 points when the snapped area is zero.
+std::vector<std::int64_t> snappedHull(const std::vector<glm::dvec2>& xy) {
+  std::vector<std::pair<std::int64_t, std::int64_t>> p;
+  p.reserve(xy.size());
+  for (const glm::dvec2& v : xy)
+    p.emplace_back(std::llrint(v.x * kSubpixelOne), std::llrint(v.y * kSubpixelOne));
+  std::sort(p.begin(), p.end());
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return {};
+  std::vector<std::pair<std::int64_t, std::int64_t>> h(2 * p.size());
+  std::size_t k = 0;
+  auto turn = [&](std::size_t a, std::size_t b, const auto& c) {
+    return orient2d(h[a].first, h[a].second, h[b].first, h[b].second, c.first, c.second);
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {  // lower chain
+    while (k >= 2 && turn(k - 2, k - 1, p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && turn(k - 2, k - 1, p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  --k;  // the last point repeats the first
+  if (k < 3) return {};
+  std::vector<std::int64_t> out;
+  for (std::size_t i = 0; i < k; ++i) {
+    out.push_back(h[i].first);
+    out.push_back(h[i].second);
+  }
+  return out;
+}
+
+// Whether one of a's edges separates the hulls (every vertex of b on its outer side or on it).
+bool edgeOfASeparates(const std::vector<std::int64_t>& a, const std::vector<std::int64_t>& b) {
+  const std::size_t n = a.size() / 2, m = b.size() / 2;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    bool separates = true;
+    for (std::size_t k = 0; k < m && separates; ++k)
+      separates = orient2d(a[2 * i], a[2 * i + 1], a[2 * j], a[2 * j + 1], b[2 * k], b[2 * k + 1]) <= 0;
+    if (separates) return true;
+  }
+  return false;
+}
+
+// Test f: the projections' interiors are disjoint (convex hulls are; two convex shapes are
+// disjoint exactly when an edge of one separates them).
+bool projectionsDisjoint(const Piece& p, const Piece& q) {
+  return edgeOfASeparates(p.hull, q.hull) || edgeOfASeparates(q.hull, p.hull);
+}
+
+// Test g: where the projections overlap, P is behind Q (or on it). The overlap of the two
+// convex hulls is convex and the depth difference is linear in x and y, so it is enough to
+// look at the overlap's corners. Tests d and e look at the whole polygons and fail for two
+// polygons that overlap only where one is clearly behind; this one does not.
+bool behindWhereTheyOverlap(const Piece& p, const Piece& q) {
+  std::vector<glm::dvec2> overlap;
+  for (std::size_t i = 0; i < p.hull.size(); i += 2)
+    overlap.emplace_back(static_cast<double>(p.hull[i]) / kSubpixelOne,
+                         static_cast<double>(p.hull[i + 1]) / kSubpixelOne);
+  const std::size_t n = q.hull.size() / 2;
+  for (std::size_t i = 0; i < n && !overlap.empty(); ++i) {
+    const std::size_t j = (i + 1) % n;
+    const double ax = static_cast<double>(q.hull[2 * i]) / kSubpixelOne;
+    const double ay = static_cast<double>(q.hull[2 * i + 1]) / kSubpixelOne;
+    const double bx = static_cast<double>(q.hull[2 * j]) / kSubpixelOne;
+    const double by = static_cast<double>(q.hull[2 * j + 1]) / kSubpixelOne;
+    // Q's inside is to the left of a->b (positive orientation): (b - a) x (v - a) >= 0.
+    const double a = -(by - ay), b = bx - ax;
+    clipToHalfPlane(overlap, a, b, -(a * ax + b * ay));
+  }
+  for (const glm::dvec2& v : overlap)
+    if (depthAt(p.parent->depth, v) - depthAt(q.parent->depth, v) < -kOnPlane) return false;
+  return true;
+}
+
+// Where the vertices of `of` lie against the plane of `against`, as depth differences
+// z_against - z_of: all >= -kOnPlane when `of` is wholly behind (or on) that plane, all
+// <= kOnPlane when wholly in front (or on).
+struct SideOfPlane {
+  bool behind = true, in_front = true;
+};
+SideOfPlane sideOf(const Piece& of, const Piece& against) {
+  SideOfPlane s;
+  for (const glm::dvec2& v : of.xy) {
+    const double d = depthAt(of.parent->depth, v) - depthAt(against.parent->depth, v);
+    if (d < -kOnPlane) s.behind = false;
+    if (d > kOnPlane) s.in_front = false;
+  }
+  return s;
+}
+
+// The counts the stats report.
+struct Counts {
+  std::uint64_t candidates = 0, by_depth = 0, by_x = 0, by_y = 0, by_p_behind = 0,
+                by_q_in_front = 0, by_projection = 0, by_overlap = 0, by_coplanar = 0,
+                all_failed = 0;
+  std::uint64_t swaps = 0, splits = 0, cycles = 0, screen_cuts = 0, unresolved = 0,
+                pieces_painted = 0, no_pixel_centre = 0;
+};
+
+// Step 2: can P be painted before Q, P hiding no part of Q? The notes' tests, cheapest first.
+bool canPaintBefore(const Piece& p, const Piece& q, Counts& c) {
+  if (p.zmin >= q.zmax) return ++c.by_depth, true;                 // a. P wholly farther
+  if (p.x1 <= q.x0 || q.x1 <= p.x0) return ++c.by_x, true;         // b. x extents apart
+  if (p.y1 <= q.y0 || q.y1 <= p.y0) return ++c.by_y, true;         // c. y extents apart
+  const SideOfPlane p_side = sideOf(p, q), q_side = sideOf(q, p);
+  if (p_side.behind && p_side.in_front && q_side.behind && q_side.in_front) {
+    // In one plane: neither hides the other, and the z-buffer's tie rule (the first submitted
+    // stays) is kept by painting the later polygon first.
+    if (p.parent->id >= q.parent->id || projectionsDisjoint(p, q)) return ++c.by_coplanar, true;
+    return false;
+  }
+  if (p_side.behind) return ++c.by_p_behind, true;                 // d. P behind Q's plane
+  if (q_side.in_front) return ++c.by_q_in_front, true;             // e. Q in front of P's plane
+  if (projectionsDisjoint(p, q)) return ++c.by_projection, true;   // f. projections apart
+  if (behindWhereTheyOverlap(p, q)) return ++c.by_overlap, true;  // g. behind in the overlap
+  ++c.all_failed;
+  return false;
+}
+
+class DepthSort {
+ public:
+  DepthSort(const std::vector<WindowPolygon>& polygons, int width, int height) {
+    // The grid of screen cells through which the Q near a P are found: about four pieces per
+    // cell on average, cells of 8 to 256 pixels.
+    const double area = static_cast<double>(width) * height;
+    cell_ = static_cast<int>(std::clamp(std::sqrt(4.0 * area / std::max<std::size_t>(polygons.size(), 1)), 4.0, 256.0));
+    cols_ = (width + cell_ - 1) / cell_;
+    rows_ = (height + cell_ - 1) / cell_;
+    cells_.resize(static_cast<std::size_t>(cols_) * rows_);
+    pieces_.reserve(polygons.size() + polygons.size() / 4);
+    outlines_.resize(polygons.size());
+    for (std::uint32_t i = 0; i < polygons.size(); ++i) {
+      for (const glm::dvec3& v : polygons[i].vertices) outlines_[i].emplace_back(v.x, v.y);
+      // A polygon whose box holds no pixel centre paints nothing (the fill rule covers only
+      // centres): it need not be sorted. Dense models at small sizes are mostly such.
+      if (holdsNoPixelCentre(outlines_[i])) {
+        ++counts_.no_pixel_centre;
+        continue;
+      }
+      add(outlines_[i], &polygons[i], i, {});
+    }
+    for (std::vector<std::uint32_t>& cell : cells_)
+      std::stable_sort(cell.begin(), cell.end(),
+                       [this](std::uint32_t a, std::uint32_t b) { return pieces_[a].zmax > pieces_[b].zmax; });
+    sorted_ = true;
+    max_splits_ = kMaxSplitsPerPolygon * std::max<std::size_t>(polygons.size(), 1);
+  }
+
+  // Steps 1 to 4; paint(piece) is called in painting order.
+  template <class PaintFn, class TraceFn>
+  void run(PaintFn&& paint, TraceFn&& trace) {
+    // 1. The list, farthest first: a heap on the farthest depth (ties: the later polygon
+    // first, so that a coplanar pair paints in the z-buffer's tie order).
+    auto farther = [this](std::uint32_t a, std::uint32_t b) {
+      const Piece &pa = pieces_[a], &pb = pieces_[b];
+      if (pa.zmax != pb.zmax) return pa.zmax < pb.zmax;
+      if (pa.parent->id != pb.parent->id) return pa.parent->id < pb.parent->id;
+      return a > b;
+    };
+    std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, decltype(farther)> list(farther);
+    for (std::uint32_t i = 0; i < pieces_.size(); ++i) list.push(i);
+    trace(kStepSort, nullptr, nullptr);
+    // The far end of the list, with the polygons swapped in front of it (each marked).
+    std::vector<std::uint32_t> far_end;
+    while (true) {
+      if (far_end.empty()) {
+        while (!list.empty() && !pieces_[list.top()].alive) list.pop();
+        if (list.empty()) break;
+        far_end.push_back(list.top());
+        pieces_[list.top()].marked = true;
+      }
+      const std::uint32_t p = far_end.back();
+      const std::uint32_t q = firstHidden(p);
+      if (q == kNone || counts_.splits >= max_splits_) {
+        if (q != kNone) ++counts_.unresolved;  // out of splits: painted as reached, reported
+        // Nothing P could hide is still waiting: paint P.
+        pieces_[p].alive = false;
+        pieces_[p].marked = false;
+        far_end.pop_back();
+        ++counts_.pieces_painted;
+        paint(pieces_[p]);
+        continue;
+      }
+      // 3. Q might be hidden by P. If Q may go first and is not marked, swap.
+      if (!pieces_[q].marked && canPaintBefore(pieces_[q], pieces_[p], counts_)) {
+        ++counts_.swaps;
+        pieces_[q].marked = true;
+        far_end.push_back(q);
+        trace(kStepSwap, &pieces_[p], &pieces_[q]);
+        continue;
+      }
+      // 4. A cycle (Q is marked: it is at the far end, waiting for what P must be painted
+      // after), or neither order works (the two interpenetrate): split.
+      std::uint32_t pieces[2];
+      std::uint32_t cut;
+      if (pieces_[q].marked) {
+        ++counts_.cycles;
+        const auto from = std::find(far_end.begin(), far_end.end(), q);
+        cut = breakCycle(std::span<const std::uint32_t>(&*from, far_end.end() - from), p, pieces);
+      } else {
+        const std::uint32_t pair[2] = {q, p};
+        cut = breakCycle(pair, p, pieces);
+      }
+      if (cut == kNone) {
+        // Left unresolved (breakCycle): painted as reached, counted and reported.
+        ++counts_.unresolved;
+        pieces_[p].alive = false;
+        pieces_[p].marked = false;
+        far_end.pop_back();
+        ++counts_.pieces_painted;
+        paint(pieces_[p]);
+        continue;
+      }
+      ++counts_.splits;
+      trace(kStepSplit, pieces[0] == kNone ? nullptr : &pieces_[pieces[0]],
+            pieces[1] == kNone ? nullptr : &pieces_[pieces[1]]);
+      // The pieces join the list unmarked; the far end is rebuilt from where the cut one was.
+      const auto at = std::find(far_end.begin(), far_end.end(), cut);
+      for (auto it = at; it != far_end.end(); ++it) pieces_[*it].marked = false;
+      far_end.erase(at, far_end.end());
+      for (const std::uint32_t piece : pieces)
+        if (piece != kNone) list.push(piece);
+    }
+  }
+
+  const Counts& counts() const { return counts_; }
+  const std::vector<glm::dvec2>& outlineOf(const Piece& p) const { return outlines_[p.polygon]; }
+  std::size_t pieceCount() const { return pieces_.size(); }
+  std::size_t bytes() const {
+    std::size_t b = pieces_.capacity() * sizeof(Piece);
+    for (const Piece& p : pieces_) b += p.xy.capacity() * sizeof(glm::dvec2) + p.hull.capacity() * 8;
+    for (const auto& c : cells_) b += c.capacity() * sizeof(std::uint32_t);
+    return b;
+  }
+
+ private:
+  static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+
+  // Whether no pixel centre (integer x and y) lies in the box of the snapped vertices.
+  static bool holdsNoPixelCentre(const std::vector<glm::dvec2>& xy) {
+    std::int64_t x0 = INT64_MAX, x1 = INT64_MIN, y0 = INT64_MAX, y1 = INT64_MIN;
+    for (const glm::dvec2& v : xy) {
+      const std::int64_t fx = std::llrint(v.x * kSubpixelOne), fy = std::llrint(v.y * kSubpixelOne);
+      x0 = std::min(x0, fx);
+      x1 = std::max(x1, fx);
+      y0 = std::min(y0, fy);
+      y1 = std::max(y1, fy);
+    }
+    return ceilDiv(x0, kSubpixelOne) > floorDiv(x1, kSubpixelOne) ||
+           ceilDiv(y0, kSubpixelOne) > floorDiv(y1, kSubpixelOne);
+  }
+
+  // Adds a piece to the list's storage and the grid; returns its index, or kNone when it
+  // covers no area on the sub-pixel grid (it would paint nothing).
+  std::uint32_t add(std::vector<glm::dvec2> xy, const WindowPolygon* parent, std::uint32_t polygon,
+                    std::vector<PixelHalfPlane> cuts) {
+    Piece p;
+    p.hull = snappedHull(xy);
+    if (p.hull.empty()) return kNone;
+    p.parent = parent;
+    p.polygon = polygon;
+    p.cuts = std::move(cuts);
+    p.zmin = std::numeric_limits<double>::infinity();
+    p.zmax = -std::numeric_limits<double>::infinity();
+    for (const glm::dvec2& v : xy) {
+      const double z = depthAt(parent->depth, v);
+      p.zmin = std::min(p.zmin, z);
+      p.zmax = std::max(p.zmax, z);
+    }
+    p.x0 = p.x1 = p.hull[0];
+    p.y0 = p.y1 = p.hull[1];
+    for (std::size_t i = 0; i < p.hull.size(); i += 2) {
+      p.x0 = std::min(p.x0, p.hull[i]);
+      p.x1 = std::max(p.x1, p.hull[i]);
+      p.y0 = std::min(p.y0, p.hull[i + 1]);
+      p.y1 = std::max(p.y1, p.hull[i + 1]);
+    }
+    p.xy = std::move(xy);
+    const auto index = static_cast<std::uint32_t>(pieces_.size());
+    // Each cell lists its pieces farthest first (by the far end of their depth extent), so
+    // that a search stops at the first one wholly in front of P: as the notes walk the sorted
+    // list only while depth extents overlap. The first pieces are sorted once, when all are in.
+    const double zmax = p.zmax;
+    forCells(p, [&](std::vector<std::uint32_t>& cell) {
+      if (!sorted_) {
+        cell.push_back(index);
+        return;
+      }
+      const auto at = std::upper_bound(cell.begin(), cell.end(), zmax, [this](double z, std::uint32_t q) {
+        return z > pieces_[q].zmax;
+      });
+      cell.insert(at, index);
+    });
+    pieces_.push_back(std::move(p));
+    return index;
+  }
+
+  template <class Fn>
+  void forCells(const Piece& p, Fn&& fn) {
+    // Cells in whole pixels; the extents are on the sub-pixel grid.
+    auto col = [&](std::int64_t x) {
+      return static_cast<int>(std::clamp<std::int64_t>(floorDiv(x, kSubpixelOne * cell_), 0, cols_ - 1));
+    };
+    auto row = [&](std::int64_t y) {
+      return static_cast<int>(std::clamp<std::int64_t>(floorDiv(y, kSubpixelOne * cell_), 0, rows_ - 1));
+    };
+    for (int r = row(p.y0); r <= row(p.y1); ++r)
+      for (int c = col(p.x0); c <= col(p.x1); ++c) fn(cells_[static_cast<std::size_t>(r) * cols_ + c]);
+  }
+
+  // The first waiting Q that P might hide (every test of step 2 failed), or kNone.
+  std::uint32_t firstHidden(std::uint32_t p) {
+    ++stamp_;
+    std::uint32_t found = kNone;
+    forCells(pieces_[p], [&](std::vector<std::uint32_t>& cell) {
+      // Only the Q whose depth extent overlaps P's (the rest pass test a); painted and split
+      // pieces leave the cell as it is scanned.
+      const double zmin = pieces_[p].zmin;
+      std::size_t kept = 0, i = 0;
+      for (; i < cell.size() && found == kNone; ++i) {
+        const std::uint32_t q = cell[i];
+        if (!pieces_[q].alive) continue;
+        if (pieces_[q].zmax <= zmin) break;
+        cell[kept++] = q;
+        if (q == p || pieces_[q].seen == stamp_) continue;
+        pieces_[q].seen = stamp_;
+        ++counts_.candidates;
+        if (!canPaintBefore(pieces_[p], pieces_[q], counts_)) found = q;
+      }
+      cell.erase(cell.begin() + static_cast<std::ptrdiff_t>(kept),
+                 cell.begin() + static_cast<std::ptrdiff_t>(i));
+    });
+    return found;
+  }
+
+  // The line along which `along`'s plane meets the plane of `own`: the half-plane where
+  // own's depth minus along's is >= 0, i.e. where own lies behind along's plane.
+  static PixelHalfPlane planeLine(const DepthPlane& own, const DepthPlane& along) {
+    return {own.dzdx - along.dzdx, own.dzdy - along.dzdy, own.z0 - along.z0, false};
+  }
+  static double valueOf(const PixelHalfPlane& h, const glm::dvec2& v) {
+    return (h.c + h.b * v.y) + h.a * v.x;
+  }
+  // Whether the piece has vertices on both sides of the line, beyond kOnPlane.
+  static bool spans(const Piece& p, const PixelHalfPlane& line) {
+    bool above = false, below = false;
+    for (const glm::dvec2& v : p.xy) {
+      const double d = valueOf(line, v);
+      above |= d > kOnPlane;
+      below |= d < -kOnPlane;
+    }
+    return above && below;
+  }
+
+  // Cuts piece `cut` along `line` (it spans it) into the part where the line's value is >= 0
+  // and the part where it is < 0; the cut piece leaves the list, the parts (kNone for a part
+  // with no area on the grid) are returned in `parts`.
+  void split(std::uint32_t cut, PixelHalfPlane line, std::uint32_t parts[2]) {
+    const Piece& c = pieces_[cut];
+    std::vector<glm::dvec2> non_negative, negative;
+    const std::size_t n = c.xy.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = (i + 1) % n;
+      const glm::dvec2 &u = c.xy[i], &v = c.xy[j];
+      const double du = valueOf(line, u), dv = valueOf(line, v);
+      // A vertex within kOnPlane of the line goes to both parts.
+      if (du >= -kOnPlane) non_negative.push_back(u);
+      if (du <= kOnPlane) negative.push_back(u);
+      // An edge crossing the line strictly: the crossing point goes to both parts.
+      if ((du > kOnPlane && dv < -kOnPlane) || (du < -kOnPlane && dv > kOnPlane)) {
+        const glm::dvec2 x = u + (du / (du - dv)) * (v - u);
+        non_negative.push_back(x);
+        negative.push_back(x);
+      }
+    }
+    // Painting keeps to the whole polygon's pixels, each part to its side of the line: the
+    // two parts share out the pixels exactly, on the line as well.
+    std::vector<PixelHalfPlane> non_negative_cuts = c.cuts, negative_cuts = c.cuts;
+    non_negative_cuts.push_back(line);
+    line.negative = true;
+    negative_cuts.push_back(line);
+    const WindowPolygon* parent = c.parent;
+    const std::uint32_t polygon = c.polygon;
+    pieces_[cut].alive = false;
+    pieces_[cut].marked = false;
+    parts[0] = add(std::move(non_negative), parent, polygon, std::move(non_negative_cuts));
+    parts[1] = add(std::move(negative), parent, polygon, std::move(negative_cuts));
+  }
+
+  // Step 4: splits one polygon along another's plane, to break the cycle `cycle` (the polygons
+  // each of which might hide the next; a single pair for two that interpenetrate). The notes
+  // split P or Q along the other's plane; a cycle whose polygons each lie wholly on one side
+  // of the others' planes has none to cut along, and then P is cut across the middle of its
+  // longer side, which separates its overlaps with its neighbours in the cycle as the pieces
+  // shrink. Returns the piece cut, or kNone when P is too small to cut.
+  std::uint32_t breakCycle(std::span<const std::uint32_t> cycle, std::uint32_t p, std::uint32_t parts[2]) {
+    for (const std::uint32_t x : cycle)
+      for (const std::uint32_t y : cycle) {
+        if (x == y) continue;
+        const PixelHalfPlane line = planeLine(pieces_[x].parent->depth, pieces_[y].parent->depth);
+        if (spans(pieces_[x], line)) {
+          split(x, line, parts);
+          return x;
+        }
+      }
+    const Piece& c = pieces_[p];
+    // A piece within one pixel both ways is not cut further: the cycle is left unresolved
+    // (reported); it can only come from depths that tie within kOnPlane.
+    if (c.x1 - c.x0 <= kSubpixelOne && c.y1 - c.y0 <= kSubpixelOne) return kNone;
+    const bool wide = c.x1 - c.x0 >= c.y1 - c.y0;
+    const double middle = wide ? 0.5 * static_cast<double>(c.x0 + c.x1) / kSubpixelOne
+                               : 0.5 * static_cast<double>(c.y0 + c.y1) / kSubpixelOne;
+    ++counts_.screen_cuts;
+    split(p, wide ? PixelHalfPlane{1.0, 0.0, -middle, false} : PixelHalfPlane{0.0, 1.0, -middle, false},
+          parts);
+    return p;
+  }
+
+  int cell_ = 64, cols_ = 1, rows_ = 1;
+  std::vector<std::vector<glm::dvec2>> outlines_;  // each pipeline polygon's x, y
+  std::vector<Piece> pieces_;
+  std::vector<std::vector<std::uint32_t>> cells_;
+  std::uint32_t stamp_ = 0;
+  bool sorted_ = false;  // the cells are in order (all first pieces are in)
+  std::uint64_t max_splits_ = 0;
+  Counts counts_;
+};
+
+std::vector<TraceOutline> outlineOf(const Piece* a, const Piece* b) {
+  std::vector<TraceOutline> out;
+  for (const Piece* p : {a, b}) {
+    if (p == nullptr) continue;
+    TraceOutline o;
+    for (const glm::dvec2& v : p->xy) o.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y));
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
+}  // namespace
+
+void drawPainter(const AlgorithmInput& in, Frame& frame) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const FrameView fb(frame);
+  FragmentCounts fragments;
+  DepthSort sort(in.prepared.polygons, frame.width, frame.height);
+  std::uint64_t painted = 0, swaps = 0, splits = 0;
+  const std::uint64_t polygons = in.prepared.polygons.size();
+  auto trace = [&](std::string_view step, const Piece* a, const Piece* b) {
+    if (!in.trace || (step != kStepSort && a == nullptr && b == nullptr)) return;
+    if (a == nullptr) std::swap(a, b);
+    const std::uint64_t index = step == kStepSwap ? swaps++ : step == kStepSplit ? splits++ : 0;
+    if (!in.trace->wants(step, index, step == kStepSort ? 1 : polygons)) return;
+    std::string caption;
+    if (step == kStepSort)
+      caption = "Sort the " + std::to_string(polygons) +
+                " polygons by their farthest depth, farthest first. Nothing is painted yet.";
+    else if (step == kStepSwap)
+      caption = "Swap: polygon " + std::to_string(a->parent->id) + " might hide part of polygon " +
+                std::to_string(b->parent->id) +
+                " (every test failed), and polygon " + std::to_string(b->parent->id) +
+                " can go first: it moves to the far end of the list, marked.";
+    else
+      caption = "Split: a cycle or an interpenetration; polygon " + std::to_string(a->parent->id) +
+                " is cut along the other polygon's plane into the two pieces outlined.";
+    in.trace->record({step, std::move(caption), &frame, outlineOf(a, b)});
+  };
+  sort.run(
+      [&](const Piece& p) {
+        paintPolygonPart(sort.outlineOf(p), p.cuts, p.parent->depth, p.parent->id, p.parent->rgba,
+                         fb, fragments);
+        if (in.trace && in.trace->wants(kStepPaint, painted, polygons))
+          in.trace->record({kStepPaint,
+                            "Paint polygon " + std::to_string(p.parent->id) + " (piece " +
+                                std::to_string(painted + 1) +
+                                "): nothing still waiting can be hidden by it, so it goes on "
+                                "the canvas over whatever is there.",
+                            &frame, outlineOf(&p, nullptr)});
+        ++painted;
+      },
+      trace);
+  const Counts& c = sort.counts();
+  if (in.trace && in.trace->wants(kStepDone, 0, 1))
+    in.trace->record({kStepDone,
+                      "Done: " + std::to_string(c.pieces_painted) + " pieces painted back to front, " +
+                          std::to_string(c.swaps) + " swaps, " + std::to_string(c.splits) +
+                          " splits, " + std::to_string(c.cycles) + " cycles broken.",
+                      &frame,
+                      {}});
+  frame.stats.fragments_tested += fragments.tested;
+  frame.stats.fragments_written += fragments.written;
+  frame.stats.state_bytes += frameBufferBytes(frame) + sort.bytes();
+  frame.stats.addCounter("painter: polygons between pixel centres", c.no_pixel_centre);
+  frame.stats.addCounter("painter: overlap candidates", c.candidates);
+  frame.stats.addCounter("painter: passed a. depth extents", c.by_depth);
+  frame.stats.addCounter("painter: passed b. x extents", c.by_x);
+  frame.stats.addCounter("painter: passed c. y extents", c.by_y);
+  frame.stats.addCounter("painter: passed d. behind Q's plane", c.by_p_behind);
+  frame.stats.addCounter("painter: passed e. Q in front of P's plane", c.by_q_in_front);
+  frame.stats.addCounter("painter: passed f. projections apart", c.by_projection);
+  frame.stats.addCounter("painter: passed g. behind where they overlap", c.by_overlap);
+  frame.stats.addCounter("painter: coplanar pairs", c.by_coplanar);
+  frame.stats.addCounter("painter: every test failed", c.all_failed);
+  frame.stats.addCounter("painter: swaps", c.swaps);
+  frame.stats.addCounter("painter: splits", c.splits);
+  frame.stats.addCounter("painter: cycles broken", c.cycles);
+  frame.stats.addCounter("painter: cuts across a piece", c.screen_cuts);
+  frame.stats.addCounter("painter: pieces painted", c.pieces_painted);
+  frame.stats.addCounter("painter: unresolved", c.unresolved);
+  frame.stats.addStage(
+      "depth sort + paint",
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+}
+
+}  // namespace hsr::detail
