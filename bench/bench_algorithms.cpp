@@ -14,6 +14,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -43,6 +44,7 @@ struct BenchScene {
   std::unique_ptr<hsr::testing::MesaScene> mesa;
   std::size_t triangles = 0;
   std::map<std::string, std::uint64_t> state_bytes;  // per algorithm: memory of one frame
+  std::map<std::string, hsr::Stats> stats;           // per algorithm: one frame's stats
 };
 
 // One registered benchmark: an algorithm of the registry on one scene.
@@ -80,13 +82,14 @@ hsr::Camera fillRateCamera() {
 std::vector<BenchScene>& benchScenes() {
   static std::vector<BenchScene> scenes = [] {
     std::vector<BenchScene> v;
-    for (const char* n : {"10000", "100000", "1000000"}) {
-      BenchScene b;
-      b.label = std::string("spheres/") + n;
-      const std::string spec = std::string("spheres:") + n;
-      b.make = [spec] { return hsr::makeBuiltinScene(spec); };
-      v.push_back(std::move(b));
-    }
+    for (const char* kind : {"spheres", "soup"})
+      for (const char* n : {"10000", "100000", "1000000"}) {
+        BenchScene b;
+        b.label = std::string(kind) + "/" + n;
+        const std::string spec = std::string(kind) + ":" + n;
+        b.make = [spec] { return hsr::makeBuiltinScene(spec); };
+        v.push_back(std::move(b));
+      }
     BenchScene f;
     f.label = "fillrate/10";
     f.make = fillRateScene;
@@ -126,6 +129,7 @@ void runAlgorithm(benchmark::State& state, AlgorithmRun* run) {
     benchmark::ClobberMemory();
   }
   b->state_bytes[run->algorithm] = frame.stats.state_bytes;
+  b->stats[run->algorithm] = frame.stats;
   setCounters(state, *b);
   // The frame's stats: every count of the one table and the algorithm's own counters.
   for (const hsr::Stats::Field& f : hsr::Stats::fields())
@@ -181,6 +185,43 @@ class MedianCollector : public benchmark::ConsoleReporter {
   std::map<std::string, Acc> single;
 };
 
+// The object-order algorithms against the z-buffer on the same scene and thread count: time
+// as a multiple of the z-buffer's, pair tests per polygon and splits (the algorithm's own
+// counters), and the growth exponent of the time from 10k to 1M polygons (t ~ n^k).
+void printObjectOrderTable(const MedianCollector& reporter) {
+  std::printf("\nobject order vs zbuffer, threads=%d\n%-14s %-16s %10s %10s %9s %12s %10s %8s\n", g_threads,
+              "algorithm", "scene", "ms", "zbuffer ms", "x zbuffer", "tests/poly", "splits", "n^k");
+  for (const hsr::AlgorithmInfo& a : hsr::algorithms()) {
+    if (a.precision != hsr::Precision::kObject || a.demonstration) continue;
+    const std::string prefix(a.name);
+    for (const char* kind : {"spheres", "soup"}) {
+      double t_first = -1, n_first = 0;
+      for (const BenchScene& b : benchScenes()) {
+        if (!b.label.starts_with(std::string(kind) + "/")) continue;
+        const double ours = reporter.time("BM_" + prefix + "/" + b.label);
+        const double z = reporter.time("BM_zbuffer/" + b.label);
+        const auto st = b.stats.find(prefix);
+        if (ours <= 0 || st == b.stats.end()) continue;
+        const double polygons = static_cast<double>(std::max<std::uint64_t>(st->second.polygons_in, 1));
+        std::uint64_t tests = 0, splits = 0;
+        for (const hsr::Counter& c : st->second.counters) {
+          if (c.name.ends_with(": overlap candidates")) tests += c.value;
+          if (c.name.ends_with(": splits")) splits += c.value;
+        }
+        char growth[16] = "-";
+        if (t_first > 0)
+          std::snprintf(growth, sizeof growth, "%.2f", std::log(ours / t_first) / std::log(polygons / n_first));
+        else
+          t_first = ours, n_first = polygons;
+        std::printf("%-14s %-16s %10.2f %10.2f %9.2f %12.1f %10llu %8s\n", prefix.c_str(), b.label.c_str(), ours,
+                    z, z > 0 ? ours / z : 0.0, static_cast<double>(tests) / polygons,
+                    static_cast<unsigned long long>(splits), growth);
+      }
+    }
+  }
+  std::printf("(x zbuffer = algorithm time / zbuffer time; n^k: growth of time from the 10k scene)\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -191,7 +232,7 @@ int main(int argc, char** argv) {
   static std::vector<std::unique_ptr<AlgorithmRun>> runs;
   std::vector<std::string> not_run;
   for (BenchScene& b : benchScenes()) {
-    const bool huge = b.label == "spheres/1000000";
+    const bool huge = b.label.ends_with("/1000000");
     auto configure = [&](benchmark::internal::Benchmark* bm) {
       bm->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
       if (huge) {
@@ -240,6 +281,7 @@ int main(int argc, char** argv) {
     }
   }
   for (const std::string& n : not_run) std::printf("not run: %s\n", n.c_str());
+  printObjectOrderTable(reporter);
   std::printf(
       "(ratio = llvmpipe time / algorithm time, median of repetitions: > 1 means hsr is faster)\n");
   benchmark::Shutdown();

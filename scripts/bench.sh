@@ -23,3 +23,8 @@ for t in 1 2 "$@"; do
   grep -E "^threads=" "$out/threads-$t.txt" || true
   echo
 done
+echo "=== object order (time as a multiple of the z-buffer's, tests and splits, growth) ==="
+for t in 1 2 "$@"; do
+  sed -n '/^object order vs zbuffer/,/^(x zbuffer/p' "$out/threads-$t.txt"
+  echo
+done

@@ -19,6 +19,11 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
     o.algorithm = std::string(info.name);
     ComparisonRow row;
     row.algorithm = o.algorithm;
+    row.not_run = unsupported(info, camera, o);
+    if (!row.not_run.empty()) {
+      rows.push_back(std::move(row));
+      continue;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     row.frame = render(scene, camera, o);
     row.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -34,10 +39,13 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
   }
   // Agreement with the registry's reference row.
   const std::string_view reference = referenceAlgorithm().name;
-  const auto ref_row = std::find_if(
-      rows.begin(), rows.end(), [&](const ComparisonRow& r) { return r.algorithm == reference; });
-  const std::vector<PolygonId>& ref = (ref_row != rows.end() ? *ref_row : rows.front()).frame.ids;
+  const auto ref_row = std::find_if(rows.begin(), rows.end(), [&](const ComparisonRow& r) {
+    return r.algorithm == reference && r.not_run.empty();
+  });
+  if (ref_row == rows.end()) return rows;  // nothing to agree with: the reference was not run
+  const std::vector<PolygonId>& ref = ref_row->frame.ids;
   for (ComparisonRow& r : rows) {
+    if (!r.not_run.empty()) continue;
     std::uint64_t diff = 0;
     for (std::size_t i = 0; i < ref.size(); ++i) diff += r.frame.ids[i] != ref[i];
     r.differing_pixels = diff;
@@ -125,16 +133,19 @@ SheetSize comparisonSheetSize(int columns, int frame_width, int frame_height) {
 std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows, int* width,
                                           int* height) {
   constexpr const char* kKinds[] = {"color", "ids", "overdraw"};
-  const int fw = rows.empty() ? 0 : rows[0].frame.width;
-  const int fh = rows.empty() ? 0 : rows[0].frame.height;
-  const int cols = static_cast<int>(rows.size());
+  std::vector<const ComparisonRow*> run;
+  for (const ComparisonRow& r : rows)
+    if (r.not_run.empty()) run.push_back(&r);
+  const int fw = run.empty() ? 0 : run[0]->frame.width;
+  const int fh = run.empty() ? 0 : run[0]->frame.height;
+  const int cols = static_cast<int>(run.size());
   const SheetSize size = comparisonSheetSize(cols, fw, fh);
   checkPngSize("comparison sheet", size.width, size.height, 3);
   *width = static_cast<int>(size.width);
   *height = static_cast<int>(size.height);
   std::vector<std::uint8_t> sheet(static_cast<std::size_t>(*width) * *height * 3, 32);
   for (int c = 0; c < cols; ++c) {
-    const ComparisonRow& r = rows[c];
+    const ComparisonRow& r = *run[c];
     for (int k = 0; k < 3; ++k) {
       const std::vector<std::uint8_t> pic = picture(r.frame, kKinds[k]);
       const int ox = kGap + c * (fw + kGap);

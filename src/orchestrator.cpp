@@ -29,20 +29,7 @@ struct RenderCache {
 
 // What the options ask for that the algorithm cannot do: refused in one line, never ignored.
 void checkSupported(const AlgorithmInfo& info, const Camera& camera, const RenderOptions& o) {
-  auto refuse = [&](const std::string& what) {
-    throw Error("algorithm '" + std::string(info.name) + "' does not support " + what);
-  };
-  if (o.polygon_mode != PolygonMode::Fill && !info.has(kPolygonModes))
-    refuse("polygon modes other than fill");
-  if (o.outline && !info.has(kOutline)) refuse("--outline");
-  if ((o.depth_func != DepthFunc::Less || !o.depth_test) && !info.has(kDepthFuncs))
-    refuse("depth functions other than less");
-  if (!o.depth_mask && !info.has(kDepthMask)) refuse("a disabled depth mask");
-  const std::uint64_t pixels = static_cast<std::uint64_t>(camera.width) * camera.height;
-  if (info.max_pixels != 0 && pixels > info.max_pixels)
-    throw Error("algorithm '" + std::string(info.name) + "' is limited to " +
-                std::to_string(info.max_pixels) + " pixels; " + std::to_string(camera.width) + "x" +
-                std::to_string(camera.height) + " has " + std::to_string(pixels));
+  if (std::string why = unsupported(info, camera, o); !why.empty()) throw Error(why);
 }
 
 }  // namespace
@@ -92,6 +79,22 @@ void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& o
 }
 
 }  // namespace detail
+
+std::string unsupported(const AlgorithmInfo& info, const Camera& camera, const RenderOptions& o) {
+  const std::string lacks = "algorithm '" + std::string(info.name) + "' does not support ";
+  if (o.polygon_mode != PolygonMode::Fill && !info.has(kPolygonModes))
+    return lacks + "polygon modes other than fill";
+  if (o.outline && !info.has(kOutline)) return lacks + "--outline";
+  if ((o.depth_func != DepthFunc::Less || !o.depth_test) && !info.has(kDepthFuncs))
+    return lacks + "depth functions other than less";
+  if (!o.depth_mask && !info.has(kDepthMask)) return lacks + "a disabled depth mask";
+  const std::uint64_t pixels = static_cast<std::uint64_t>(camera.width) * camera.height;
+  if (info.max_pixels != 0 && pixels > info.max_pixels)
+    return "algorithm '" + std::string(info.name) + "' is limited to " + std::to_string(info.max_pixels) +
+           " pixels; " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " has " +
+           std::to_string(pixels);
+  return {};
+}
 
 Frame render(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   Frame frame;

@@ -169,6 +169,17 @@ std::vector<std::string> splitList(const std::string& s) {
   return out;
 }
 
+// An object-order algorithm that ran out of its split budget painted some polygons in the
+// order reached: said on stderr even with --quiet, never silently.
+void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm) {
+  for (const hsr::Counter& c : f.stats.counters)
+    if (c.value > 0 && c.name.ends_with(": unresolved"))
+      fmt::print(stderr,
+                 "hsr: warning: {} left {} orderings unresolved (its split budget was spent); "
+                 "those polygons were painted in the order reached and may hide nearer ones\n",
+                 algorithm, c.value);
+}
+
 void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,
                   const std::vector<std::string>& written) {
   const hsr::Stats& s = f.stats;
@@ -227,6 +238,7 @@ int runRender(const Args& a, const Given& given) {
   warnIfDepthUnresolvable(cam);
   const hsr::RenderOptions opt = makeOptions(a);
   const hsr::Frame frame = hsr::render(scene, cam, opt);
+  warnIfUnresolved(frame, opt.algorithm);
 
   std::vector<std::string> written;
   for (const auto& [kind, p] : pngs) {
@@ -260,10 +272,13 @@ int runCompare(const Args& a, const Given& given) {
   const std::vector<hsr::ComparisonRow> rows = hsr::compareAlgorithms(scene, cam, opt);
   fmt::print("hsr compare {}  {}x{}  ({} polygons)\n", a.scene, cam.width, cam.height,
              scene.polygonCount());
-  fmt::print("  {:<12} {:>10} {:>12} {:>10} {:>8} {:>12} {:>10}\n", "algorithm", "time ms",
+  fmt::print("  {:<17} {:>10} {:>12} {:>10} {:>8} {:>12} {:>10}\n", "algorithm", "time ms",
              "memory MiB", "overdraw", "max", "ids = zbuf", "differ px");
   for (const hsr::ComparisonRow& r : rows)
-    fmt::print("  {:<12} {:>10.2f} {:>12.1f} {:>10.2f} {:>8} {:>11.4f}% {:>10}\n", r.algorithm,
+    if (!r.not_run.empty())
+      fmt::print("  {:<17} not run: {}\n", r.algorithm, r.not_run);
+    else
+      fmt::print("  {:<17} {:>10.2f} {:>12.1f} {:>10.2f} {:>8} {:>11.4f}% {:>10}\n", r.algorithm,
                r.ms, r.state_bytes / 1048576.0, r.mean_overdraw, r.max_overdraw,
                100.0 * r.id_agreement, r.differing_pixels);
   if (given.sheet) {

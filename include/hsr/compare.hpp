@@ -18,9 +18,12 @@ struct ComparisonRow {
   std::uint32_t max_overdraw = 0;
   double id_agreement = 1.0;        // fraction of pixels whose id equals the z-buffer's
   std::uint64_t differing_pixels = 0;
+  std::string not_run;              // why it was not run (it cannot do what the options ask)
   Frame frame;
 };
 
+// Every algorithm of the registry; one that cannot do what the options ask is listed with
+// not_run set and no frame (the sheet leaves it out).
 std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& camera,
                                              const RenderOptions& options);
 

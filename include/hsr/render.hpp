@@ -66,6 +66,10 @@ struct Frame {
 };
 
 Frame render(const Scene& scene, const Camera& camera, const RenderOptions& options = {});
+
+// Why `info`'s algorithm cannot render with these options and camera (render() refuses with
+// this line), or an empty string when it can.
+std::string unsupported(const AlgorithmInfo& info, const Camera& camera, const RenderOptions& options);
 // The same, drawing into `frame` and reusing its buffers' memory (for repeated frames).
 void render(const Scene& scene, const Camera& camera, const RenderOptions& options,
             Frame& frame);

@@ -2,6 +2,7 @@
 
 #include "raster/fill_polygons.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -60,24 +61,33 @@ std::size_t fillPolygon(std::span<const glm::dvec2> vertices, const DepthPlane& 
 }
 
 std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<const PixelHalfPlane> cuts,
-                             const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
-                             const FrameView& fb, FragmentCounts& counts) {
-  if (cuts.empty())
-    return fillPolygon(vertices, depth, id, rgba, fb, DepthFunc::Always, true, counts);
+                             const PixelBox& box, const DepthPlane& depth, PolygonId id,
+                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts) {
   return forEachSnappedTriangle(vertices, depth, id, rgba, fb, [&](const ScreenTriangle& st) {
-    // The triangle's pixels as the shared setup gives them (raster/edge.hpp), those outside a
-    // cut left to the other piece.
-    TriangleSetup edges = setupTriangle(st, st.y0);
-    for (int y = st.y0; y <= st.y1; ++y, nextRow(edges)) {
-      int lo = st.x0, hi = st.x1;
+    // The triangle's pixels as the shared setup gives them (raster/edge.hpp), within the box,
+    // those outside a cut left to the other piece.
+    const int y0 = std::max<int>(st.y0, box.y0), y1 = std::min<int>(st.y1, box.y1);
+    if (y0 > y1) return;
+    TriangleSetup edges = setupTriangle(st, y0);
+    for (int y = y0; y <= y1; ++y, nextRow(edges)) {
+      int lo = std::max<int>(st.x0, box.x0), hi = std::min<int>(st.x1, box.x1);
+      if (lo > hi) break;
       if (!spanOfRow(edges, &lo, &hi)) continue;
       const double row = depthRowStart(depth, y);
       for (int x = lo; x <= hi; ++x) {
         bool inside = true;
         for (const PixelHalfPlane& h : cuts) inside = inside && h.contains(x, y);
         if (!inside) continue;
-        writeFragment<DepthFunc::Always>(st, fb, fb.index(x, y), depthInRow(row, depth, x),
-                                         /*depth_mask=*/true, counts);
+        const std::size_t idx = fb.index(x, y);
+        const float z = depthInRow(row, depth, x);
+        // A tie: the pixel holds this very depth from an earlier-submitted polygon. Painted
+        // back to front, the two are equally near here; the z-buffer's GL_LESS keeps the
+        // first submitted, and so does the painter (only an equal depth is looked at).
+        if (fb.depth[idx] == z && fb.ids[idx] < id) {
+          counts.tested++;
+          continue;
+        }
+        writeFragment<DepthFunc::Always>(st, fb, idx, z, /*depth_mask=*/true, counts);
       }
     }
   });

@@ -18,6 +18,7 @@
 #include <glm/vec2.hpp>
 
 #include "raster/fragment.hpp"
+#include "raster/primitives.hpp"
 
 namespace hsr::detail {
 
@@ -55,9 +56,14 @@ struct PixelHalfPlane {
 // Paints, with no depth test (depth written, an alpha below 1 blending), the pixels of polygon
 // `vertices` (filled exactly as fillPolygon fills it) whose centres lie in every half-plane of
 // `cuts`: a piece of a polygon split along lines, covering exactly its share of the whole
-// polygon's pixels. Returns the triangles filled.
+// polygon's pixels, within `box` (the piece's pixels all lie in it; it only saves work). For
+// painting back to front. One exception, ties: where the pixel already
+// holds exactly this depth (as a float) from a polygon of lower id, it is left as it is, the
+// z-buffer's rule for equal depths (GL_LESS keeps the first submitted); only equality is
+// looked at, never which depth is nearer. Such a fragment counts as tested, not written.
+// Returns the triangles filled.
 std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<const PixelHalfPlane> cuts,
-                             const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
-                             const FrameView& fb, FragmentCounts& counts);
+                             const PixelBox& box, const DepthPlane& depth, PolygonId id,
+                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts);
 
 }  // namespace hsr::detail

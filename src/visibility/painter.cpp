@@ -28,23 +28,30 @@
 // deeper, and the line along which two planes cross is where z_P(x, y) = z_Q(x, y): a line in
 // the picture. Splitting along it keeps both pieces on their parent's plane, with its id and
 // colour, so the depth a piece paints is the depth the z-buffer would have written there.
-// Test f is exact: the projections' convex hulls on the sub-pixel grid the filler snaps to
-// (8 bits, as the pipeline), separated by one of their edges (separating axes), decided with
-// integer orientation; interiors that only touch share no pixel centre under the fill rule.
-// Test g clips one hull by the other and compares the two planes at the overlap's corners:
-// without it, two polygons that overlap only where one is clearly behind (each crossing the
-// other's plane somewhere else) fail every test both ways and are split for nothing (8,679
-// splits on 60 random scenes; see painter_test's figures for what it leaves).
+// The tests ask about pixel centres, the only points painted: a polygon enters the list as its
+// outline snapped to the filler's sub-pixel grid (8 bits, as the pipeline), exactly the region
+// whose centres it covers, and a piece is that region cut by exact lines; a piece paints its
+// parent's pixels on its side of every cut (raster/fill_polygons.hpp, paintPolygonPart), so
+// pieces share out their parent's pixels exactly.
+// Test f is exact for whole polygons: their convex hulls on the grid, separated by one of their
+// edges (separating axes), decided with integer orientation; a cut piece's hull is grown by one
+// sub-pixel, so f never separates two regions that share a centre.
+// Test g clips P's region by Q's and compares the two planes at the overlap's corners, or, for
+// a sliver holding at most kCentresAsked centres, at each centre: without it, two polygons that
+// overlap only where one is clearly behind (each crossing the other's plane somewhere else),
+// or two triangles folding along a shared edge whose snapped corners stick out of each other's
+// planes, fail every test both ways and are split for nothing.
 // The Q to test are found through a grid of screen cells, not by looking at every pair.
 // Transparent polygons are blended as they are painted: back to front.
 //
 // Guarantee: each pixel shows the nearest polygon at its centre, as the z-buffer does, except
-// where two depths are within kOnPlane of each other (a tie) or a piece's snapped split
-// vertex moves an edge by under 1/256 pixel. If splitting would exceed kMaxSplitsPerPolygon
-// per polygon the rest is painted in the order reached and the render reports the unresolved
-// orderings in its stats ("painter: unresolved") and on stderr: never a silent wrong order.
+// where two depths are within kOnPlane of each other. Where two depths are equal as floats
+// the first submitted shows, the z-buffer's rule for ties (paintPolygonPart). If the sort
+// would exceed its budget (kSplitsPerPolygon, kMaxCutsPerPiece, kTestsPerPolygon) the rest is
+// painted in the order reached and counted ("painter: unresolved"; `hsr render` says so on
+// stderr): never a silent wrong order.
 // Cost: O(n log n) for the sort plus the tests, about (candidates per polygon) x n, where the
-// candidates are the polygons overlapping it in the picture and in depth; memory ~200 bytes
+// candidates are the polygons overlapping it in the picture and in depth; memory ~300 bytes
 // per polygon and piece. Tests: tests/visibility/painter_test.cpp and every suite of the
 // registry its capabilities join.
 
@@ -55,6 +62,7 @@
 #include <queue>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -81,10 +89,25 @@ constexpr std::string_view kStepDone = "done";
 // depth buffer resolves (6e-8 near 1; distant surfaces of a real model are 1e-8 apart), far
 // above double's rounding of a plane's value (~1e-16 of its terms).
 constexpr double kOnPlane = 1e-12;
-// Splits allowed, per polygon of the input, before the rest is painted as reached.
-constexpr std::uint64_t kMaxSplitsPerPolygon = 64;
+// Splits allowed in one render: kSplitsPerPolygon per polygon of the input plus kSplitsAtLeast;
+// beyond that the rest is painted in the order reached (reported). Real models and the random
+// scenes of the tests need under 1 per polygon (see painter_test's figures).
+constexpr std::uint64_t kSplitsPerPolygon = 4;
+constexpr std::uint64_t kSplitsAtLeast = 4096;
+// A piece cut this many times is not cut again (unresolved, reported): halving a 2^22-pixel
+// picture down to one pixel takes 44 cuts; the pixel loop tests each cut.
+constexpr std::size_t kMaxCutsPerPiece = 48;
+// Pair tests allowed in one render: kTestsPerPolygon per polygon plus kTestsAtLeast. Real
+// models need under 100 per polygon; a soup of large random triangles all overlapping in a
+// small picture needs ~n per polygon (every pair overlaps), and is stopped here.
+constexpr std::uint64_t kTestsPerPolygon = 512;
+constexpr std::uint64_t kTestsAtLeast = 1u << 16;
 
 double depthAt(const DepthPlane& p, const glm::dvec2& v) { return (p.z0 + p.dzdy * v.y) + p.dzdx * v.x; }
+
+// How many P a piece remembers having passed the tests for (a P swapped aside comes back to
+// the same candidates; four cover the usual chain of swaps).
+constexpr std::size_t kClearedSlots = 4;
 
 // A polygon in the list: the parent's outline (or a piece of it) and what it paints with.
 struct Piece {
@@ -99,15 +122,26 @@ struct Piece {
   bool marked = false;               // at the far end (taken from the list's end, or moved
                                      // there by a swap), still waiting
   std::uint32_t seen = 0;            // stamp of the last candidate search that met it
+  // The last P it passed the tests for (P can be painted before it): not asked again.
+  std::uint32_t cleared_for[kClearedSlots] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu};
+  std::uint32_t next_slot = 0;
 };
 
 // The convex hull of snapped points (Andrew's monotone chain), counter-clockwise with y up in
-// the orientation predicate's sense; fewer than 3 points when the snapped area is zero.
-std::vector<std::int64_t> snappedHull(const std::vector<glm::dvec2>& xy) {
+// the orientation predicate's sense; fewer than 3 points when the snapped area is zero. With
+// `grow` each point stands for the square of half-side `grow` sub-pixels around it.
+std::vector<std::int64_t> snappedHull(const std::vector<glm::dvec2>& xy, std::int64_t grow) {
   std::vector<std::pair<std::int64_t, std::int64_t>> p;
-  p.reserve(xy.size());
-  for (const glm::dvec2& v : xy)
-    p.emplace_back(std::llrint(v.x * kSubpixelOne), std::llrint(v.y * kSubpixelOne));
+  p.reserve(4 * xy.size());
+  for (const glm::dvec2& v : xy) {
+    const std::int64_t x = std::llrint(v.x * kSubpixelOne), y = std::llrint(v.y * kSubpixelOne);
+    if (grow == 0) {
+      p.emplace_back(x, y);
+      continue;
+    }
+    for (const std::int64_t dx : {-grow, grow})
+      for (const std::int64_t dy : {-grow, grow}) p.emplace_back(x + dx, y + dy);
+  }
   std::sort(p.begin(), p.end());
   p.erase(std::unique(p.begin(), p.end()), p.end());
   if (p.size() < 3) return {};
@@ -153,28 +187,65 @@ bool projectionsDisjoint(const Piece& p, const Piece& q) {
   return edgeOfASeparates(p.hull, q.hull) || edgeOfASeparates(q.hull, p.hull);
 }
 
-// Test g: where the projections overlap, P is behind Q (or on it). The overlap of the two
-// convex hulls is convex and the depth difference is linear in x and y, so it is enough to
-// look at the overlap's corners. Tests d and e look at the whole polygons and fail for two
-// polygons that overlap only where one is clearly behind; this one does not.
-bool behindWhereTheyOverlap(const Piece& p, const Piece& q) {
-  std::vector<glm::dvec2> overlap;
-  for (std::size_t i = 0; i < p.hull.size(); i += 2)
-    overlap.emplace_back(static_cast<double>(p.hull[i]) / kSubpixelOne,
-                         static_cast<double>(p.hull[i + 1]) / kSubpixelOne);
-  const std::size_t n = q.hull.size() / 2;
-  for (std::size_t i = 0; i < n && !overlap.empty(); ++i) {
+// The convex region that holds every pixel centre a piece paints: its parent's snapped hull,
+// cut by the piece's cut lines; as half-planes a x + b y + c >= 0.
+struct HalfPlane {
+  double a, b, c;
+};
+void coverageRegion(const Piece& piece, const std::vector<std::int64_t>& parent_hull,
+                    std::vector<HalfPlane>& out) {
+  const std::size_t n = parent_hull.size() / 2;
+  for (std::size_t i = 0; i < n; ++i) {
     const std::size_t j = (i + 1) % n;
-    const double ax = static_cast<double>(q.hull[2 * i]) / kSubpixelOne;
-    const double ay = static_cast<double>(q.hull[2 * i + 1]) / kSubpixelOne;
-    const double bx = static_cast<double>(q.hull[2 * j]) / kSubpixelOne;
-    const double by = static_cast<double>(q.hull[2 * j + 1]) / kSubpixelOne;
-    // Q's inside is to the left of a->b (positive orientation): (b - a) x (v - a) >= 0.
+    const double ax = static_cast<double>(parent_hull[2 * i]) / kSubpixelOne;
+    const double ay = static_cast<double>(parent_hull[2 * i + 1]) / kSubpixelOne;
+    const double bx = static_cast<double>(parent_hull[2 * j]) / kSubpixelOne;
+    const double by = static_cast<double>(parent_hull[2 * j + 1]) / kSubpixelOne;
+    // The inside is to the left of a->b (positive orientation): (b - a) x (v - a) >= 0.
     const double a = -(by - ay), b = bx - ax;
-    clipToHalfPlane(overlap, a, b, -(a * ax + b * ay));
+    out.push_back({a, b, -(a * ax + b * ay)});
   }
+  for (const PixelHalfPlane& h : piece.cuts) {
+    const double sign = h.negative ? -1.0 : 1.0;
+    out.push_back({sign * h.a, sign * h.b, sign * h.c});
+  }
+}
+
+// Test g (hsr's addition): at every pixel centre both paint, P is behind Q (or on it). P's
+// outline is exactly the region whose pixel centres it paints; clipped by Q's convex coverage
+// region it holds every centre both paint, and the depth difference is linear, so P behind Q
+// at the clipped outline's corners settles it. Where it does not and the overlap is small (a
+// sliver along a shared edge, narrower than the snapping), the centres in it are few: each is
+// asked. Tests d and e look at whole polygons and fail for two polygons that overlap only
+// where one is clearly behind; this one does not.
+constexpr int kCentresAsked = 64;
+bool behindWhereTheyOverlap(const Piece& p, const Piece& q, const std::vector<std::int64_t>& p_parent_hull,
+                            const std::vector<std::int64_t>& q_parent_hull) {
+  std::vector<HalfPlane> region;
+  coverageRegion(q, q_parent_hull, region);
+  std::vector<glm::dvec2> overlap = p.xy;
+  for (const HalfPlane& h : region) {
+    if (overlap.empty()) return true;
+    clipToHalfPlane(overlap, h.a, h.b, h.c);
+  }
+  auto behind = [&](const glm::dvec2& v) {
+    return depthAt(p.parent->depth, v) - depthAt(q.parent->depth, v) >= -kOnPlane;
+  };
+  if (std::all_of(overlap.begin(), overlap.end(), behind)) return true;
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
   for (const glm::dvec2& v : overlap)
-    if (depthAt(p.parent->depth, v) - depthAt(q.parent->depth, v) < -kOnPlane) return false;
+    x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+  const double cx0 = std::ceil(x0 - 1e-9), cx1 = std::floor(x1 + 1e-9);
+  const double cy0 = std::ceil(y0 - 1e-9), cy1 = std::floor(y1 + 1e-9);
+  if (cx0 > cx1 || cy0 > cy1) return true;  // no pixel centre in the overlap
+  if ((cx1 - cx0 + 1) * (cy1 - cy0 + 1) > kCentresAsked) return false;
+  coverageRegion(p, p_parent_hull, region);  // both regions: a centre both may paint
+  for (double y = cy0; y <= cy1; ++y)
+    for (double x = cx0; x <= cx1; ++x) {
+      bool inside = true;
+      for (const HalfPlane& h : region) inside = inside && h.a * x + h.b * y + h.c >= -1e-9;
+      if (inside && !behind({x, y})) return false;
+    }
   return true;
 }
 
@@ -204,7 +275,8 @@ struct Counts {
 };
 
 // Step 2: can P be painted before Q, P hiding no part of Q? The notes' tests, cheapest first.
-bool canPaintBefore(const Piece& p, const Piece& q, Counts& c) {
+bool canPaintBefore(const Piece& p, const Piece& q, const std::vector<std::int64_t>& p_parent_hull,
+                    const std::vector<std::int64_t>& q_parent_hull, Counts& c) {
   if (p.zmin >= q.zmax) return ++c.by_depth, true;                 // a. P wholly farther
   if (p.x1 <= q.x0 || q.x1 <= p.x0) return ++c.by_x, true;         // b. x extents apart
   if (p.y1 <= q.y0 || q.y1 <= p.y0) return ++c.by_y, true;         // c. y extents apart
@@ -218,7 +290,7 @@ bool canPaintBefore(const Piece& p, const Piece& q, Counts& c) {
   if (p_side.behind) return ++c.by_p_behind, true;                 // d. P behind Q's plane
   if (q_side.in_front) return ++c.by_q_in_front, true;             // e. Q in front of P's plane
   if (projectionsDisjoint(p, q)) return ++c.by_projection, true;   // f. projections apart
-  if (behindWhereTheyOverlap(p, q)) return ++c.by_overlap, true;  // g. behind in the overlap
+  if (behindWhereTheyOverlap(p, q, p_parent_hull, q_parent_hull)) return ++c.by_overlap, true;  // g. behind in the overlap
   ++c.all_failed;
   return false;
 }
@@ -228,13 +300,25 @@ class DepthSort {
   DepthSort(const std::vector<WindowPolygon>& polygons, int width, int height) {
     // The grid of screen cells through which the Q near a P are found: about four pieces per
     // cell on average, cells of 8 to 256 pixels.
+    // Cells no smaller than the polygons' mean box side either: when every polygon is large
+    // (a soup of big triangles in a small picture) small cells only list each many times.
     const double area = static_cast<double>(width) * height;
-    cell_ = static_cast<int>(std::clamp(std::sqrt(4.0 * area / std::max<std::size_t>(polygons.size(), 1)), 4.0, 256.0));
+    double box_sides = 0;
+    for (const WindowPolygon& p : polygons) {
+      double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+      for (const glm::dvec3& v : p.vertices) {
+        x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+      }
+      box_sides += std::sqrt(std::clamp(x1 - x0, 0.0, 1.0 * width) * std::clamp(y1 - y0, 0.0, 1.0 * height));
+    }
+    const double n = static_cast<double>(std::max<std::size_t>(polygons.size(), 1));
+    cell_ = static_cast<int>(std::clamp(std::max(std::sqrt(4.0 * area / n), box_sides / n), 4.0, 256.0));
     cols_ = (width + cell_ - 1) / cell_;
     rows_ = (height + cell_ - 1) / cell_;
     cells_.resize(static_cast<std::size_t>(cols_) * rows_);
     pieces_.reserve(polygons.size() + polygons.size() / 4);
     outlines_.resize(polygons.size());
+    hulls_.resize(polygons.size());
     for (std::uint32_t i = 0; i < polygons.size(); ++i) {
       for (const glm::dvec3& v : polygons[i].vertices) outlines_[i].emplace_back(v.x, v.y);
       // A polygon whose box holds no pixel centre paints nothing (the fill rule covers only
@@ -243,13 +327,21 @@ class DepthSort {
         ++counts_.no_pixel_centre;
         continue;
       }
-      add(outlines_[i], &polygons[i], i, {});
+      // The polygon as the list sees it: its snapped outline, exactly the region whose pixel
+      // centres it covers, so that tests d, e and g hold for every pixel it paints.
+      std::vector<glm::dvec2> snapped;
+      for (const glm::dvec2& v : outlines_[i])
+        snapped.emplace_back(static_cast<double>(std::llrint(v.x * kSubpixelOne)) / kSubpixelOne,
+                             static_cast<double>(std::llrint(v.y * kSubpixelOne)) / kSubpixelOne);
+      hulls_[i] = snappedHull(snapped, 0);
+      add(std::move(snapped), &polygons[i], i, {});
     }
     for (std::vector<std::uint32_t>& cell : cells_)
       std::stable_sort(cell.begin(), cell.end(),
                        [this](std::uint32_t a, std::uint32_t b) { return pieces_[a].zmax > pieces_[b].zmax; });
     sorted_ = true;
-    max_splits_ = kMaxSplitsPerPolygon * std::max<std::size_t>(polygons.size(), 1);
+    max_splits_ = kSplitsPerPolygon * polygons.size() + kSplitsAtLeast;
+    max_tests_ = kTestsPerPolygon * polygons.size() + kTestsAtLeast;
   }
 
   // Steps 1 to 4; paint(piece) is called in painting order.
@@ -276,9 +368,11 @@ class DepthSort {
         pieces_[list.top()].marked = true;
       }
       const std::uint32_t p = far_end.back();
-      const std::uint32_t q = firstHidden(p);
-      if (q == kNone || counts_.splits >= max_splits_) {
-        if (q != kNone) ++counts_.unresolved;  // out of splits: painted as reached, reported
+      budget_spent_ = budget_spent_ || counts_.splits >= max_splits_ || counts_.candidates >= max_tests_;
+      const std::uint32_t q = budget_spent_ ? kNone : firstHidden(p);
+      if (q == kNone) {
+        // Out of budget: painted as reached, unchecked, and counted (reported).
+        if (budget_spent_) ++counts_.unresolved;
         // Nothing P could hide is still waiting: paint P.
         pieces_[p].alive = false;
         pieces_[p].marked = false;
@@ -288,7 +382,7 @@ class DepthSort {
         continue;
       }
       // 3. Q might be hidden by P. If Q may go first and is not marked, swap.
-      if (!pieces_[q].marked && canPaintBefore(pieces_[q], pieces_[p], counts_)) {
+      if (!pieces_[q].marked && canPaintBefore(pieces_[q], pieces_[p], hulls_[pieces_[q].polygon], hulls_[pieces_[p].polygon], counts_)) {
         ++counts_.swaps;
         pieces_[q].marked = true;
         far_end.push_back(q);
@@ -361,8 +455,12 @@ class DepthSort {
   std::uint32_t add(std::vector<glm::dvec2> xy, const WindowPolygon* parent, std::uint32_t polygon,
                     std::vector<PixelHalfPlane> cuts) {
     Piece p;
-    p.hull = snappedHull(xy);
-    if (p.hull.empty()) return kNone;
+    // A whole polygon paints exactly the pixel centres inside its snapped hull. A piece paints
+    // the whole's pixels on its side of exact cut lines, and its own vertices, snapped, can
+    // be half a sub-pixel inside that region: its hull is grown by one sub-pixel, so that tests
+    // b, c, f and g never find apart two pieces that share a pixel centre.
+    if (snappedHull(xy, 0).empty()) return kNone;
+    p.hull = snappedHull(xy, cuts.empty() ? 0 : 1);
     p.parent = parent;
     p.polygon = polygon;
     p.cuts = std::move(cuts);
@@ -428,10 +526,16 @@ class DepthSort {
         if (!pieces_[q].alive) continue;
         if (pieces_[q].zmax <= zmin) break;
         cell[kept++] = q;
-        if (q == p || pieces_[q].seen == stamp_) continue;
+        if (q == p || pieces_[q].seen == stamp_ ||
+            std::find(std::begin(pieces_[q].cleared_for), std::end(pieces_[q].cleared_for), p) !=
+                std::end(pieces_[q].cleared_for))
+          continue;
         pieces_[q].seen = stamp_;
         ++counts_.candidates;
-        if (!canPaintBefore(pieces_[p], pieces_[q], counts_)) found = q;
+        if (canPaintBefore(pieces_[p], pieces_[q], hulls_[pieces_[p].polygon], hulls_[pieces_[q].polygon], counts_))
+          pieces_[q].cleared_for[pieces_[q].next_slot++ % kClearedSlots] = p;
+        else
+          found = q;
       }
       cell.erase(cell.begin() + static_cast<std::ptrdiff_t>(kept),
                  cell.begin() + static_cast<std::ptrdiff_t>(i));
@@ -503,6 +607,7 @@ class DepthSort {
     for (const std::uint32_t x : cycle)
       for (const std::uint32_t y : cycle) {
         if (x == y) continue;
+        if (pieces_[x].cuts.size() >= kMaxCutsPerPiece) continue;
         const PixelHalfPlane line = planeLine(pieces_[x].parent->depth, pieces_[y].parent->depth);
         if (spans(pieces_[x], line)) {
           split(x, line, parts);
@@ -512,7 +617,8 @@ class DepthSort {
     const Piece& c = pieces_[p];
     // A piece within one pixel both ways is not cut further: the cycle is left unresolved
     // (reported); it can only come from depths that tie within kOnPlane.
-    if (c.x1 - c.x0 <= kSubpixelOne && c.y1 - c.y0 <= kSubpixelOne) return kNone;
+    if ((c.x1 - c.x0 <= kSubpixelOne && c.y1 - c.y0 <= kSubpixelOne) || c.cuts.size() >= kMaxCutsPerPiece)
+      return kNone;
     const bool wide = c.x1 - c.x0 >= c.y1 - c.y0;
     const double middle = wide ? 0.5 * static_cast<double>(c.x0 + c.x1) / kSubpixelOne
                                : 0.5 * static_cast<double>(c.y0 + c.y1) / kSubpixelOne;
@@ -524,11 +630,13 @@ class DepthSort {
 
   int cell_ = 64, cols_ = 1, rows_ = 1;
   std::vector<std::vector<glm::dvec2>> outlines_;  // each pipeline polygon's x, y
+  std::vector<std::vector<std::int64_t>> hulls_;   // and its snapped convex hull
   std::vector<Piece> pieces_;
   std::vector<std::vector<std::uint32_t>> cells_;
   std::uint32_t stamp_ = 0;
   bool sorted_ = false;  // the cells are in order (all first pieces are in)
-  std::uint64_t max_splits_ = 0;
+  std::uint64_t max_splits_ = 0, max_tests_ = 0;
+  bool budget_spent_ = false;  // tests or splits: the rest is painted in the list's order
   Counts counts_;
 };
 
@@ -573,8 +681,14 @@ void drawPainter(const AlgorithmInput& in, Frame& frame) {
   };
   sort.run(
       [&](const Piece& p) {
-        paintPolygonPart(sort.outlineOf(p), p.cuts, p.parent->depth, p.parent->id, p.parent->rgba,
-                         fb, fragments);
+        // The piece's pixels lie in its snapped hull's box give or take the rounding of its
+        // split vertices: one pixel more each way is plenty.
+        const PixelBox box{static_cast<int>(floorDiv(p.x0, kSubpixelOne)) - 1,
+                           static_cast<int>(floorDiv(p.y0, kSubpixelOne)) - 1,
+                           static_cast<int>(ceilDiv(p.x1, kSubpixelOne)) + 1,
+                           static_cast<int>(ceilDiv(p.y1, kSubpixelOne)) + 1};
+        paintPolygonPart(sort.outlineOf(p), p.cuts, box, p.parent->depth, p.parent->id,
+                         p.parent->rgba, fb, fragments);
         if (in.trace && in.trace->wants(kStepPaint, painted, polygons))
           in.trace->record({kStepPaint,
                             "Paint polygon " + std::to_string(p.parent->id) + " (piece " +
