@@ -360,6 +360,15 @@ class DepthSort {
     trace(kStepSort, nullptr, nullptr);
     // The far end of the list, with the polygons swapped in front of it (each marked).
     std::vector<std::uint32_t> far_end;
+    // Paints P, the piece at the far end, and takes it off the list.
+    auto paintFarEnd = [&] {
+      const std::uint32_t p = far_end.back();
+      pieces_[p].alive = false;
+      pieces_[p].marked = false;
+      far_end.pop_back();
+      ++counts_.pieces_painted;
+      paint(pieces_[p]);
+    };
     while (true) {
       if (far_end.empty()) {
         while (!list.empty() && !pieces_[list.top()].alive) list.pop();
@@ -374,11 +383,7 @@ class DepthSort {
         // Out of budget: painted as reached, unchecked, and counted (reported).
         if (budget_spent_) ++counts_.unresolved;
         // Nothing P could hide is still waiting: paint P.
-        pieces_[p].alive = false;
-        pieces_[p].marked = false;
-        far_end.pop_back();
-        ++counts_.pieces_painted;
-        paint(pieces_[p]);
+        paintFarEnd();
         continue;
       }
       // 3. Q might be hidden by P. If Q may go first and is not marked, swap.
@@ -404,11 +409,7 @@ class DepthSort {
       if (cut == kNone) {
         // Left unresolved (breakCycle): painted as reached, counted and reported.
         ++counts_.unresolved;
-        pieces_[p].alive = false;
-        pieces_[p].marked = false;
-        far_end.pop_back();
-        ++counts_.pieces_painted;
-        paint(pieces_[p]);
+        paintFarEnd();
         continue;
       }
       ++counts_.splits;
