@@ -10,7 +10,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
+
+#include <glm/mat4x4.hpp>
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -18,6 +21,7 @@
 #include "hsr/camera.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
+#include "geometry/polygon.hpp"
 #include "raster/primitives.hpp"
 
 namespace hsr::detail {
@@ -35,6 +39,8 @@ struct WindowPolygon {
   glm::dvec4 eye_plane{0.0};         // a x + b y + c z + d = 0 in eye space; (a, b, c) is
                                      // Newell's normal of the winding, not normalised
   DepthPlane depth{};                // the depth plane its screen triangles use
+  std::uint32_t piece = 0;           // a non-planar polygon comes as its triangles
+                                     // (triangulatePolygon's order): which one this is
 };
 
 struct PipelineScratch;  // prepare()'s working memory, reused between calls
@@ -68,5 +74,13 @@ inline PreparedScene prepare(const Scene& scene, const Camera& camera,
 // right-hand rule of the vertex order (Newell's normal) -> counter-clockwise as seen from the
 // eye. Returns +1 (CCW seen from the eye), -1 (CW) or 0 (edge-on or degenerate).
 int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera);
+
+// World -> homogeneous device coordinates (x, y in pixels with centres at integers, y down; z
+// window depth; w the clip w, > 0 in front of the eye), as prepare() projects.
+glm::dmat4 deviceFromWorld(const Camera& camera);
+
+// Whether the polygon with vertices `vi` lies in `plane` within float's precision: the
+// pipeline's test (a non-planar polygon is drawn as its triangles, each with its own plane).
+bool isPlanar(const Scene& scene, std::span<const std::uint32_t> vi, const Plane& plane);
 
 }  // namespace hsr::detail

@@ -16,7 +16,7 @@ namespace hsr::detail {
 namespace {
 
 void emitPiece(const Context& ctx, PolygonId id, std::span<const std::uint32_t> vi,
-               PolygonInfo& info, ChunkOut& out) {
+               PolygonInfo& info, std::uint32_t piece, ChunkOut& out) {
   const WholeClip clipped = clipWholePolygon(ctx, vi, out);
   if (clipped == WholeClip::kOutside || clipped == WholeClip::kClippedAway) return;
   WindowPolygon wp;
@@ -39,6 +39,7 @@ void emitPiece(const Context& ctx, PolygonId id, std::span<const std::uint32_t> 
   wp.front = isFront(ctx, area < 0 ? 1 : -1, info.eye_orientation);
   if (culled(ctx.options.cull, wp.front)) return;
   wp.id = id;
+  wp.piece = piece;
   wp.material = ctx.scene.material(id);
   wp.rgba = info.rgba;
   wp.transparent = info.transparent;
@@ -57,14 +58,14 @@ void emitPiece(const Context& ctx, PolygonId id, std::span<const std::uint32_t> 
 void emitWindowPolygon(const Context& ctx, PolygonId id, std::span<const std::uint32_t> vi,
                        PolygonInfo& info, ChunkOut& out) {
   if (info.planar) {
-    emitPiece(ctx, id, vi, info, out);
+    emitPiece(ctx, id, vi, info, 0, out);
     return;
   }
   std::vector<Triangle> tris;
   triangulatePolygon(ctx.scene, id, tris);
-  for (const Triangle& t : tris) {
-    PolygonInfo own = forTriangle(info, t.v);
-    emitPiece(ctx, id, std::span<const std::uint32_t>(t.v), own, out);
+  for (std::uint32_t k = 0; k < tris.size(); ++k) {
+    PolygonInfo own = forTriangle(info, tris[k].v);
+    emitPiece(ctx, id, std::span<const std::uint32_t>(tris[k].v), own, k, out);
   }
 }
 

@@ -198,13 +198,7 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   t0 = Clock::now();
   // Device coordinates (pixel-centre x, y down; window z) from clip coordinates, as toWindow
   // maps them; depth planes map by the inverse transpose of world -> device.
-  const double w = camera.width, h = camera.height;
-  glm::dmat4 device_from_clip(1.0);
-  device_from_clip[0][0] = w * 0.5;
-  device_from_clip[1][1] = -h * 0.5;
-  device_from_clip[2][2] = 0.5;
-  device_from_clip[3] = glm::dvec4(w * 0.5 - 0.5, h * 0.5 - 0.5, 0.5, 1.0);
-  const glm::dmat4 device_from_world = device_from_clip * glm::dmat4(mvp);
+  const glm::dmat4 device_from_world = deviceFromWorld(camera);
   Context ctx{scene,
               camera,
               options,
@@ -265,6 +259,17 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
     findOutline(ctx, out);
     out.stats.addStage("outline", msSince(t0));
   }
+}
+
+glm::dmat4 deviceFromWorld(const Camera& camera) {
+  const glm::mat4 mvp = camera.projection() * camera.view();
+  const double w = camera.width, h = camera.height;
+  glm::dmat4 device_from_clip(1.0);
+  device_from_clip[0][0] = w * 0.5;
+  device_from_clip[1][1] = -h * 0.5;
+  device_from_clip[2][2] = 0.5;
+  device_from_clip[3] = glm::dvec4(w * 0.5 - 0.5, h * 0.5 - 0.5, 0.5, 1.0);
+  return device_from_clip * glm::dmat4(mvp);
 }
 
 }  // namespace hsr::detail

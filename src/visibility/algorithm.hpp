@@ -47,5 +47,6 @@ void drawZBufferTextbook(const AlgorithmInput& input, Frame& frame);  // zbuffer
 void drawZBufferTiled(const AlgorithmInput& input, Frame& frame);     // zbuffer_tiled.cpp
 void drawPainter(const AlgorithmInput& input, Frame& frame);          // painter.cpp
 void drawPainterNaive(const AlgorithmInput& input, Frame& frame);     // painter_naive.cpp
+void drawBsp(const AlgorithmInput& input, Frame& frame);              // bsp.cpp
 
 }  // namespace hsr::detail

@@ -39,6 +39,13 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .capabilities = kTransparency | kBackToFront,
         .demonstration = true},
        &drawPainterNaive},
+      {{.name = "bsp",
+        .summary = "3D BSP tree built in world space, painted back to front for the eye",
+        .source = "Fuchs, Kedem & Naylor 1980; the notes' \"BSP trees\"",
+        .precision = Precision::kObject,
+        .input = InputKind::kWindowPolygons,
+        .capabilities = kExactSharedCoverage | kTransparency | kBackToFront},
+       &drawBsp},
   };
   return table;
 }

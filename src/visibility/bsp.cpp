@@ -1,0 +1,179 @@
+// Rendering from a BSP tree (bsp_tree.hpp), as the notes give it: at each node, find which
+// side of the node's plane the eye is on; draw the subtree on the far side, then the node's
+// own polygons, then the subtree on the eye's side. Drawn that way every polygon comes after
+// everything that could be behind it, for any eye, with no depth test and no sort: a painter's
+// order from one tree that serves every viewpoint.
+//
+//   eye in front of the plane:  back subtree, node polygons, front subtree
+//   eye behind the plane:       front subtree, node polygons, back subtree
+//   eye on the plane:           back subtree, front subtree (the node's polygons are edge-on)
+//
+// The improved traversal skips a subtree whose bounds lie wholly outside one plane of the view
+// frustum (the near plane among them: behind the eye). With an orthographic camera the eye is
+// the point at infinity behind it: its side of a plane is the side the view direction leaves.
+//
+// Each polygon of the tree is drawn as its pipeline polygon (culled, clipped, projected and
+// shaded by the shared pipeline, so with its id, colour and depth plane) restricted to its
+// side of every plane that cut it: a world plane restricted to the polygon's depth plane is a
+// line of the picture, and the two pieces of one cut take opposite sides of the same line, so
+// they share out the parent's pixels exactly (raster/fill_polygons.hpp, paintPolygonPart).
+// Guarantee: each pixel shows the nearest polygon at its centre, as the z-buffer does, up to
+// the tree's epsilon (a polygon within it of a plane is on it); equal float depths show the
+// lower id. Cost: O(nodes) to traverse plus the pixels painted; front to back on request.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include "core/frame.hpp"
+#include "raster/edge.hpp"
+#include "raster/fill_polygons.hpp"
+#include "visibility/algorithm.hpp"
+#include "visibility/bsp.hpp"
+
+namespace hsr::detail {
+
+namespace {
+
+// Whether the box lies wholly outside one plane of the view frustum (in clip space: -w <= x,
+// y, z <= w).
+bool outsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, const glm::dvec3& hi) {
+  glm::dvec4 c[8];
+  for (int i = 0; i < 8; ++i)
+    c[i] = clip_from_world * glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {-1.0, 1.0}) {
+      bool all_out = true;
+      for (const glm::dvec4& p : c) all_out = all_out && sign * p[axis] > p.w;
+      if (all_out) return true;
+    }
+  return false;
+}
+
+}  // namespace
+
+void forEachBspPolygon(const BspTree& tree, const Camera& camera, bool front_to_back,
+                       const std::function<void(const BspPolygon&)>& draw, BspTraversalStats* stats) {
+  if (tree.nodes.empty()) return;
+  const glm::dmat4 clip_from_world = glm::dmat4(camera.projection()) * glm::dmat4(camera.view());
+  const glm::dvec3 eye(camera.eye);
+  const glm::dvec3 toward_eye = glm::normalize(glm::dvec3(camera.eye) - glm::dvec3(camera.target));
+  // The eye's side of a node's plane: +1 in front, -1 behind, 0 on it.
+  auto eyeSide = [&](const BspNode& n) {
+    if (camera.ortho) {
+      const double d = glm::dot(glm::dvec3(n.plane), toward_eye);
+      return d > 0 ? 1 : d < 0 ? -1 : 0;
+    }
+    return sideOf(tree, n, eye);
+  };
+  // A stack of work: a subtree to visit, or a node whose own polygons are due.
+  struct Item {
+    std::int32_t node;
+    bool own;
+  };
+  std::vector<Item> stack{{0, false}};
+  while (!stack.empty()) {
+    const Item item = stack.back();
+    stack.pop_back();
+    const BspNode& n = tree.nodes[item.node];
+    if (item.own) {
+      for (std::uint32_t k = 0; k < n.polygon_count; ++k) {
+        if (stats) ++stats->drawn;
+        draw(tree.polygons[tree.order[n.first_polygon + k]]);
+      }
+      continue;
+    }
+    if (outsideFrustum(clip_from_world, n.lo, n.hi)) {
+      if (stats) ++stats->skipped;
+      continue;
+    }
+    if (stats) ++stats->visited;
+    const int side = eyeSide(n);
+    // Back to front: the far side first. The stack runs last in, first out.
+    std::int32_t far = side >= 0 ? n.back : n.front, near = side >= 0 ? n.front : n.back;
+    if (front_to_back) std::swap(far, near);
+    if (near >= 0) stack.push_back({near, false});
+    if (side != 0) stack.push_back({item.node, true});
+    if (far >= 0) stack.push_back({far, false});
+  }
+}
+
+void drawBsp(const AlgorithmInput& in, Frame& frame) {
+  auto t0 = std::chrono::steady_clock::now();
+  const BspTree tree = buildBspTree(in.scene, BspBuildOptions{});
+  frame.stats.addStage("bsp build", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  t0 = std::chrono::steady_clock::now();
+  paintFromBspTree(tree, in, frame);
+  frame.stats.addStage("bsp traverse + paint",
+                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  frame.stats.state_bytes += tree.stats.bytes;
+  frame.stats.addCounter("bsp: polygons in the tree", tree.stats.polygons);
+  frame.stats.addCounter("bsp: splits", tree.stats.splits);
+  frame.stats.addCounter("bsp: nodes", tree.stats.nodes);
+  frame.stats.addCounter("bsp: depth", tree.stats.depth);
+}
+
+void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& frame) {
+  const FrameView fb(frame);
+  FragmentCounts fragments;
+  const std::vector<WindowPolygon>& polygons = in.prepared.polygons;
+  // The pipeline's polygons by id (a polygon culled or clipped away has none).
+  std::vector<std::int32_t> by_id(in.scene.polygonCount(), -1);
+  for (std::size_t i = 0; i < polygons.size(); ++i)
+    if (polygons[i].id < by_id.size() && by_id[polygons[i].id] < 0) by_id[polygons[i].id] = static_cast<std::int32_t>(i);
+  std::vector<std::vector<glm::dvec2>> outlines(polygons.size());
+  const glm::dmat4 device_from_world = deviceFromWorld(in.camera);
+  const glm::dmat4 device_plane_from_world_plane = glm::transpose(glm::inverse(device_from_world));
+  std::vector<PixelHalfPlane> cuts;
+  BspTraversalStats traversal;
+  forEachBspPolygon(
+      tree, in.camera, false,
+      [&](const BspPolygon& p) {
+        if (p.id >= by_id.size() || by_id[p.id] < 0) return;
+        std::size_t index = static_cast<std::size_t>(by_id[p.id]);
+        while (index < polygons.size() && polygons[index].id == p.id && polygons[index].piece != p.piece) ++index;
+        if (index == polygons.size() || polygons[index].id != p.id) return;  // that triangle was culled
+        const WindowPolygon& w = polygons[index];
+        std::vector<glm::dvec2>& outline = outlines[index];
+        if (outline.empty())
+          for (const glm::dvec3& v : w.vertices) outline.emplace_back(v.x, v.y);
+        // Each cut's plane in device space, restricted to the polygon's depth plane: the
+        // pixels (x, y) on the piece's side. For a point in front of the eye (clip w > 0) the
+        // device plane's value has the world plane's sign.
+        cuts.clear();
+        for (std::uint32_t c = 0; c < p.cut_count; ++c) {
+          const BspCut& cut = tree.cuts[p.first_cut + c];
+          const glm::dvec4 d = device_plane_from_world_plane * tree.nodes[cut.node].plane;
+          cuts.push_back({d.x + d.z * w.depth.dzdx, d.y + d.z * w.depth.dzdy, d.w + d.z * w.depth.z0, !cut.front});
+        }
+        // The piece's pixels lie within its projected box (when it is wholly in front of the
+        // eye), else anywhere in the parent's.
+        PixelBox box{0, 0, frame.width - 1, frame.height - 1};
+        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+        bool projected = true;
+        for (const glm::dvec3& v : p.vertices) {
+          const glm::dvec4 h = device_from_world * glm::dvec4(v, 1.0);
+          if (!(h.w > 0)) {
+            projected = false;
+            break;
+          }
+          x0 = std::min(x0, h.x / h.w), x1 = std::max(x1, h.x / h.w);
+          y0 = std::min(y0, h.y / h.w), y1 = std::max(y1, h.y / h.w);
+        }
+        if (projected && p.cut_count > 0 && x1 - x0 < 1e7 && y1 - y0 < 1e7)
+          box = {std::max(0, static_cast<int>(std::floor(x0)) - 1), std::max(0, static_cast<int>(std::floor(y0)) - 1),
+                 std::min(frame.width - 1, static_cast<int>(std::ceil(x1)) + 1),
+                 std::min(frame.height - 1, static_cast<int>(std::ceil(y1)) + 1)};
+        paintPolygonPart(outline, cuts, box, w.depth, w.id, w.rgba, fb, fragments);
+      },
+      &traversal);
+  frame.stats.fragments_tested += fragments.tested;
+  frame.stats.fragments_written += fragments.written;
+  frame.stats.state_bytes += frameBufferBytes(frame);
+  frame.stats.addCounter("bsp: polygons drawn", traversal.drawn);
+  frame.stats.addCounter("bsp: nodes visited", traversal.visited);
+  frame.stats.addCounter("bsp: subtrees skipped", traversal.skipped);
+}
+
+}  // namespace hsr::detail

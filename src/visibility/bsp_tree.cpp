@@ -1,0 +1,341 @@
+// Building a 3D BSP tree, as the notes give it:
+//
+//   1. Choose a polygon of the list; its plane is the node's splitting plane.
+//   2. Classify every other polygon against that plane: in front, behind, on it (coplanar),
+//      or spanning it.
+//   3. Spanning polygons are split along the plane; each piece joins its side's list.
+//   4. Coplanar polygons stay at the node; build the front subtree from the front list and
+//      the back subtree from the back list, the same way, until the lists are empty.
+//
+// Classification: the distance of each vertex from the unit-normal plane, in double; a vertex
+// within `epsilon` (1e-9 of the scene's bounding-box diagonal) is on the plane, so a polygon
+// whose vertices are all within it is coplanar, and one with vertices only on one side (or on
+// the plane) goes to that side. Splitting puts a vertex on the plane into both pieces and an
+// edge's crossing point, computed once, into both: the pieces meet exactly. Each piece
+// remembers the cut, so that a renderer hands each piece exactly its parent's pixels on its
+// side (bsp.cpp).
+//
+// The recursion is a loop over a stack of lists: a tree as deep as its polygon count (a worst
+// case the "first" choice reaches on sorted input) never overflows the call stack.
+// Cost: O(n log n) classifications for a balanced tree, O(n^2) at worst, times `candidates`
+// for the sampled choices; memory: per polygon or piece its vertices (24 B each) plus its
+// cuts (8 B per ancestor that cut it), per node 104 B.
+
+#include "visibility/bsp_tree.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "geometry/polygon.hpp"
+#include "geometry/triangulate.hpp"
+#include "pipeline/pipeline.hpp"
+
+namespace hsr::detail {
+
+namespace {
+
+constexpr int kFewestCandidates = 512;
+
+// splitmix64: a small, seeded, portable generator (the same tree on every platform).
+std::uint64_t nextRandom(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+// The plane of a polygon (Newell's normal, unit length, through the centroid), or false when
+// it has no area or is not finite.
+bool planeOf(const std::vector<glm::dvec3>& v, glm::dvec4* plane) {
+  glm::dvec3 n(0.0), c(0.0);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const glm::dvec3& a = v[i];
+    const glm::dvec3& b = v[(i + 1) % v.size()];
+    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    c += a;
+  }
+  const double len = glm::length(n);
+  if (!(len > 0.0) || !std::isfinite(len)) return false;
+  n /= len;
+  c /= static_cast<double>(v.size());
+  *plane = glm::dvec4(n, -glm::dot(n, c));
+  return std::isfinite(plane->w);
+}
+
+double distance(const glm::dvec4& plane, const glm::dvec3& p) {
+  return glm::dot(glm::dvec3(plane), p) + plane.w;
+}
+
+enum class Side { kFront, kBack, kOn, kSpanning };
+
+Side classify(const glm::dvec4& plane, const std::vector<glm::dvec3>& v, double eps) {
+  bool front = false, back = false;
+  for (const glm::dvec3& p : v) {
+    const double d = distance(plane, p);
+    front |= d > eps;
+    back |= d < -eps;
+  }
+  if (front && back) return Side::kSpanning;
+  if (front) return Side::kFront;
+  if (back) return Side::kBack;
+  return Side::kOn;
+}
+
+// Step 3: the parts of `v` in front of the plane (and on it) and behind it (and on it).
+void splitPolygon(const glm::dvec4& plane, const std::vector<glm::dvec3>& v, double eps,
+                  std::vector<glm::dvec3>& front, std::vector<glm::dvec3>& back) {
+  const std::size_t n = v.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3& a = v[i];
+    const glm::dvec3& b = v[(i + 1) % n];
+    const double da = distance(plane, a), db = distance(plane, b);
+    if (da >= -eps) front.push_back(a);
+    if (da <= eps) back.push_back(a);
+    if ((da > eps && db < -eps) || (da < -eps && db > eps)) {
+      const glm::dvec3 x = a + (da / (da - db)) * (b - a);
+      front.push_back(x);
+      back.push_back(x);
+    }
+  }
+}
+
+struct Task {
+  std::vector<std::uint32_t> list;
+  std::int32_t parent = -1;  // the node whose child this list becomes
+  bool front = false;
+  std::uint32_t depth = 1;
+};
+
+}  // namespace
+
+bool parseSplitterChoice(std::string_view s, SplitterChoice* out) {
+  for (const SplitterChoice c : {SplitterChoice::kFirst, SplitterChoice::kRandom, SplitterChoice::kFewest,
+                                 SplitterChoice::kBalanced, SplitterChoice::kBestOfK})
+    if (toString(c) == s) return *out = c, true;
+  return false;
+}
+
+std::string_view toString(SplitterChoice c) {
+  switch (c) {
+    case SplitterChoice::kFirst:
+      return "first";
+    case SplitterChoice::kRandom:
+      return "random";
+    case SplitterChoice::kFewest:
+      return "fewest";
+    case SplitterChoice::kBalanced:
+      return "balanced";
+    case SplitterChoice::kBestOfK:
+      return "best-of-k";
+  }
+  return "?";
+}
+
+int sideOf(const BspTree& tree, const BspNode& node, const glm::dvec3& p) {
+  const double d = distance(node.plane, p);
+  return d > tree.epsilon ? 1 : d < -tree.epsilon ? -1 : 0;
+}
+
+BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
+                     void (*progress)(std::uint64_t, std::uint64_t, void*), void* user) {
+  const auto t0 = std::chrono::steady_clock::now();
+  BspTree tree;
+  // The epsilon: 1e-9 of the scene's size.
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const glm::vec3& p : scene.positions())
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+      lo = glm::min(lo, glm::dvec3(p));
+      hi = glm::max(hi, glm::dvec3(p));
+    }
+  const double diagonal = lo.x <= hi.x ? glm::length(hi - lo) : 1.0;
+  tree.epsilon = 1e-9 * std::max(diagonal, 1e-30);
+
+  // The polygons: each scene polygon with a plane, or the fan of a non-planar one.
+  std::vector<glm::dvec4> planes;
+  std::vector<Triangle> triangles;
+  Task root;
+  for (PolygonId id = 0; id < scene.polygonCount(); ++id) {
+    std::vector<glm::dvec3> v;
+    bool finite = true;
+    for (const std::uint32_t i : scene.polygon(id)) {
+      const glm::vec3& p = scene.position(i);
+      finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+      v.emplace_back(p);
+    }
+    glm::dvec4 plane;
+    if (!finite || v.size() < 3 || !planeOf(v, &plane)) continue;
+    ++tree.stats.input_polygons;
+    auto add = [&](std::vector<glm::dvec3> w, const glm::dvec4& pl, std::uint32_t piece) {
+      root.list.push_back(static_cast<std::uint32_t>(tree.polygons.size()));
+      tree.polygons.push_back({std::move(w), id, piece, 0, 0});
+      planes.push_back(pl);
+    };
+    const std::span<const std::uint32_t> vi = scene.polygon(id);
+    if (vi.size() == 3 || isPlanar(scene, vi, canonicalPlane(vi.size(), [&](std::size_t i) {
+                                     return glm::dvec3(scene.position(vi[i]));
+                                   }))) {
+      add(std::move(v), plane, 0);
+      continue;
+    }
+    triangles.clear();
+    triangulatePolygon(scene, id, triangles);
+    for (std::uint32_t k = 0; k < triangles.size(); ++k) {
+      std::vector<glm::dvec3> t;
+      for (const std::uint32_t i : triangles[k].v) t.emplace_back(scene.position(i));
+      glm::dvec4 tp;
+      if (planeOf(t, &tp)) add(std::move(t), tp, k);
+    }
+  }
+
+  std::uint64_t rng = options.seed;
+  std::vector<Task> stack;
+  if (!root.list.empty()) stack.push_back(std::move(root));
+  std::uint64_t placed = 0, depth_sum = 0, balance_nodes = 0;
+  double balance_sum = 0;
+  std::vector<glm::dvec3> front_part, back_part;
+  while (!stack.empty()) {
+    Task task = std::move(stack.back());
+    stack.pop_back();
+    const std::vector<std::uint32_t>& list = task.list;
+    const double eps = tree.epsilon;
+
+    // 1. The splitter.
+    auto score = [&](std::uint32_t candidate, bool balanced) {
+      std::uint64_t splits = 0, front = 0, back = 0;
+      for (const std::uint32_t q : list) {
+        switch (classify(planes[candidate], tree.polygons[q].vertices, eps)) {
+          case Side::kSpanning:
+            ++splits;
+            break;
+          case Side::kFront:
+            ++front;
+            break;
+          case Side::kBack:
+            ++back;
+            break;
+          case Side::kOn:
+            break;
+        }
+      }
+      const double imbalance = static_cast<double>(front > back ? front - back : back - front);
+      return balanced ? 8.0 * static_cast<double>(splits) + imbalance : static_cast<double>(splits);
+    };
+    std::uint32_t splitter = list[0];
+    if (list.size() > 1) {
+      switch (options.choice) {
+        case SplitterChoice::kFirst:
+          break;
+        case SplitterChoice::kRandom:
+          splitter = list[nextRandom(rng) % list.size()];
+          break;
+        case SplitterChoice::kFewest:
+        case SplitterChoice::kBalanced:
+        case SplitterChoice::kBestOfK: {
+          const bool all = options.choice == SplitterChoice::kFewest && list.size() <= kFewestCandidates;
+          const std::size_t k = options.choice == SplitterChoice::kFewest
+                                    ? std::min<std::size_t>(list.size(), kFewestCandidates)
+                                    : static_cast<std::size_t>(std::max(options.candidates, 1));
+          double best = std::numeric_limits<double>::infinity();
+          for (std::size_t i = 0; i < k; ++i) {
+            const std::uint32_t c = all ? list[i] : list[nextRandom(rng) % list.size()];
+            const double s = score(c, options.choice == SplitterChoice::kBalanced);
+            if (s < best) best = s, splitter = c;
+          }
+          break;
+        }
+      }
+    }
+
+    // The node.
+    const auto node_index = static_cast<std::uint32_t>(tree.nodes.size());
+    tree.nodes.push_back({});
+    tree.nodes.back().plane = planes[splitter];
+    if (task.parent >= 0) (task.front ? tree.nodes[task.parent].front : tree.nodes[task.parent].back) = static_cast<std::int32_t>(node_index);
+    const glm::dvec4 plane = planes[splitter];
+
+    // 2 and 3. Classify, split the spanning ones.
+    Task front{{}, static_cast<std::int32_t>(node_index), true, task.depth + 1};
+    Task back{{}, static_cast<std::int32_t>(node_index), false, task.depth + 1};
+    std::vector<std::uint32_t> on;
+    for (const std::uint32_t q : list) {
+      const Side side = q == splitter ? Side::kOn : classify(plane, tree.polygons[q].vertices, eps);
+      if (side == Side::kOn) {
+        on.push_back(q);
+      } else if (side == Side::kFront) {
+        front.list.push_back(q);
+      } else if (side == Side::kBack) {
+        back.list.push_back(q);
+      } else {
+        front_part.clear();
+        back_part.clear();
+        splitPolygon(plane, tree.polygons[q].vertices, eps, front_part, back_part);
+        ++tree.stats.splits;
+        const PolygonId id = tree.polygons[q].id;
+        const std::uint32_t sub = tree.polygons[q].piece;
+        const std::uint32_t first_cut = tree.polygons[q].first_cut, cut_count = tree.polygons[q].cut_count;
+        for (const bool is_front : {true, false}) {
+          std::vector<glm::dvec3>& part = is_front ? front_part : back_part;
+          if (part.size() < 3) continue;
+          BspPolygon piece{part, id, sub, static_cast<std::uint32_t>(tree.cuts.size()), cut_count + 1};
+          tree.cuts.reserve(tree.cuts.size() + cut_count + 1);
+          for (std::uint32_t c = 0; c < cut_count; ++c) tree.cuts.push_back(tree.cuts[first_cut + c]);
+          tree.cuts.push_back({node_index, is_front});
+          (is_front ? front.list : back.list).push_back(static_cast<std::uint32_t>(tree.polygons.size()));
+          tree.polygons.push_back(std::move(piece));
+          planes.push_back(planes[q]);
+        }
+      }
+    }
+    // 4. Coplanar polygons stay; recurse on both sides (back pushed first: front is built
+    // first, any order gives the same tree for a given seed).
+    BspNode& node = tree.nodes[node_index];
+    node.first_polygon = static_cast<std::uint32_t>(tree.order.size());
+    node.polygon_count = static_cast<std::uint32_t>(on.size());
+    tree.order.insert(tree.order.end(), on.begin(), on.end());
+    placed += on.size();
+    depth_sum += on.size() * task.depth;
+    tree.stats.depth = std::max<std::uint64_t>(tree.stats.depth, task.depth);
+    if (!front.list.empty() || !back.list.empty()) {
+      const double a = static_cast<double>(front.list.size()), b = static_cast<double>(back.list.size());
+      balance_sum += std::min(a, b) / std::max(a, b);
+      ++balance_nodes;
+    }
+    if (!back.list.empty()) stack.push_back(std::move(back));
+    if (!front.list.empty()) stack.push_back(std::move(front));
+    if (progress && (tree.nodes.size() & 4095) == 0)
+      progress(placed, tree.stats.input_polygons + tree.stats.splits, user);
+  }
+
+  // Bounds, children before parents (children have larger indices).
+  for (std::size_t i = tree.nodes.size(); i-- > 0;) {
+    BspNode& n = tree.nodes[i];
+    n.lo = glm::dvec3(std::numeric_limits<double>::infinity());
+    n.hi = glm::dvec3(-std::numeric_limits<double>::infinity());
+    for (std::uint32_t k = 0; k < n.polygon_count; ++k)
+      for (const glm::dvec3& p : tree.polygons[tree.order[n.first_polygon + k]].vertices) {
+        n.lo = glm::min(n.lo, p);
+        n.hi = glm::max(n.hi, p);
+      }
+    for (const std::int32_t c : {n.front, n.back})
+      if (c >= 0) {
+        n.lo = glm::min(n.lo, tree.nodes[c].lo);
+        n.hi = glm::max(n.hi, tree.nodes[c].hi);
+      }
+  }
+
+  BspStats& s = tree.stats;
+  s.polygons = tree.order.size();
+  s.nodes = tree.nodes.size();
+  s.mean_leaf_depth = placed ? static_cast<double>(depth_sum) / static_cast<double>(placed) : 0.0;
+  s.balance = balance_nodes ? balance_sum / static_cast<double>(balance_nodes) : 1.0;
+  s.bytes = tree.nodes.capacity() * sizeof(BspNode) + tree.polygons.capacity() * sizeof(BspPolygon) +
+            tree.order.capacity() * 4 + tree.cuts.capacity() * sizeof(BspCut);
+  for (const BspPolygon& p : tree.polygons) s.bytes += p.vertices.capacity() * sizeof(glm::dvec3);
+  s.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (progress) progress(placed, placed, user);
+  return tree;
+}
+
+}  // namespace hsr::detail
