@@ -13,6 +13,7 @@
 
 #include "core/check.hpp"
 #include "core/frame.hpp"
+#include "hsr/bsp.hpp"
 #include "hsr/error.hpp"
 #include "visibility/algorithm.hpp"
 
@@ -41,7 +42,7 @@ int workerThreads(int requested) {
 }
 
 void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& options,
-                Frame& frame, DrawMode mode, Trace* trace) {
+                Frame& frame, DrawMode mode, Trace* trace, const void* given) {
   camera.validate();
   const AlgorithmEntry& entry = findEntry(options.algorithm);
   checkSupported(entry.info, camera, options);
@@ -71,7 +72,7 @@ void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& o
     }
     HSR_CHECK_EQ(frame.ids.size(), static_cast<std::size_t>(camera.width) * camera.height);
     frame.stats = Stats{};
-    entry.draw(AlgorithmInput{scene, camera, options, prepared, &cache.algorithm, trace}, frame);
+    entry.draw(AlgorithmInput{scene, camera, options, prepared, &cache.algorithm, trace, given}, frame);
     // The pipeline's counts and stage times first, then the algorithm's.
     stats.merge(frame.stats);
     frame.stats = std::move(stats);
@@ -104,6 +105,13 @@ Frame render(const Scene& scene, const Camera& camera, const RenderOptions& opti
 
 void render(const Scene& scene, const Camera& camera, const RenderOptions& options, Frame& frame) {
   detail::renderInto(scene, camera, options, frame, detail::DrawMode::kClear);
+}
+
+Frame render(const Bsp& bsp, const Camera& camera, RenderOptions options) {
+  options.algorithm = "bsp";
+  Frame frame;
+  detail::renderInto(bsp.scene(), camera, options, frame, detail::DrawMode::kClear, nullptr, &bsp.tree());
+  return frame;
 }
 
 }  // namespace hsr

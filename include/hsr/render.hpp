@@ -24,6 +24,16 @@ enum class DepthFunc { Never, Less, Equal, LEqual, Greater, NotEqual, GEqual, Al
 // notes' eye-space test N . (eye - P) > 0. They agree on every polygon that is not edge-on.
 enum class FacingTest { WindowArea, EyePlane };
 
+// How the BSP tree (algorithm "bsp", hsr/bsp.hpp) chooses each node's splitter among the
+// polygons that reach it: "first" (the notes' "pick any"), "random" (seeded), "fewest" (the one
+// that splits fewest others, among up to 512 of them), "balanced" (best of `candidates` sampled
+// by 8 x splits + |front - behind|), "best-of-k" (best of `candidates` sampled by splits).
+struct BspOptions {
+  std::string splitter = "balanced";
+  std::uint64_t seed = 1;  // for the sampled choices: the same seed builds the same tree
+  int candidates = 8;      // for "balanced" and "best-of-k", 1..4096
+};
+
 struct RenderOptions {
   std::string algorithm = "zbuffer";
   CullMode cull = CullMode::None;
@@ -39,6 +49,7 @@ struct RenderOptions {
   glm::vec3 clear_color{0.94f, 0.94f, 0.92f};  // light paper, so outlines read
   float clear_depth = 1.0f;
   int threads = 0;  // 0 = all hardware threads (more are clamped); results are identical for any
+  BspOptions bsp;   // algorithm "bsp" only
 };
 
 // Memory an algorithm keeps between renders into the same Frame (so that repeated frames

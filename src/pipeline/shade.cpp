@@ -26,6 +26,8 @@ std::uint32_t shadeRgba(const glm::vec3& rgb, std::uint32_t alpha_bits, float la
   return q(rgb.r) | (q(rgb.g) << 8) | (q(rgb.b) << 16) | alpha_bits;
 }
 
+}  // namespace
+
 // Largest distance of a vertex from the plane, against the tolerance of a planar polygon:
 // one part in 10^6 of its extent plus its coordinates' magnitude (float vertices are only
 // that exact).
@@ -42,8 +44,6 @@ bool isPlanar(const Scene& scene, std::span<const std::uint32_t> vi, const Plane
   const double magnitude = std::max(glm::length(lo), glm::length(hi));
   return worst <= 1e-6 * (glm::length(hi - lo) + magnitude);
 }
-
-}  // namespace
 
 glm::dvec3 polygonNormal(const Scene& scene, std::span<const std::uint32_t> vi) {
   const glm::dvec3 p0(scene.position(vi[0]));

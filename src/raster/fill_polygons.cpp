@@ -62,7 +62,8 @@ std::size_t fillPolygon(std::span<const glm::dvec2> vertices, const DepthPlane& 
 
 std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<const PixelHalfPlane> cuts,
                              const PixelBox& box, const DepthPlane& depth, PolygonId id,
-                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts) {
+                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts,
+                             const PaintGroup* group) {
   return forEachSnappedTriangle(vertices, depth, id, rgba, fb, [&](const ScreenTriangle& st) {
     // The triangle's pixels as the shared setup gives them (raster/edge.hpp), within the box,
     // those outside a cut left to the other piece.
@@ -80,12 +81,21 @@ std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<con
         if (!inside) continue;
         const std::size_t idx = fb.index(x, y);
         const float z = depthInRow(row, depth, x);
-        // A tie: the pixel holds this very depth from an earlier-submitted polygon. Painted
-        // back to front, the two are equally near here; the z-buffer's GL_LESS keeps the
-        // first submitted, and so does the painter (only an equal depth is looked at).
-        if (fb.depth[idx] == z && fb.ids[idx] < id) {
+        // A tie: the pixel holds this very depth from an earlier-submitted polygon, or a depth
+        // one float step nearer. Painted back to front, the two are equally near here as far
+        // as floats can tell; the z-buffer's GL_LESS keeps the first submitted (the nearer
+        // float), and so does the painter (no other depth is looked at).
+        const float held = fb.depth[idx];
+        if ((held == z && fb.ids[idx] < id) || (z > held && z <= std::nextafter(held, 2.0f))) {
           counts.tested++;
           continue;
+        }
+        if (group) {
+          if (group->stamps[idx] == group->stamp && !(z < fb.depth[idx])) {
+            counts.tested++;
+            continue;
+          }
+          group->stamps[idx] = group->stamp;
         }
         writeFragment<DepthFunc::Always>(st, fb, idx, z, /*depth_mask=*/true, counts);
       }

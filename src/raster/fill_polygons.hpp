@@ -57,13 +57,27 @@ struct PixelHalfPlane {
 // `vertices` (filled exactly as fillPolygon fills it) whose centres lie in every half-plane of
 // `cuts`: a piece of a polygon split along lines, covering exactly its share of the whole
 // polygon's pixels, within `box` (the piece's pixels all lie in it; it only saves work). For
-// painting back to front. One exception, ties: where the pixel already
-// holds exactly this depth (as a float) from a polygon of lower id, it is left as it is, the
-// z-buffer's rule for equal depths (GL_LESS keeps the first submitted); only equality is
-// looked at, never which depth is nearer. Such a fragment counts as tested, not written.
+// painting back to front. One exception, ties: where the pixel already holds exactly this
+// depth (as a float) from a polygon of lower id, or a depth one float step (ulp) nearer, it is
+// left as it is: the z-buffer's answer (GL_LESS keeps the first submitted, and the nearer
+// float). A float depth buffer cannot order surfaces closer than a step (at the far end of a
+// perspective view a step is 6e-8 of the range), so there the painter's exact order and the
+// z-buffer's may differ; no depth further apart is looked at. Such a fragment counts as
+// tested, not written.
 // Returns the triangles filled.
+//
+// `group`, when given, makes a set of polygons painted one after another act as one: each
+// pixel remembers (in group->stamps, a frame-sized buffer) the group that last painted it, and
+// a pixel already painted by the same group (group->stamp) is painted again only where the
+// depth test GL_LESS would pass (the BSP tree's coplanar polygons at one node: in exact
+// arithmetic they are equally near, in floats the z-buffer decides pixel by pixel).
+struct PaintGroup {
+  std::span<std::uint32_t> stamps;
+  std::uint32_t stamp = 0;
+};
 std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<const PixelHalfPlane> cuts,
                              const PixelBox& box, const DepthPlane& depth, PolygonId id,
-                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts);
+                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts,
+                             const PaintGroup* group = nullptr);
 
 }  // namespace hsr::detail

@@ -19,6 +19,8 @@ struct AlgorithmInput {
   const PreparedScene& prepared;
   std::shared_ptr<void>* scratch = nullptr;  // the algorithm's own reusable memory, if any
   Trace* trace = nullptr;                    // non-null only when explaining
+  const void* given = nullptr;               // built beforehand by the caller: render(const Bsp&)
+                                             // passes its detail::BspTree to "bsp"
 };
 
 using AlgorithmFn = void (*)(const AlgorithmInput& input, Frame& frame);

@@ -51,21 +51,59 @@ bool outsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, con
   return false;
 }
 
+// The pixels a piece may paint: the box of its parent's outline clipped by the piece's cut
+// lines (the very lines its pixels are tested against), one pixel more each way for the
+// snapping of the outline. Empty (x0 > x1) when nothing is left.
+PixelBox pieceBox(const std::vector<glm::dvec2>& outline, const std::vector<PixelHalfPlane>& cuts,
+                  const Frame& frame) {
+  std::vector<glm::dvec2> region = outline, next;
+  for (const PixelHalfPlane& h : cuts) {
+    next.clear();
+    // Keep the side the piece owns, with a margin of a thousandth of a pixel: only the box is
+    // made here, never the decision for a pixel.
+    const double margin = 1e-3 * std::hypot(h.a, h.b);
+    auto inside = [&](const glm::dvec2& v) {
+      const double value = (h.c + h.b * v.y) + h.a * v.x;
+      return (h.negative ? -value : value) >= -margin;
+    };
+    auto value = [&](const glm::dvec2& v) { return (h.c + h.b * v.y) + h.a * v.x + (h.negative ? -margin : margin); };
+    for (std::size_t i = 0; i < region.size(); ++i) {
+      const glm::dvec2& u = region[i];
+      const glm::dvec2& v = region[(i + 1) % region.size()];
+      if (inside(u)) next.push_back(u);
+      if (inside(u) != inside(v)) {
+        const double fu = value(u), fv = value(v);
+        next.push_back(u + (fu / (fu - fv)) * (v - u));
+      }
+    }
+    region.swap(next);
+    if (region.empty()) return {0, 0, -1, -1};
+  }
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (const glm::dvec2& v : region)
+    x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+  if (!(x1 - x0 < 1e7 && y1 - y0 < 1e7)) return {0, 0, frame.width - 1, frame.height - 1};
+  return {std::max(0, static_cast<int>(std::floor(x0)) - 1), std::max(0, static_cast<int>(std::floor(y0)) - 1),
+          std::min(frame.width - 1, static_cast<int>(std::ceil(x1)) + 1),
+          std::min(frame.height - 1, static_cast<int>(std::ceil(y1)) + 1)};
+}
+
 }  // namespace
 
 void forEachBspPolygon(const BspTree& tree, const Camera& camera, bool front_to_back,
-                       const std::function<void(const BspPolygon&)>& draw, BspTraversalStats* stats) {
+                       const std::function<void(const BspPolygon&, std::uint32_t)>& draw,
+                       BspTraversalStats* stats) {
   if (tree.nodes.empty()) return;
   const glm::dmat4 clip_from_world = glm::dmat4(camera.projection()) * glm::dmat4(camera.view());
   const glm::dvec3 eye(camera.eye);
   const glm::dvec3 toward_eye = glm::normalize(glm::dvec3(camera.eye) - glm::dvec3(camera.target));
   // The eye's side of a node's plane: +1 in front, -1 behind, 0 on it.
-  auto eyeSide = [&](const BspNode& n) {
+  auto sideOfEye = [&](const BspNode& n) {
     if (camera.ortho) {
       const double d = glm::dot(glm::dvec3(n.plane), toward_eye);
       return d > 0 ? 1 : d < 0 ? -1 : 0;
     }
-    return sideOf(tree, n, eye);
+    return eyeSide(n, eye);
   };
   // A stack of work: a subtree to visit, or a node whose own polygons are due.
   struct Item {
@@ -80,7 +118,7 @@ void forEachBspPolygon(const BspTree& tree, const Camera& camera, bool front_to_
     if (item.own) {
       for (std::uint32_t k = 0; k < n.polygon_count; ++k) {
         if (stats) ++stats->drawn;
-        draw(tree.polygons[tree.order[n.first_polygon + k]]);
+        draw(tree.polygons[n.first_polygon + k], static_cast<std::uint32_t>(item.node));
       }
       continue;
     }
@@ -89,7 +127,7 @@ void forEachBspPolygon(const BspTree& tree, const Camera& camera, bool front_to_
       continue;
     }
     if (stats) ++stats->visited;
-    const int side = eyeSide(n);
+    const int side = sideOfEye(n);
     // Back to front: the far side first. The stack runs last in, first out.
     std::int32_t far = side >= 0 ? n.back : n.front, near = side >= 0 ? n.front : n.back;
     if (front_to_back) std::swap(far, near);
@@ -101,8 +139,12 @@ void forEachBspPolygon(const BspTree& tree, const Camera& camera, bool front_to_
 
 void drawBsp(const AlgorithmInput& in, Frame& frame) {
   auto t0 = std::chrono::steady_clock::now();
-  const BspTree tree = buildBspTree(in.scene, BspBuildOptions{});
-  frame.stats.addStage("bsp build", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  BspTree built;
+  if (!in.given) {
+    built = buildBspTree(in.scene, in.options.bsp);
+    frame.stats.addStage("bsp build", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  const BspTree& tree = in.given ? *static_cast<const BspTree*>(in.given) : built;
   t0 = std::chrono::steady_clock::now();
   paintFromBspTree(tree, in, frame);
   frame.stats.addStage("bsp traverse + paint",
@@ -125,11 +167,19 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
   std::vector<std::vector<glm::dvec2>> outlines(polygons.size());
   const glm::dmat4 device_from_world = deviceFromWorld(in.camera);
   const glm::dmat4 device_plane_from_world_plane = glm::transpose(glm::inverse(device_from_world));
+  const glm::dmat4 device_plane_from_eye_plane =
+      glm::transpose(glm::inverse(device_from_world * glm::inverse(glm::dmat4(in.camera.view()))));
   std::vector<PixelHalfPlane> cuts;
+  std::vector<std::uint32_t> stamps;
+  PaintGroup group;
+  if (std::any_of(tree.nodes.begin(), tree.nodes.end(), [](const BspNode& n) { return n.polygon_count > 1; })) {
+    stamps.assign(static_cast<std::size_t>(frame.width) * frame.height, 0);
+    group.stamps = stamps;
+  }
   BspTraversalStats traversal;
   forEachBspPolygon(
       tree, in.camera, false,
-      [&](const BspPolygon& p) {
+      [&](const BspPolygon& p, std::uint32_t node) {
         if (p.id >= by_id.size() || by_id[p.id] < 0) return;
         std::size_t index = static_cast<std::size_t>(by_id[p.id]);
         while (index < polygons.size() && polygons[index].id == p.id && polygons[index].piece != p.piece) ++index;
@@ -138,39 +188,35 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
         std::vector<glm::dvec2>& outline = outlines[index];
         if (outline.empty())
           for (const glm::dvec3& v : w.vertices) outline.emplace_back(v.x, v.y);
-        // Each cut's plane in device space, restricted to the polygon's depth plane: the
-        // pixels (x, y) on the piece's side. For a point in front of the eye (clip w > 0) the
-        // device plane's value has the world plane's sign.
+        // Each cut's plane in device space, restricted to the polygon's own plane: the pixels
+        // (x, y) on the piece's side. For a point in front of the eye (clip w > 0) the device
+        // plane's value has the world plane's sign. The polygon's plane is its eye-space plane
+        // carried to device space in double (its depth plane, made for writing floats, could
+        // move a line cutting at a grazing angle by pixels); every piece of one polygon uses the
+        // same, so two pieces of one cut take the two sides of one line.
+        const glm::dvec4 own = device_plane_from_eye_plane * w.eye_plane;
+        const bool edge_on = !(std::abs(own.z) > 1e-12 * (std::abs(own.x) + std::abs(own.y) + std::abs(own.w)));
         cuts.clear();
         for (std::uint32_t c = 0; c < p.cut_count; ++c) {
           const BspCut& cut = tree.cuts[p.first_cut + c];
           const glm::dvec4 d = device_plane_from_world_plane * tree.nodes[cut.node].plane;
-          cuts.push_back({d.x + d.z * w.depth.dzdx, d.y + d.z * w.depth.dzdy, d.w + d.z * w.depth.z0, !cut.front});
+          if (edge_on)
+            cuts.push_back({d.x + d.z * w.depth.dzdx, d.y + d.z * w.depth.dzdy, d.w + d.z * w.depth.z0, !cut.front});
+          else
+            cuts.push_back({d.x - d.z * own.x / own.z, d.y - d.z * own.y / own.z, d.w - d.z * own.w / own.z, !cut.front});
         }
-        // The piece's pixels lie within its projected box (when it is wholly in front of the
-        // eye), else anywhere in the parent's.
-        PixelBox box{0, 0, frame.width - 1, frame.height - 1};
-        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-        bool projected = true;
-        for (const glm::dvec3& v : p.vertices) {
-          const glm::dvec4 h = device_from_world * glm::dvec4(v, 1.0);
-          if (!(h.w > 0)) {
-            projected = false;
-            break;
-          }
-          x0 = std::min(x0, h.x / h.w), x1 = std::max(x1, h.x / h.w);
-          y0 = std::min(y0, h.y / h.w), y1 = std::max(y1, h.y / h.w);
-        }
-        if (projected && p.cut_count > 0 && x1 - x0 < 1e7 && y1 - y0 < 1e7)
-          box = {std::max(0, static_cast<int>(std::floor(x0)) - 1), std::max(0, static_cast<int>(std::floor(y0)) - 1),
-                 std::min(frame.width - 1, static_cast<int>(std::ceil(x1)) + 1),
-                 std::min(frame.height - 1, static_cast<int>(std::ceil(y1)) + 1)};
-        paintPolygonPart(outline, cuts, box, w.depth, w.id, w.rgba, fb, fragments);
+        const PixelBox box = pieceBox(outline, cuts, frame);
+        if (box.x0 > box.x1) return;
+        // Coplanar polygons at one node paint as a group: among themselves, the nearer float
+        // depth wins, as in the z-buffer.
+        group.stamp = node + 1;
+        paintPolygonPart(outline, cuts, box, w.depth, w.id, w.rgba, fb, fragments,
+                         tree.nodes[node].polygon_count > 1 ? &group : nullptr);
       },
       &traversal);
   frame.stats.fragments_tested += fragments.tested;
   frame.stats.fragments_written += fragments.written;
-  frame.stats.state_bytes += frameBufferBytes(frame);
+  frame.stats.state_bytes += frameBufferBytes(frame) + stamps.capacity() * sizeof(std::uint32_t);
   frame.stats.addCounter("bsp: polygons drawn", traversal.drawn);
   frame.stats.addCounter("bsp: nodes visited", traversal.visited);
   frame.stats.addCounter("bsp: subtrees skipped", traversal.skipped);

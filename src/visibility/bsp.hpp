@@ -17,10 +17,11 @@ struct BspTraversalStats {
   std::uint64_t skipped = 0;  // subtrees outside the view frustum, not entered
 };
 
-// Calls draw(polygon) for every polygon of the tree in painting order for `camera`'s eye:
+// Calls draw(polygon, node) for every polygon of the tree in painting order for `camera`'s
+// eye, with the index of the node that holds it (a node's polygons come one after another):
 // back to front (front to back when asked), skipping subtrees outside the view frustum.
 void forEachBspPolygon(const BspTree& tree, const Camera& camera, bool front_to_back,
-                       const std::function<void(const BspPolygon&)>& draw,
+                       const std::function<void(const BspPolygon&, std::uint32_t node)>& draw,
                        BspTraversalStats* stats = nullptr);
 
 // Paints the prepared scene's polygons in the tree's back-to-front order, with no depth test.

@@ -8,7 +8,7 @@
 //      the back subtree from the back list, the same way, until the lists are empty.
 //
 // Classification: the distance of each vertex from the unit-normal plane, in double; a vertex
-// within `epsilon` (1e-9 of the scene's bounding-box diagonal) is on the plane, so a polygon
+// within `epsilon` (1e-6 of the scene's bounding-box diagonal) is on the plane, so a polygon
 // whose vertices are all within it is coplanar, and one with vertices only on one side (or on
 // the plane) goes to that side. Splitting puts a vertex on the plane into both pieces and an
 // edge's crossing point, computed once, into both: the pieces meet exactly. Each piece
@@ -27,6 +27,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+
+#include "hsr/error.hpp"
 
 #include "geometry/polygon.hpp"
 #include "geometry/triangulate.hpp"
@@ -133,16 +135,25 @@ std::string_view toString(SplitterChoice c) {
   return "?";
 }
 
-int sideOf(const BspTree& tree, const BspNode& node, const glm::dvec3& p) {
-  const double d = distance(node.plane, p);
-  return d > tree.epsilon ? 1 : d < -tree.epsilon ? -1 : 0;
+int eyeSide(const BspNode& node, const glm::dvec3& eye) {
+  const double d = distance(node.plane, eye);
+  return d > 0 ? 1 : d < 0 ? -1 : 0;
 }
 
-BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
-                     void (*progress)(std::uint64_t, std::uint64_t, void*), void* user) {
+BspTree buildBspTree(const Scene& scene, const BspOptions& options,
+                     const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
+  SplitterChoice choice;
+  if (!parseSplitterChoice(options.splitter, &choice))
+    throw Error("unknown BSP splitter choice '" + options.splitter +
+                "' (first, random, fewest, balanced, best-of-k)");
+  if (options.candidates < 1 || options.candidates > 4096)
+    throw Error("BSP splitter candidates must be 1..4096 (got " + std::to_string(options.candidates) + ")");
   BspTree tree;
-  // The epsilon: 1e-9 of the scene's size.
+  // The epsilon: 1e-6 of the scene's size. The vertices are floats, good to about 6e-8 of
+  // their magnitude: polygons meant to be coplanar (a duplicate, two triangles of one quad)
+  // stray from each other's planes by that much, and must be found on them, not split along
+  // a plane they lie in (a cut that thin is no line of the picture).
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (const glm::vec3& p : scene.positions())
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
@@ -150,7 +161,7 @@ BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
       hi = glm::max(hi, glm::dvec3(p));
     }
   const double diagonal = lo.x <= hi.x ? glm::length(hi - lo) : 1.0;
-  tree.epsilon = 1e-9 * std::max(diagonal, 1e-30);
+  tree.epsilon = 1e-6 * std::max(diagonal, 1e-30);
 
   // The polygons: each scene polygon with a plane, or the fan of a non-planar one.
   std::vector<glm::dvec4> planes;
@@ -192,8 +203,7 @@ BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
   std::uint64_t rng = options.seed;
   std::vector<Task> stack;
   if (!root.list.empty()) stack.push_back(std::move(root));
-  std::uint64_t placed = 0, depth_sum = 0, balance_nodes = 0;
-  double balance_sum = 0;
+  std::vector<std::uint32_t> order;  // the polygons kept at nodes, node by node
   std::vector<glm::dvec3> front_part, back_part;
   while (!stack.empty()) {
     Task task = std::move(stack.back());
@@ -202,29 +212,36 @@ BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
     const double eps = tree.epsilon;
 
     // 1. The splitter.
-    auto score = [&](std::uint32_t candidate, bool balanced) {
+    struct Score {
       std::uint64_t splits = 0, front = 0, back = 0;
+    };
+    auto score = [&](const glm::dvec4& plane) {
+      Score sc;
       for (const std::uint32_t q : list) {
-        switch (classify(planes[candidate], tree.polygons[q].vertices, eps)) {
+        switch (classify(plane, tree.polygons[q].vertices, eps)) {
           case Side::kSpanning:
-            ++splits;
+            ++sc.splits;
             break;
           case Side::kFront:
-            ++front;
+            ++sc.front;
             break;
           case Side::kBack:
-            ++back;
+            ++sc.back;
             break;
           case Side::kOn:
             break;
         }
       }
-      const double imbalance = static_cast<double>(front > back ? front - back : back - front);
-      return balanced ? 8.0 * static_cast<double>(splits) + imbalance : static_cast<double>(splits);
+      return sc;
+    };
+    auto cost = [&](const Score& sc) {
+      const double imbalance = static_cast<double>(sc.front > sc.back ? sc.front - sc.back : sc.back - sc.front);
+      return choice == SplitterChoice::kBalanced ? 8.0 * static_cast<double>(sc.splits) + imbalance
+                                                 : static_cast<double>(sc.splits);
     };
     std::uint32_t splitter = list[0];
     if (list.size() > 1) {
-      switch (options.choice) {
+      switch (choice) {
         case SplitterChoice::kFirst:
           break;
         case SplitterChoice::kRandom:
@@ -233,27 +250,26 @@ BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
         case SplitterChoice::kFewest:
         case SplitterChoice::kBalanced:
         case SplitterChoice::kBestOfK: {
-          const bool all = options.choice == SplitterChoice::kFewest && list.size() <= kFewestCandidates;
-          const std::size_t k = options.choice == SplitterChoice::kFewest
+          const bool all = choice == SplitterChoice::kFewest && list.size() <= kFewestCandidates;
+          const std::size_t k = choice == SplitterChoice::kFewest
                                     ? std::min<std::size_t>(list.size(), kFewestCandidates)
                                     : static_cast<std::size_t>(std::max(options.candidates, 1));
           double best = std::numeric_limits<double>::infinity();
           for (std::size_t i = 0; i < k; ++i) {
             const std::uint32_t c = all ? list[i] : list[nextRandom(rng) % list.size()];
-            const double s = score(c, options.choice == SplitterChoice::kBalanced);
-            if (s < best) best = s, splitter = c;
+            const Score sc = score(planes[c]);
+            if (cost(sc) < best) best = cost(sc), splitter = c;
           }
           break;
         }
       }
     }
-
+    const glm::dvec4 plane = planes[splitter];
     // The node.
     const auto node_index = static_cast<std::uint32_t>(tree.nodes.size());
     tree.nodes.push_back({});
-    tree.nodes.back().plane = planes[splitter];
+    tree.nodes.back().plane = plane;
     if (task.parent >= 0) (task.front ? tree.nodes[task.parent].front : tree.nodes[task.parent].back) = static_cast<std::int32_t>(node_index);
-    const glm::dvec4 plane = planes[splitter];
 
     // 2 and 3. Classify, split the spanning ones.
     Task front{{}, static_cast<std::int32_t>(node_index), true, task.depth + 1};
@@ -279,7 +295,6 @@ BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
           std::vector<glm::dvec3>& part = is_front ? front_part : back_part;
           if (part.size() < 3) continue;
           BspPolygon piece{part, id, sub, static_cast<std::uint32_t>(tree.cuts.size()), cut_count + 1};
-          tree.cuts.reserve(tree.cuts.size() + cut_count + 1);
           for (std::uint32_t c = 0; c < cut_count; ++c) tree.cuts.push_back(tree.cuts[first_cut + c]);
           tree.cuts.push_back({node_index, is_front});
           (is_front ? front.list : back.list).push_back(static_cast<std::uint32_t>(tree.polygons.size()));
@@ -291,51 +306,94 @@ BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
     // 4. Coplanar polygons stay; recurse on both sides (back pushed first: front is built
     // first, any order gives the same tree for a given seed).
     BspNode& node = tree.nodes[node_index];
-    node.first_polygon = static_cast<std::uint32_t>(tree.order.size());
+    node.first_polygon = static_cast<std::uint32_t>(order.size());
     node.polygon_count = static_cast<std::uint32_t>(on.size());
-    tree.order.insert(tree.order.end(), on.begin(), on.end());
-    placed += on.size();
-    depth_sum += on.size() * task.depth;
-    tree.stats.depth = std::max<std::uint64_t>(tree.stats.depth, task.depth);
-    if (!front.list.empty() || !back.list.empty()) {
-      const double a = static_cast<double>(front.list.size()), b = static_cast<double>(back.list.size());
-      balance_sum += std::min(a, b) / std::max(a, b);
-      ++balance_nodes;
-    }
+    order.insert(order.end(), on.begin(), on.end());
     if (!back.list.empty()) stack.push_back(std::move(back));
     if (!front.list.empty()) stack.push_back(std::move(front));
     if (progress && (tree.nodes.size() & 4095) == 0)
-      progress(placed, tree.stats.input_polygons + tree.stats.splits, user);
+      progress(order.size(), tree.stats.input_polygons + tree.stats.splits);
   }
 
-  // Bounds, children before parents (children have larger indices).
+  // Keep the polygons the nodes hold (not the split ones), node by node.
+  std::vector<BspPolygon> kept;
+  std::vector<BspCut> kept_cuts;
+  kept.reserve(order.size());
+  for (const std::uint32_t i : order) {
+    BspPolygon& p = kept.emplace_back(std::move(tree.polygons[i]));
+    const auto first = static_cast<std::uint32_t>(kept_cuts.size());
+    kept_cuts.insert(kept_cuts.end(), tree.cuts.begin() + p.first_cut, tree.cuts.begin() + p.first_cut + p.cut_count);
+    p.first_cut = first;
+  }
+  tree.polygons = std::move(kept);
+  tree.cuts = std::move(kept_cuts);
+  finishBspTree(tree);
+  tree.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (progress) progress(order.size(), order.size());
+  return tree;
+}
+
+void finishBspTree(BspTree& tree) {
+  // Children have larger indices than their parents: bounds and polygon counts come up from
+  // the last node, depths go down from the first.
+  std::vector<std::uint64_t> below(tree.nodes.size(), 0), depth(tree.nodes.size(), 1);
+  BspStats& s = tree.stats;
+  s.depth = 0;
+  double depth_sum = 0, balance_sum = 0;
+  std::uint64_t inner = 0;
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const BspNode& n = tree.nodes[i];
+    for (const std::int32_t c : {n.front, n.back})
+      if (c >= 0) depth[c] = depth[i] + 1;
+    s.depth = std::max(s.depth, depth[i]);
+    depth_sum += static_cast<double>(depth[i]) * n.polygon_count;
+  }
   for (std::size_t i = tree.nodes.size(); i-- > 0;) {
     BspNode& n = tree.nodes[i];
     n.lo = glm::dvec3(std::numeric_limits<double>::infinity());
     n.hi = glm::dvec3(-std::numeric_limits<double>::infinity());
     for (std::uint32_t k = 0; k < n.polygon_count; ++k)
-      for (const glm::dvec3& p : tree.polygons[tree.order[n.first_polygon + k]].vertices) {
+      for (const glm::dvec3& p : tree.polygons[n.first_polygon + k].vertices) {
         n.lo = glm::min(n.lo, p);
         n.hi = glm::max(n.hi, p);
       }
+    below[i] = n.polygon_count;
     for (const std::int32_t c : {n.front, n.back})
       if (c >= 0) {
         n.lo = glm::min(n.lo, tree.nodes[c].lo);
         n.hi = glm::max(n.hi, tree.nodes[c].hi);
+        below[i] += below[c];
       }
+    if (n.front >= 0 || n.back >= 0) {
+      const double a = n.front >= 0 ? static_cast<double>(below[n.front]) : 0.0;
+      const double b = n.back >= 0 ? static_cast<double>(below[n.back]) : 0.0;
+      balance_sum += std::min(a, b) / std::max(a, b);
+      ++inner;
+    }
   }
-
-  BspStats& s = tree.stats;
-  s.polygons = tree.order.size();
+  s.polygons = tree.polygons.size();
   s.nodes = tree.nodes.size();
-  s.mean_leaf_depth = placed ? static_cast<double>(depth_sum) / static_cast<double>(placed) : 0.0;
-  s.balance = balance_nodes ? balance_sum / static_cast<double>(balance_nodes) : 1.0;
+  s.mean_depth = s.polygons ? depth_sum / static_cast<double>(s.polygons) : 0.0;
+  s.balance = inner ? balance_sum / static_cast<double>(inner) : 1.0;
   s.bytes = tree.nodes.capacity() * sizeof(BspNode) + tree.polygons.capacity() * sizeof(BspPolygon) +
-            tree.order.capacity() * 4 + tree.cuts.capacity() * sizeof(BspCut);
+            tree.cuts.capacity() * sizeof(BspCut);
   for (const BspPolygon& p : tree.polygons) s.bytes += p.vertices.capacity() * sizeof(glm::dvec3);
-  s.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  if (progress) progress(placed, placed, user);
-  return tree;
 }
 
 }  // namespace hsr::detail
+
+namespace hsr {
+
+const BspStats& Bsp::stats() const { return tree_->stats; }
+double Bsp::epsilon() const { return tree_->epsilon; }
+
+Bsp buildBsp(Scene scene, const BspOptions& options,
+             const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+  Bsp bsp;
+  bsp.scene_ = std::make_shared<const Scene>(std::move(scene));
+  bsp.tree_ = std::make_shared<const detail::BspTree>(detail::buildBspTree(*bsp.scene_, options, progress));
+  bsp.options_ = options;
+  return bsp;
+}
+
+}  // namespace hsr

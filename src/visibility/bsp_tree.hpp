@@ -10,6 +10,7 @@
 // each piece exactly its share of the parent's pixels.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "hsr/bsp.hpp"
 #include "hsr/scene.hpp"
 
 namespace hsr::detail {
@@ -31,12 +33,6 @@ enum class SplitterChoice {
 };
 bool parseSplitterChoice(std::string_view s, SplitterChoice* out);
 std::string_view toString(SplitterChoice c);
-
-struct BspBuildOptions {
-  SplitterChoice choice = SplitterChoice::kBalanced;
-  std::uint64_t seed = 1;
-  int candidates = 8;  // for kBalanced and kBestOfK
-};
 
 // A polygon of the tree: the parent's vertices (or a piece of them) and the cuts made on it.
 struct BspPolygon {
@@ -54,41 +50,34 @@ struct BspCut {
 
 struct BspNode {
   glm::dvec4 plane{0.0};                    // unit normal (x, y, z) and offset w: n . p + w = 0
-  std::uint32_t first_polygon = 0, polygon_count = 0;  // coplanar polygons, in BspTree::order
+  std::uint32_t first_polygon = 0, polygon_count = 0;  // its coplanar polygons in BspTree::polygons
   std::int32_t front = -1, back = -1;       // children (-1: empty)
   glm::dvec3 lo{0.0}, hi{0.0};              // bounds of every polygon in the subtree
 };
 
-struct BspStats {
-  std::uint64_t input_polygons = 0;  // of the scene with a plane (degenerate ones are left out)
-  std::uint64_t polygons = 0;        // in the tree, pieces included
-  std::uint64_t splits = 0;          // polygons split in two
-  std::uint64_t nodes = 0;
-  std::uint64_t depth = 0;           // longest path from the root, in nodes
-  double mean_leaf_depth = 0;        // mean depth at which polygons are stored
-  double balance = 0;                // mean over nodes of min(front, back) / max(front, back)
-  double build_ms = 0;
-  std::uint64_t bytes = 0;           // memory the tree holds
-};
-
 struct BspTree {
   std::vector<BspNode> nodes;        // nodes[0] is the root (when there is one)
-  std::vector<BspPolygon> polygons;  // every polygon and piece
-  std::vector<std::uint32_t> order;  // polygon indices, node by node
+  std::vector<BspPolygon> polygons;  // every polygon and piece, node by node
   std::vector<BspCut> cuts;
   double epsilon = 0;                // plane distance within which a vertex is on a plane
   BspStats stats;
 };
 
-// Builds the tree of `scene`'s polygons. The epsilon is 1e-9 of the scene's bounding-box
+// Builds the tree of `scene`'s polygons. The epsilon is 1e-6 of the scene's bounding-box
 // diagonal: a vertex nearer a plane than that is on it. A non-planar polygon (the pipeline's
-// test) is entered as its triangles, as the pipeline draws it.
-// `progress(done, total)` is called now and then when given.
-BspTree buildBspTree(const Scene& scene, const BspBuildOptions& options,
-                     void (*progress)(std::uint64_t done, std::uint64_t total, void* user) = nullptr,
-                     void* user = nullptr);
+// test) is entered as its triangles, as the pipeline draws it. `progress(done, total)` is
+// called now and then when given. Throws hsr::Error on options it cannot take.
+BspTree buildBspTree(const Scene& scene, const BspOptions& options,
+                     const std::function<void(std::uint64_t done, std::uint64_t total)>& progress = {});
 
-// Which side of a node's plane a point lies on: > 0 in front, < 0 behind, 0 on it.
-int sideOf(const BspTree& tree, const BspNode& node, const glm::dvec3& p);
+// Fills in the tree's node bounds and the statistics a loaded tree does not store (every one
+// but build_ms).
+void finishBspTree(BspTree& tree);
+
+// Which side of a node's plane the eye lies on: > 0 in front, < 0 behind, 0 exactly on it.
+// No epsilon here: an eye nearer a plane than the tree's epsilon still sees one side of the
+// polygons in it (an epsilon as large as a millionth of a scene with one huge polygon could
+// hold the eye), and only an eye exactly in the plane sees them edge-on.
+int eyeSide(const BspNode& node, const glm::dvec3& eye);
 
 }  // namespace hsr::detail

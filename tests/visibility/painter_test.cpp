@@ -1,7 +1,7 @@
 // The painter's algorithm (painter.cpp, Newell's depth sort) and its naive sibling
-// (painter_naive.cpp): what the sort decides, measured against the z-buffer pixel by pixel.
-// A pixel is wrong when the painter shows a surface deeper than the nearest one there (the
-// z-buffer's depth) by more than kClearlyDeeper: not a tie of two depths, a wrong order.
+// (painter_naive.cpp): what the sort decides, measured against the z-buffer pixel by pixel
+// (cross/compare_with_zbuffer.hpp says when a pixel is wrong: not a tie of two depths, a wrong
+// order).
 
 #include <gtest/gtest.h>
 
@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "cross/compare_with_zbuffer.hpp"
 #include "cross/figures.hpp"
 #include "cross/random_scenes.hpp"
 #include "hsr/io.hpp"
@@ -21,46 +22,9 @@ namespace {
 
 using testing::pixelCamera;
 
-constexpr float kClearlyDeeper = 1e-5f;  // window depth
-
-struct Comparison {
-  std::uint64_t pixels = 0, drawn = 0, ids_differ = 0, wrong = 0, depth_differs_same_id = 0;
-  std::string first_wrong;  // the first clearly wrong pixel, spelled out
-};
-
-// The frame of `algorithm` against the z-buffer's.
-Comparison compareWithZBuffer(const Scene& scene, const Camera& camera, const std::string& algorithm,
-                              RenderOptions o = {}) {
-  o.algorithm = "zbuffer";
-  const Frame z = render(scene, camera, o);
-  o.algorithm = algorithm;
-  const Frame p = render(scene, camera, o);
-  Comparison c;
-  c.pixels = z.ids.size();
-  for (std::size_t k = 0; k < z.ids.size(); ++k) {
-    c.drawn += z.ids[k] != kNoPolygon;
-    if (p.ids[k] == z.ids[k]) {
-      // The same polygon: the same plane at the same pixel, the same float.
-      c.depth_differs_same_id += p.depth[k] != z.depth[k];
-      continue;
-    }
-    c.ids_differ++;
-    const bool wrong = p.ids[k] == kNoPolygon || z.ids[k] == kNoPolygon ||
-                       p.depth[k] > z.depth[k] + kClearlyDeeper;
-    if (wrong && c.wrong++ == 0)
-      c.first_wrong = "pixel (" + std::to_string(k % z.width) + ", " + std::to_string(k / z.width) +
-                      ") [top row 0]: " + algorithm + " shows " + std::to_string(p.ids[k]) + " at " +
-                      std::to_string(p.depth[k]) + ", the z-buffer " + std::to_string(z.ids[k]) +
-                      " at " + std::to_string(z.depth[k]);
-  }
-  return c;
-}
-
-std::string describe(const Comparison& c) {
-  return testing::grouped(c.ids_differ) + " of " + testing::grouped(c.drawn) +
-         " drawn pixels show another polygon than the z-buffer, " + testing::grouped(c.wrong) +
-         " clearly wrong";
-}
+using testing::Comparison;
+using testing::compareWithZBuffer;
+using testing::describe;
 
 // The notes' two cases no plain order can paint: the naive sort is wrong somewhere on each,
 // Newell's sort is wrong nowhere.
@@ -146,10 +110,7 @@ TEST(Painter, RandomScenesHaveNoClearlyWrongPixel) {
     const Comparison c = compareWithZBuffer(scene, camera, "painter");
     EXPECT_EQ(c.wrong, 0u) << "seed " << seed << ": " << c.first_wrong;
     EXPECT_EQ(c.depth_differs_same_id, 0u) << "seed " << seed;
-    total.pixels += c.pixels;
-    total.drawn += c.drawn;
-    total.ids_differ += c.ids_differ;
-    total.wrong += c.wrong;
+    total.add(c);
     RenderOptions o;
     o.algorithm = "painter";
     const Frame f = render(scene, camera, o);
