@@ -294,9 +294,13 @@ Bsp loadBsp(const std::filesystem::path& path) {
     bytes = std::move(all).str();
   }
   if (!in) throw Error(where + ": cannot be read");
-  if (bytes.size() < kHeaderBytes || bytes.compare(0, 8, kMagic, 8) != 0)
+  return readBsp(bytes, where);
+}
+
+Bsp readBsp(std::string_view bytes, const std::string& where) {
+  if (bytes.size() < kHeaderBytes || bytes.compare(0, 8, std::string_view(kMagic, 8)) != 0)
     throw Error(where + ": not an hsr BSP file (it does not begin with HSRBSP)");
-  Reader header(std::string_view(bytes).substr(8, kHeaderBytes - 8), where);
+  Reader header(bytes.substr(8, kHeaderBytes - 8), where);
   const std::uint32_t version = header.u32();
   const std::uint32_t crc = header.u32();
   const std::uint64_t size = header.u64();
@@ -305,7 +309,7 @@ Bsp loadBsp(const std::filesystem::path& path) {
   if (size != bytes.size() - kHeaderBytes)
     throw Error(fmt::format("{}: truncated or extended: the header says {} payload bytes, the file holds {}",
                             where, size, bytes.size() - kHeaderBytes));
-  const std::string_view payload = std::string_view(bytes).substr(kHeaderBytes);
+  const std::string_view payload = bytes.substr(kHeaderBytes);
   if (crc32_z(crc32_z(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload.data()), payload.size()) != crc)
     throw Error(where + ": checksum mismatch: the file is corrupt");
 

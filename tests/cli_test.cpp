@@ -137,6 +137,44 @@ TEST(Cli, RendersDemoWithEveryOutput) {
   EXPECT_NE(r.out.find("fragments tested"), std::string::npos) << r.out;
 }
 
+// hsr bsp: build once, print, render one view with the camera flags of hsr render (the same
+// picture hsr render --algorithm bsp draws), render an orbit, refuse what it cannot do.
+TEST(Cli, BspBuildInfoRenderAndOrbit) {
+  const ScratchDir scratch("hsr_cli_test");
+  const fs::path d = scratch.path();
+  const std::string tree = (d / "demo.bsp").string();
+  CliRun r = runCli("bsp build demo --bsp-splitter fewest -o " + tree);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("splits"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("memory"), std::string::npos) << r.out;
+  r = runCli("bsp info " + tree + " --dot " + (d / "demo.dot").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fewest"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("root node 0"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(d / "demo.dot"));
+  const std::string view = " --size 160x120 --eye 3,4,9 --target 0,0,0 --cull back";
+  r = runCli("bsp render " + tree + view + " -q -o " + (d / "tree.png").string() + " --raw " +
+             (d / "tree").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = runCli("render demo --algorithm bsp --bsp-splitter fewest" + view + " -q -o " +
+             (d / "fresh.png").string() + " --raw " + (d / "fresh").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"ids.npy", "depth.npy"}) {
+    std::ifstream a(d / "tree" / f, std::ios::binary), b(d / "fresh" / f, std::ios::binary);
+    const std::string x((std::istreambuf_iterator<char>(a)), {}), y((std::istreambuf_iterator<char>(b)), {});
+    EXPECT_FALSE(x.empty());
+    EXPECT_TRUE(x == y) << f << " differs between the saved tree and a fresh build";
+  }
+  r = runCli("bsp render " + tree + " --size 80x60 --orbit 5 -o " + (d / "orbit").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (int k = 0; k < 5; ++k) EXPECT_TRUE(fs::exists(d / "orbit" / ("view-000" + std::to_string(k) + ".png")));
+  expectCleanError("bsp render " + tree + " --bsp-splitter first", "applies when a tree is built");
+  expectCleanError("bsp render " + (d / "fresh.png").string(), "not an hsr BSP file");
+  expectCleanError("bsp info " + (d / "missing.bsp").string(), "no such file");
+  expectCleanError("bsp build demo --bsp-splitter greedy -o " + (d / "x.bsp").string(), "greedy");
+  expectCleanError("render demo --algorithm bsp --bsp-candidates 0", "candidates");
+}
+
 TEST(Cli, NoArgumentRendersTheDemo) {
   const ScratchDir scratch("hsr_cli_test");
   const fs::path d = scratch.path() / "noarg";

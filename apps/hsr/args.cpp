@@ -122,7 +122,20 @@ hsr::RenderOptions makeOptions(const Args& a) {
   else throw hsr::Error(fmt::format("unknown facing test '{}' (window, eye)", a.facing));
   if (a.threads < 0) throw hsr::Error("--threads must be >= 0");
   o.threads = a.threads;
+  o.bsp.splitter = a.bsp_splitter;
+  o.bsp.seed = a.bsp_seed;
+  o.bsp.candidates = a.bsp_candidates;
   return o;
+}
+
+void addBspBuildOptions(CLI::App* app, Args& a) {
+  app->add_option("--bsp-splitter", a.bsp_splitter,
+                  "how each BSP node's splitter is chosen: first|random|fewest|balanced|best-of-k")
+      ->capture_default_str();
+  app->add_option("--bsp-seed", a.bsp_seed, "seed of the random and sampled splitter choices")
+      ->capture_default_str();
+  app->add_option("--bsp-candidates", a.bsp_candidates, "polygons sampled per node by balanced and best-of-k")
+      ->capture_default_str();
 }
 
 void addViewOptions(CLI::App* app, Args& a) {
@@ -154,6 +167,7 @@ void addViewOptions(CLI::App* app, Args& a) {
                 "let a model read files it references outside its own folder (mtllib, buffers)");
   app->add_option("--threads", a.threads, "worker threads (0 = all); output is identical for any")
       ->capture_default_str();
+  addBspBuildOptions(app, a);
 }
 
 hsr::ImportLimits importLimits(const Args& a) {

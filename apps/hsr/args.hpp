@@ -3,6 +3,7 @@
 // their conversion into a Camera and RenderOptions. Shared by the `hsr` command and the
 // fuzz_args fuzz target, so that what is fuzzed is exactly what users type.
 
+#include <cstdint>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -30,6 +31,9 @@ struct Args {
   std::string output_file;
   std::string raw_dir, stats_file, sheet_file;
   int threads = 0;
+  std::string bsp_splitter = "balanced";
+  std::uint64_t bsp_seed = 1;
+  int bsp_candidates = 8;
   bool quiet = false;
   bool allow_outside_refs = false;
 };
@@ -43,6 +47,9 @@ hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene);
 
 // What a model file may read and spend (the import's limits).
 hsr::ImportLimits importLimits(const Args& a);
+
+// Adds --bsp-splitter, --bsp-seed and --bsp-candidates (how a BSP tree is built).
+void addBspBuildOptions(CLI::App* app, Args& a);
 
 // The render state the arguments describe; throws hsr::Error on unknown names.
 hsr::RenderOptions makeOptions(const Args& a);

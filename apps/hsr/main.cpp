@@ -25,6 +25,8 @@
 #include "hsr/output.hpp"
 #include "hsr/render.hpp"
 #include "args.hpp"
+#include "bsp_verb.hpp"
+#include "common.hpp"
 
 namespace fs = std::filesystem;
 
@@ -34,175 +36,14 @@ using hsr::cli::Args;
 using hsr::cli::makeCamera;
 using hsr::cli::makeOptions;
 using hsr::cli::addViewOptions;
-
-// A message as one line on a terminal: control characters (a newline in a file name, an
-// escape sequence) are shown escaped, never acted on.
-std::string printable(std::string_view s) {
-  std::string out;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    const bool c1 = c == 0xC2 && i + 1 < s.size() &&  // U+0080..U+009F, the C1 controls
-                    static_cast<unsigned char>(s[i + 1]) >= 0x80 &&
-                    static_cast<unsigned char>(s[i + 1]) <= 0x9F;
-    if (c == '\n') {
-      out += "\\n";
-    } else if (c == '\t') {
-      out += "\\t";
-    } else if (c == '\r') {
-      out += "\\r";
-    } else if (c < 0x20 || c == 0x7F) {
-      out += fmt::format("\\x{:02x}", c);
-    } else if (c1) {
-      out += fmt::format("\\u{:04x}", static_cast<unsigned char>(s[++i]));
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  return out;
-}
-
-void printError(std::string_view message) {
-  std::fprintf(stderr, "hsr: %s\n", printable(message).c_str());
-}
-
-// The outputs of one run, checked before any work: no empty name, no output that is the input
-// model or another output of the run, no file inside a directory that is replaced as a whole.
-class OutputPlan {
- public:
-  explicit OutputPlan(const std::string& scene) {
-    std::error_code ec;
-    if (fs::is_regular_file(scene, ec)) input_ = key(scene);
-  }
-  void file(std::string_view option, const std::string& path) {
-    if (path.empty()) throw hsr::Error(fmt::format("{} \"\": an empty path names no file", option));
-    add(option, path, false);
-  }
-  void directory(std::string_view option, const std::string& path,
-                 const std::vector<std::string>& own_names = {}) {
-    if (path.empty()) throw hsr::Error(fmt::format("{} \"\": an empty path names no directory", option));
-    add(option, path, true);
-    hsr::checkOutputDirectory(path, own_names);
-  }
-
- private:
-  static fs::path key(const fs::path& p) {
-    std::error_code ec;
-    fs::path k = fs::weakly_canonical(fs::absolute(p), ec);
-    return ec ? fs::absolute(p).lexically_normal() : k;
-  }
-  static bool inside(const fs::path& p, const fs::path& dir) {
-    const auto [d, q] = std::mismatch(dir.begin(), dir.end(), p.begin(), p.end());
-    return d == dir.end() && q != p.end();
-  }
-  void add(std::string_view option, const std::string& path, bool is_directory) {
-    const fs::path k = key(path);
-    if (!input_.empty() && (k == input_ || (is_directory && inside(input_, k))))
-      throw hsr::Error(fmt::format("{} {}: {} the input model; refused, it would be overwritten",
-                                   option, path, k == input_ ? "is" : "holds"));
-    for (const Planned& o : planned_) {
-      if (o.key == k)
-        throw hsr::Error(fmt::format("{} {} and {} {} name the same output", o.option, o.path,
-                                     option, path));
-      if ((o.is_directory && inside(k, o.key)) || (is_directory && inside(o.key, k)))
-        throw hsr::Error(fmt::format(
-            "{} {} lies inside {} {}, a directory that is replaced as a whole",
-            o.is_directory ? option : o.option, o.is_directory ? path : o.path,
-            o.is_directory ? o.option : option, o.is_directory ? o.path : path));
-    }
-    planned_.push_back({std::string(option), path, k, is_directory});
-  }
-  struct Planned {
-    std::string option, path;
-    fs::path key;
-    bool is_directory;
-  };
-  fs::path input_;
-  std::vector<Planned> planned_;
-};
-
-std::string sceneLabel(const std::string& spec) {
-  std::string name = fs::exists(spec) ? fs::path(spec).stem().string() : spec;
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
-  return name;
-}
-
-// Rendering from inside an object is legitimate (the near plane clips what surrounds the
-// eye), but often a mistake: say so on one line.
-void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam) {
-  if (cam.ortho) return;
-  for (const hsr::Object& o : scene.objects) {
-    const hsr::Bounds& b = o.bounds;
-    if (b.empty()) continue;
-    if (glm::all(glm::greaterThanEqual(cam.eye, b.lo)) && glm::all(glm::lessThanEqual(cam.eye, b.hi))) {
-      printError(fmt::format("warning: the eye is inside the bounds of object '{}'; what "
-                             "surrounds it is clipped at the near plane",
-                             o.name));
-      return;
-    }
-  }
-}
-
-// A perspective depth buffer of floats resolves about 2^24 steps between near and far, most of
-// them close to the near plane: past far/near = 2^24 every surface's depth rounds towards the
-// clear value 1.0, and the picture comes out blank or merged. Valid, so a warning.
-void warnIfDepthUnresolvable(const hsr::Camera& cam) {
-  if (cam.ortho || !(cam.far / cam.near > 16777216.0f)) return;
-  printError(fmt::format("warning: far/near = {:.3g} (near {:g}, far {:g}) is more than a float "
-                         "depth buffer resolves (2^24): depths round to the clear value and "
-                         "surfaces vanish or merge; raise --near",
-                         cam.far / cam.near, cam.near, cam.far));
-}
-
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : s) {
-    if (c == ',') {
-      if (!cur.empty()) out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  if (!cur.empty()) out.push_back(cur);
-  return out;
-}
-
-// An object-order algorithm that ran out of its split budget painted some polygons in the
-// order reached: said on stderr even with --quiet, never silently.
-void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm) {
-  for (const hsr::Counter& c : f.stats.counters)
-    if (c.value > 0 && c.name.ends_with(": unresolved"))
-      fmt::print(stderr,
-                 "hsr: warning: {} left {} orderings unresolved (its split budget was spent); "
-                 "those polygons were painted in the order reached and may hide nearer ones\n",
-                 algorithm, c.value);
-}
-
-void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,
-                  const std::vector<std::string>& written) {
-  const hsr::Stats& s = f.stats;
-  fmt::print("hsr {} {}  {}x{}\n", algorithm, scene, f.width, f.height);
-  // Every count of the one table, with what it counts (zero counts of rarer events omitted).
-  for (const hsr::Stats::Field& field : hsr::Stats::fields()) {
-    const std::uint64_t v = s.*field.value;
-    if (field.name == "state_bytes") continue;
-    if (v == 0 && field.name != "polygons_in" && field.name != "triangles_in" &&
-        field.name != "triangles_rasterized" && field.name != "fragments_written")
-      continue;
-    std::string label(field.name);
-    std::replace(label.begin(), label.end(), '_', ' ');
-    fmt::print("  {:<22}{:>12}   {}\n", label, v, field.meaning);
-  }
-  for (const hsr::Counter& c : s.counters) fmt::print("  {:<22}{:>12}\n", c.name, c.value);
-  fmt::print("  {:<22}{:>12.1f}   MiB ({:.1f} bytes/pixel)\n", "state memory",
-             s.state_bytes / 1048576.0, double(s.state_bytes) / (double(f.width) * f.height));
-  fmt::print("  time per stage:");
-  for (const hsr::StageTime& st : s.stages) fmt::print("  {} {:.2f} ms", st.name, st.ms);
-  fmt::print("\n  total {:.2f} ms\n", s.totalMs());
-  for (const std::string& w : written) fmt::print("  wrote {}\n", w);
-}
+using hsr::cli::OutputPlan;
+using hsr::cli::printError;
+using hsr::cli::printSummary;
+using hsr::cli::sceneLabel;
+using hsr::cli::splitList;
+using hsr::cli::warnIfDepthUnresolvable;
+using hsr::cli::warnIfEyeInside;
+using hsr::cli::warnIfUnresolved;
 
 // Which options were given on the command line (an empty value differs from none).
 struct Given {
@@ -341,6 +182,8 @@ int main(int argc, char** argv) {
                "  hsr render demo --polygon-mode line --eye 4,3,6 --target 0,0,0\n"
                "  hsr compare demo --sheet out/sheet.png\n"
                "  hsr explain zbuffer-textbook demo -o out/explain\n"
+               "  hsr bsp build spheres:100000 -o out/spheres.bsp\n"
+               "  hsr bsp render out/spheres.bsp --orbit 12 -o out/orbit\n"
                "  hsr scenes"};
   app.require_subcommand(0, 1);
   Args a;
@@ -364,6 +207,8 @@ int main(int argc, char** argv) {
   explain->add_option("-o", explain_dir, "output directory (default out/explain-ALGORITHM-SCENE)");
   explain->add_flag("-q,--quiet", a.quiet, "no summary");
   CLI::App* scenes = app.add_subcommand("scenes", "list built-in scenes and algorithms");
+  hsr::cli::BspVerb bsp;
+  hsr::cli::addBspVerb(app, bsp);
 
   try {
     app.parse(argc, argv);
@@ -395,6 +240,8 @@ int main(int argc, char** argv) {
   try {
     if (*scenes)
       status = runScenes();
+    else if (*bsp.verb)
+      status = hsr::cli::runBsp(bsp);
     else if (*compare)
       status = runCompare(a, given);
     else if (*explain)

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "hsr/camera.hpp"
 #include "hsr/render.hpp"
@@ -45,7 +46,7 @@ class Bsp {
 
  private:
   friend Bsp buildBsp(Scene, const BspOptions&, const std::function<void(std::uint64_t, std::uint64_t)>&);
-  friend Bsp loadBsp(const std::filesystem::path&);
+  friend Bsp readBsp(std::string_view, const std::string&);
   std::shared_ptr<const Scene> scene_;
   std::shared_ptr<const detail::BspTree> tree_;
   BspOptions options_;
@@ -64,6 +65,8 @@ void saveBsp(const Bsp& bsp, const std::filesystem::path& path);
 // (its checksum) or inconsistent (an index out of range, a node that is not part of one tree)
 // is refused with hsr::Error and one line; memory is never allocated beyond the file's size.
 Bsp loadBsp(const std::filesystem::path& path);
+// The same from a file's bytes in memory; `name` stands for the file in messages.
+Bsp readBsp(std::string_view bytes, const std::string& name);
 
 // Renders the tree's scene for `camera` from the tree, with no rebuild: algorithm "bsp"
 // (options.algorithm is ignored; options.bsp too, the tree is built).

@@ -375,9 +375,10 @@ void finishBspTree(BspTree& tree) {
   s.nodes = tree.nodes.size();
   s.mean_depth = s.polygons ? depth_sum / static_cast<double>(s.polygons) : 0.0;
   s.balance = inner ? balance_sum / static_cast<double>(inner) : 1.0;
-  s.bytes = tree.nodes.capacity() * sizeof(BspNode) + tree.polygons.capacity() * sizeof(BspPolygon) +
-            tree.cuts.capacity() * sizeof(BspCut);
-  for (const BspPolygon& p : tree.polygons) s.bytes += p.vertices.capacity() * sizeof(glm::dvec3);
+  // What the tree needs: its nodes, its polygons with their vertices, their cuts.
+  s.bytes = tree.nodes.size() * sizeof(BspNode) + tree.polygons.size() * sizeof(BspPolygon) +
+            tree.cuts.size() * sizeof(BspCut);
+  for (const BspPolygon& p : tree.polygons) s.bytes += p.vertices.size() * sizeof(glm::dvec3);
 }
 
 }  // namespace hsr::detail

@@ -1,0 +1,94 @@
+#pragma once
+// What the verbs of `hsr` share: one-line errors, the check of a run's outputs before any work,
+// warnings about a view, and the summary of a rendered frame.
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include <fmt/core.h>
+
+#include "hsr/error.hpp"
+#include "hsr/output.hpp"
+
+#include "hsr/camera.hpp"
+#include "hsr/render.hpp"
+#include "hsr/scene.hpp"
+
+namespace hsr::cli {
+
+namespace fs = std::filesystem;
+
+// A message as one line on a terminal: control characters shown escaped, never acted on.
+std::string printable(std::string_view s);
+// "hsr: MESSAGE" on stderr, one line.
+void printError(std::string_view message);
+
+// The outputs of one run, checked before any work: no empty name, no output that is the input
+// model or another output of the run, no file inside a directory that is replaced as a whole.
+class OutputPlan {
+ public:
+  explicit OutputPlan(const std::string& scene) {
+    std::error_code ec;
+    if (fs::is_regular_file(scene, ec)) input_ = key(scene);
+  }
+  void file(std::string_view option, const std::string& path) {
+    if (path.empty()) throw hsr::Error(fmt::format("{} \"\": an empty path names no file", option));
+    add(option, path, false);
+  }
+  void directory(std::string_view option, const std::string& path,
+                 const std::vector<std::string>& own_names = {}) {
+    if (path.empty()) throw hsr::Error(fmt::format("{} \"\": an empty path names no directory", option));
+    add(option, path, true);
+    hsr::checkOutputDirectory(path, own_names);
+  }
+
+ private:
+  static fs::path key(const fs::path& p) {
+    std::error_code ec;
+    fs::path k = fs::weakly_canonical(fs::absolute(p), ec);
+    return ec ? fs::absolute(p).lexically_normal() : k;
+  }
+  static bool inside(const fs::path& p, const fs::path& dir) {
+    const auto [d, q] = std::mismatch(dir.begin(), dir.end(), p.begin(), p.end());
+    return d == dir.end() && q != p.end();
+  }
+  void add(std::string_view option, const std::string& path, bool is_directory) {
+    const fs::path k = key(path);
+    if (!input_.empty() && (k == input_ || (is_directory && inside(input_, k))))
+      throw hsr::Error(fmt::format("{} {}: {} the input model; refused, it would be overwritten",
+                                   option, path, k == input_ ? "is" : "holds"));
+    for (const Planned& o : planned_) {
+      if (o.key == k)
+        throw hsr::Error(fmt::format("{} {} and {} {} name the same output", o.option, o.path,
+                                     option, path));
+      if ((o.is_directory && inside(k, o.key)) || (is_directory && inside(o.key, k)))
+        throw hsr::Error(fmt::format(
+            "{} {} lies inside {} {}, a directory that is replaced as a whole",
+            o.is_directory ? option : o.option, o.is_directory ? path : o.path,
+            o.is_directory ? o.option : option, o.is_directory ? o.path : path));
+    }
+    planned_.push_back({std::string(option), path, k, is_directory});
+  }
+  struct Planned {
+    std::string option, path;
+    fs::path key;
+    bool is_directory;
+  };
+  fs::path input_;
+  std::vector<Planned> planned_;
+};
+
+// A file name's stem, or a built-in scene's spec, made safe as a file name.
+std::string sceneLabel(const std::string& spec);
+void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam);
+void warnIfDepthUnresolvable(const hsr::Camera& cam);
+std::vector<std::string> splitList(const std::string& s);
+void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm);
+void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,
+                  const std::vector<std::string>& written);
+
+}  // namespace hsr::cli
