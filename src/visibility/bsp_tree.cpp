@@ -30,6 +30,7 @@
 
 #include "hsr/error.hpp"
 
+#include "core/random.hpp"
 #include "geometry/polygon.hpp"
 #include "geometry/triangulate.hpp"
 #include "pipeline/pipeline.hpp"
@@ -39,14 +40,6 @@ namespace hsr::detail {
 namespace {
 
 constexpr int kFewestCandidates = 512;
-
-// splitmix64: a small, seeded, portable generator (the same tree on every platform).
-std::uint64_t nextRandom(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 
 // The plane of a polygon (Newell's normal, unit length, through the centroid), or false when
 // it has no area or is not finite.
@@ -200,7 +193,7 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
     }
   }
 
-  std::uint64_t rng = options.seed;
+  SplitMix64 rng(options.seed);  // seeded and portable: the same tree everywhere
   std::vector<Task> stack;
   if (!root.list.empty()) stack.push_back(std::move(root));
   std::vector<std::uint32_t> order;  // the polygons kept at nodes, node by node
@@ -245,7 +238,7 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
         case SplitterChoice::kFirst:
           break;
         case SplitterChoice::kRandom:
-          splitter = list[nextRandom(rng) % list.size()];
+          splitter = list[rng.next() % list.size()];
           break;
         case SplitterChoice::kFewest:
         case SplitterChoice::kBalanced:
@@ -256,7 +249,7 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
                                     : static_cast<std::size_t>(std::max(options.candidates, 1));
           double best = std::numeric_limits<double>::infinity();
           for (std::size_t i = 0; i < k; ++i) {
-            const std::uint32_t c = all ? list[i] : list[nextRandom(rng) % list.size()];
+            const std::uint32_t c = all ? list[i] : list[rng.next() % list.size()];
             const Score sc = score(planes[c]);
             if (cost(sc) < best) best = cost(sc), splitter = c;
           }
