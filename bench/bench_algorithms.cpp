@@ -26,6 +26,7 @@
 #include "agreement/mesa_oracle.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/io.hpp"
+#include "hsr/bsp.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
 
@@ -151,6 +152,41 @@ void runLlvmpipe(benchmark::State& state, BenchScene* b) {
   setCounters(state, *b);
 }
 
+// The BSP tree built once (timed: the build alone, not the copy of the scene it keeps) and
+// rendered from the built tree (timed per frame, as the z-buffer is).
+struct BspRun {
+  BenchScene* scene = nullptr;
+  std::unique_ptr<hsr::Bsp> bsp;
+};
+
+void runBspBuild(benchmark::State& state, BspRun* run) {
+  ensureScene(*run->scene);
+  for (auto _ : state) {
+    hsr::Bsp bsp = hsr::buildBsp(*run->scene->scene);
+    state.SetIterationTime(bsp.stats().build_ms / 1000.0);
+    if (!run->bsp) run->bsp = std::make_unique<hsr::Bsp>(std::move(bsp));
+  }
+  const hsr::BspStats& st = run->bsp->stats();
+  state.counters["splits"] = static_cast<double>(st.splits);
+  state.counters["depth"] = static_cast<double>(st.depth);
+  state.counters["nodes"] = static_cast<double>(st.nodes);
+  state.counters["MiB"] = static_cast<double>(st.bytes) / 1048576.0;
+}
+
+void runBspRender(benchmark::State& state, BspRun* run) {
+  ensureScene(*run->scene);
+  if (!run->bsp) run->bsp = std::make_unique<hsr::Bsp>(hsr::buildBsp(*run->scene->scene));
+  hsr::RenderOptions options;
+  options.threads = g_threads;
+  hsr::Frame frame;
+  hsr::render(*run->bsp, run->scene->camera, options, frame);  // warm: allocate the frame's buffers
+  for (auto _ : state) {
+    hsr::render(*run->bsp, run->scene->camera, options, frame);
+    benchmark::DoNotOptimize(frame.ids.data());
+  }
+  setCounters(state, *run->scene);
+}
+
 // Keeps the median real time per iteration of every benchmark (or the mean of its runs when
 // there are no aggregates), on top of the usual console output.
 class MedianCollector : public benchmark::ConsoleReporter {
@@ -222,6 +258,39 @@ void printObjectOrderTable(const MedianCollector& reporter) {
   std::printf("(x zbuffer = algorithm time / zbuffer time; n^k: growth of time from the 10k scene)\n");
 }
 
+// The BSP tree built once and rendered from it: build time, splits, depth, memory; a frame
+// from the built tree against the z-buffer's frame; growth exponents from the 10k scene.
+void printBspTable(const MedianCollector& reporter, const std::vector<std::unique_ptr<BspRun>>& runs) {
+  std::printf("\nBSP tree built once, rendered from it, threads=%d\n%-16s %10s %10s %8s %6s %8s %10s %10s %9s %7s %7s\n",
+              g_threads, "scene", "build ms", "splits", "splits/n", "depth", "MiB", "render ms", "zbuffer ms",
+              "x zbuffer", "build k", "frame k");
+  for (const char* kind : {"spheres", "soup"}) {
+    double build_first = -1, render_first = -1, n_first = 0;
+    for (const std::unique_ptr<BspRun>& r : runs) {
+      const BenchScene& b = *r->scene;
+      if (!b.label.starts_with(std::string(kind) + "/") || !r->bsp) continue;
+      const double build = reporter.time("BM_bsp_build/" + b.label);
+      const double frame = reporter.time("BM_bsp_from_tree/" + b.label);
+      const double z = reporter.time("BM_zbuffer/" + b.label);
+      const hsr::BspStats& st = r->bsp->stats();
+      const double n = static_cast<double>(std::max<std::uint64_t>(st.input_polygons, 1));
+      char build_k[16] = "-", frame_k[16] = "-";
+      if (build_first > 0 && build > 0 && frame > 0) {
+        std::snprintf(build_k, sizeof build_k, "%.2f", std::log(build / build_first) / std::log(n / n_first));
+        std::snprintf(frame_k, sizeof frame_k, "%.2f", std::log(frame / render_first) / std::log(n / n_first));
+      } else if (build > 0 && frame > 0) {
+        build_first = build, render_first = frame, n_first = n;
+      }
+      std::printf("%-16s %10.1f %10llu %8.3f %6llu %8.1f %10.2f %10.2f %9.2f %7s %7s\n", b.label.c_str(), build,
+                  static_cast<unsigned long long>(st.splits), static_cast<double>(st.splits) / n,
+                  static_cast<unsigned long long>(st.depth), static_cast<double>(st.bytes) / 1048576.0, frame, z,
+                  z > 0 && frame > 0 ? frame / z : 0.0, build_k, frame_k);
+    }
+  }
+  std::printf("(render ms: a frame from the built tree, the pipeline's window polygons included; k: growth "
+              "exponent from the 10k scene)\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -230,6 +299,7 @@ int main(int argc, char** argv) {
   setenv("LP_NUM_THREADS", std::to_string(g_threads).c_str(), 1);
 
   static std::vector<std::unique_ptr<AlgorithmRun>> runs;
+  static std::vector<std::unique_ptr<BspRun>> bsp_runs;
   std::vector<std::string> not_run;
   for (BenchScene& b : benchScenes()) {
     const bool huge = b.label.ends_with("/1000000");
@@ -248,10 +318,24 @@ int main(int argc, char** argv) {
         continue;
       }
       runs.push_back(std::make_unique<AlgorithmRun>(AlgorithmRun{std::string(a.name), &b}));
-      configure(benchmark::RegisterBenchmark(("BM_" + std::string(a.name) + "/" + b.label).c_str(),
-                                             runAlgorithm, runs.back().get()));
+      benchmark::internal::Benchmark* bm = benchmark::RegisterBenchmark(
+          ("BM_" + std::string(a.name) + "/" + b.label).c_str(), runAlgorithm, runs.back().get());
+      configure(bm);
+      // A BSP tree of a million polygons is built for every frame here: once is plenty (the
+      // built tree's frames are BM_bsp_from_tree).
+      if (huge && a.name == "bsp") bm->Iterations(1)->Repetitions(1);
     }
     configure(benchmark::RegisterBenchmark(("BM_llvmpipe/" + b.label).c_str(), runLlvmpipe, &b));
+    if (b.fill_rate) continue;
+    bsp_runs.push_back(std::make_unique<BspRun>(BspRun{&b, nullptr}));
+    benchmark::RegisterBenchmark(("BM_bsp_build/" + b.label).c_str(), runBspBuild, bsp_runs.back().get())
+        ->Unit(benchmark::kMillisecond)
+        ->UseManualTime()
+        ->Iterations(1)
+        ->Repetitions(huge ? 1 : 3)
+        ->ReportAggregatesOnly(true);
+    configure(benchmark::RegisterBenchmark(("BM_bsp_from_tree/" + b.label).c_str(), runBspRender,
+                                           bsp_runs.back().get()));
   }
 
   benchmark::Initialize(&argc, argv);
@@ -282,6 +366,7 @@ int main(int argc, char** argv) {
   }
   for (const std::string& n : not_run) std::printf("not run: %s\n", n.c_str());
   printObjectOrderTable(reporter);
+  printBspTable(reporter, bsp_runs);
   std::printf(
       "(ratio = llvmpipe time / algorithm time, median of repetitions: > 1 means hsr is faster)\n");
   benchmark::Shutdown();

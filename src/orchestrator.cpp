@@ -108,10 +108,14 @@ void render(const Scene& scene, const Camera& camera, const RenderOptions& optio
 }
 
 Frame render(const Bsp& bsp, const Camera& camera, RenderOptions options) {
-  options.algorithm = "bsp";
   Frame frame;
-  detail::renderInto(bsp.scene(), camera, options, frame, detail::DrawMode::kClear, nullptr, &bsp.tree());
+  render(bsp, camera, std::move(options), frame);
   return frame;
+}
+
+void render(const Bsp& bsp, const Camera& camera, RenderOptions options, Frame& frame) {
+  options.algorithm = "bsp";
+  detail::renderInto(bsp.scene(), camera, options, frame, detail::DrawMode::kClear, nullptr, &bsp.tree());
 }
 
 }  // namespace hsr

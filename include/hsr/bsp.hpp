@@ -71,6 +71,8 @@ Bsp readBsp(std::string_view bytes, const std::string& name);
 // Renders the tree's scene for `camera` from the tree, with no rebuild: algorithm "bsp"
 // (options.algorithm is ignored; options.bsp too, the tree is built).
 Frame render(const Bsp& bsp, const Camera& camera, RenderOptions options = {});
+// The same, drawing into `frame` and reusing its buffers' memory (for repeated frames).
+void render(const Bsp& bsp, const Camera& camera, RenderOptions options, Frame& frame);
 
 // The tree in Graphviz's dot language: a node per tree node (its plane, its polygons), edges
 // to the front and back subtrees. At most `max_nodes` nodes, then one that says how many more.

@@ -23,15 +23,18 @@ constexpr double kLimit = 4194304.0;  // 2^22 pixels
 template <class Fn>
 std::size_t forEachSnappedTriangle(std::span<const glm::dvec2> vertices, const DepthPlane& depth,
                                    PolygonId id, std::uint32_t rgba, const FrameView& fb, Fn&& fn) {
-  std::vector<std::int64_t> fx, fy;
-  std::vector<glm::dvec2> grid;
+  // Working memory kept per thread: object-order algorithms call this once per polygon piece,
+  // hundreds of thousands of times a frame (fn never calls back in here).
+  thread_local std::vector<std::int64_t> fx, fy;
+  thread_local std::vector<glm::dvec2> grid;
+  thread_local std::vector<std::array<std::uint32_t, 3>> tris;
+  fx.clear(), fy.clear(), grid.clear(), tris.clear();
   for (const glm::dvec2& v : vertices) {
     if (!(std::abs(v.x) < kLimit && std::abs(v.y) < kLimit)) return 0;
     fx.push_back(std::llrint(v.x * kSubpixelOne));
     fy.push_back(std::llrint(v.y * kSubpixelOne));
     grid.emplace_back(static_cast<double>(fx.back()), static_cast<double>(fy.back()));
   }
-  std::vector<std::array<std::uint32_t, 3>> tris;
   triangulate2d(grid, tris);
   std::size_t filled = 0;
   for (const auto& t : tris) {

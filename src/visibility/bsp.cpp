@@ -55,8 +55,8 @@ bool outsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, con
 // lines (the very lines its pixels are tested against), one pixel more each way for the
 // snapping of the outline. Empty (x0 > x1) when nothing is left.
 PixelBox pieceBox(const std::vector<glm::dvec2>& outline, const std::vector<PixelHalfPlane>& cuts,
-                  const Frame& frame) {
-  std::vector<glm::dvec2> region = outline, next;
+                  const Frame& frame, std::vector<glm::dvec2>& region, std::vector<glm::dvec2>& next) {
+  region = outline;
   for (const PixelHalfPlane& h : cuts) {
     next.clear();
     // Keep the side the piece owns, with a margin of a thousandth of a pixel: only the box is
@@ -164,7 +164,7 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
   std::vector<std::int32_t> by_id(in.scene.polygonCount(), -1);
   for (std::size_t i = 0; i < polygons.size(); ++i)
     if (polygons[i].id < by_id.size() && by_id[polygons[i].id] < 0) by_id[polygons[i].id] = static_cast<std::int32_t>(i);
-  std::vector<std::vector<glm::dvec2>> outlines(polygons.size());
+  std::vector<glm::dvec2> outline, region, next;  // reused from polygon to polygon
   const glm::dmat4 device_from_world = deviceFromWorld(in.camera);
   const glm::dmat4 device_plane_from_world_plane = glm::transpose(glm::inverse(device_from_world));
   const glm::dmat4 device_plane_from_eye_plane =
@@ -185,9 +185,8 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
         while (index < polygons.size() && polygons[index].id == p.id && polygons[index].piece != p.piece) ++index;
         if (index == polygons.size() || polygons[index].id != p.id) return;  // that triangle was culled
         const WindowPolygon& w = polygons[index];
-        std::vector<glm::dvec2>& outline = outlines[index];
-        if (outline.empty())
-          for (const glm::dvec3& v : w.vertices) outline.emplace_back(v.x, v.y);
+        outline.clear();
+        for (const glm::dvec3& v : w.vertices) outline.emplace_back(v.x, v.y);
         // Each cut's plane in device space, restricted to the polygon's own plane: the pixels
         // (x, y) on the piece's side. For a point in front of the eye (clip w > 0) the device
         // plane's value has the world plane's sign. The polygon's plane is its eye-space plane
@@ -205,7 +204,7 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
           else
             cuts.push_back({d.x - d.z * own.x / own.z, d.y - d.z * own.y / own.z, d.w - d.z * own.w / own.z, !cut.front});
         }
-        const PixelBox box = pieceBox(outline, cuts, frame);
+        const PixelBox box = pieceBox(outline, cuts, frame, region, next);
         if (box.x0 > box.x1) return;
         // Coplanar polygons at one node paint as a group: among themselves, the nearer float
         // depth wins, as in the z-buffer.
