@@ -24,6 +24,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/frame.hpp"
@@ -35,6 +37,23 @@
 namespace hsr::detail {
 
 namespace {
+
+// The steps `hsr explain bsp` shows: the tree being built node by node, then the polygons
+// painted in the traversal's order.
+constexpr std::string_view kStepSplitter = "choose splitter";
+constexpr std::string_view kStepPaint = "paint";
+constexpr std::string_view kStepDone = "done";
+
+// A world polygon's outline in the picture (empty when a vertex lies behind the eye).
+TraceOutline projectOutline(const std::vector<glm::dvec3>& vertices, const glm::dmat4& device_from_world) {
+  TraceOutline out;
+  for (const glm::dvec3& v : vertices) {
+    const glm::dvec4 h = device_from_world * glm::dvec4(v, 1.0);
+    if (!(h.w > 0)) return {};
+    out.emplace_back(static_cast<float>(h.x / h.w), static_cast<float>(h.y / h.w));
+  }
+  return out;
+}
 
 // Whether the box lies wholly outside one plane of the view frustum (in clip space: -w <= x,
 // y, z <= w).
@@ -141,7 +160,26 @@ void drawBsp(const AlgorithmInput& in, Frame& frame) {
   auto t0 = std::chrono::steady_clock::now();
   BspTree built;
   if (!in.given) {
-    built = buildBspTree(in.scene, in.options.bsp);
+    std::function<void(const BspNodeReport&)> report;
+    std::uint64_t nodes = 0;
+    const glm::dmat4 device_from_world = deviceFromWorld(in.camera);
+    if (in.trace) {
+      nodes = buildBspTree(in.scene, in.options.bsp).stats.nodes;  // how many steps there will be
+      report = [&](const BspNodeReport& r) {
+        if (!in.trace->wants(kStepSplitter, r.node, nodes)) return;
+        std::vector<TraceOutline> outlines{projectOutline(r.splitter_vertices, device_from_world)};
+        for (const std::vector<glm::dvec3>& v : r.split) outlines.push_back(projectOutline(v, device_from_world));
+        in.trace->record(
+            {kStepSplitter,
+             "Node " + std::to_string(r.node) + " (depth " + std::to_string(r.depth) + "): polygon " +
+                 std::to_string(r.splitter) + " is chosen from a list of " + std::to_string(r.list) +
+                 "; its plane sorts the others: " + std::to_string(r.front) + " in front, " +
+                 std::to_string(r.behind) + " behind (pieces included), " + std::to_string(r.split.size()) +
+                 " split in two (outlined), " + std::to_string(r.on - 1) + " more in its plane stay at the node.",
+             &frame, std::move(outlines)});
+      };
+    }
+    built = buildBspTree(in.scene, in.options.bsp, {}, report);
     frame.stats.addStage("bsp build", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
   const BspTree& tree = in.given ? *static_cast<const BspTree*>(in.given) : built;
@@ -177,6 +215,8 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
     group.stamps = stamps;
   }
   BspTraversalStats traversal;
+  std::uint64_t painted = 0, to_paint = 0;
+  if (in.trace) forEachBspPolygon(tree, in.camera, false, [&](const BspPolygon&, std::uint32_t) { ++to_paint; });
   forEachBspPolygon(
       tree, in.camera, false,
       [&](const BspPolygon& p, std::uint32_t node) {
@@ -211,6 +251,21 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
         group.stamp = node + 1;
         paintPolygonPart(outline, cuts, box, w.depth, w.id, w.rgba, fb, fragments,
                          tree.nodes[node].polygon_count > 1 ? &group : nullptr);
+        if (in.trace && in.trace->wants(kStepPaint, painted, to_paint)) {
+          const int side = in.camera.ortho ? 0 : eyeSide(tree.nodes[node], glm::dvec3(in.camera.eye));
+          in.trace->record(
+              {kStepPaint,
+               "Paint polygon " + std::to_string(p.id) + (p.cut_count == 1   ? std::string(" (a piece of it, cut once)")
+                    : p.cut_count > 1 ? " (a piece of it, cut " + std::to_string(p.cut_count) + " times)"
+                                      : std::string()) +
+                   ", held by node " + std::to_string(node) + ": " +
+                   (side > 0   ? "the eye is in front of its plane, so the node's back subtree is already painted"
+                    : side < 0 ? "the eye is behind its plane, so the node's front subtree is already painted"
+                               : "the far side of its plane is already painted") +
+                   "; the near side comes after it.",
+               &frame, {projectOutline(p.vertices, device_from_world)}});
+        }
+        ++painted;
       },
       &traversal);
   frame.stats.fragments_tested += fragments.tested;
@@ -219,6 +274,12 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
   frame.stats.addCounter("bsp: polygons drawn", traversal.drawn);
   frame.stats.addCounter("bsp: nodes visited", traversal.visited);
   frame.stats.addCounter("bsp: subtrees skipped", traversal.skipped);
+  if (in.trace && in.trace->wants(kStepDone, 0, 1))
+    in.trace->record({kStepDone,
+                      "Done: " + std::to_string(traversal.drawn) + " polygons and pieces painted back to front with no depth "
+                      "test, " + std::to_string(traversal.skipped) + " subtrees outside the view skipped; the same tree "
+                      "serves any other eye.",
+                      &frame, {}});
 }
 
 }  // namespace hsr::detail

@@ -134,7 +134,8 @@ int eyeSide(const BspNode& node, const glm::dvec3& eye) {
 }
 
 BspTree buildBspTree(const Scene& scene, const BspOptions& options,
-                     const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+                     const std::function<void(std::uint64_t, std::uint64_t)>& progress,
+                     const std::function<void(const BspNodeReport&)>& report) {
   const auto t0 = std::chrono::steady_clock::now();
   SplitterChoice choice;
   if (!parseSplitterChoice(options.splitter, &choice))
@@ -268,6 +269,7 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
     Task front{{}, static_cast<std::int32_t>(node_index), true, task.depth + 1};
     Task back{{}, static_cast<std::int32_t>(node_index), false, task.depth + 1};
     std::vector<std::uint32_t> on;
+    std::vector<std::vector<glm::dvec3>> split_ones;  // only when reporting
     for (const std::uint32_t q : list) {
       const Side side = q == splitter ? Side::kOn : classify(plane, tree.polygons[q].vertices, eps);
       if (side == Side::kOn) {
@@ -281,6 +283,7 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
         back_part.clear();
         splitPolygon(plane, tree.polygons[q].vertices, eps, front_part, back_part);
         ++tree.stats.splits;
+        if (report) split_ones.push_back(tree.polygons[q].vertices);
         const PolygonId id = tree.polygons[q].id;
         const std::uint32_t sub = tree.polygons[q].piece;
         const std::uint32_t first_cut = tree.polygons[q].first_cut, cut_count = tree.polygons[q].cut_count;
@@ -296,6 +299,9 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
         }
       }
     }
+    if (report)
+      report({node_index, tree.polygons[splitter].id, tree.polygons[splitter].vertices, list.size(),
+              front.list.size(), back.list.size(), split_ones, on.size(), task.depth});
     // 4. Coplanar polygons stay; recurse on both sides (back pushed first: front is built
     // first, any order gives the same tree for a given seed).
     BspNode& node = tree.nodes[node_index];

@@ -67,8 +67,20 @@ struct BspTree {
 // diagonal: a vertex nearer a plane than that is on it. A non-planar polygon (the pipeline's
 // test) is entered as its triangles, as the pipeline draws it. `progress(done, total)` is
 // called now and then when given. Throws hsr::Error on options it cannot take.
+// What became of one node's list, for `hsr explain bsp` (`report`, called once per node as it
+// is made, front subtrees before back ones).
+struct BspNodeReport {
+  std::uint32_t node = 0;
+  PolygonId splitter = kNoPolygon;                      // the polygon whose plane splits
+  const std::vector<glm::dvec3>& splitter_vertices;
+  std::size_t list = 0, front = 0, behind = 0;          // the list, and what went to each side
+  const std::vector<std::vector<glm::dvec3>>& split;    // the polygons split in two
+  std::size_t on = 0;                                   // kept at the node (the splitter too)
+  std::uint32_t depth = 0;
+};
 BspTree buildBspTree(const Scene& scene, const BspOptions& options,
-                     const std::function<void(std::uint64_t done, std::uint64_t total)>& progress = {});
+                     const std::function<void(std::uint64_t done, std::uint64_t total)>& progress = {},
+                     const std::function<void(const BspNodeReport&)>& report = {});
 
 // Fills in the tree's node bounds and the statistics a loaded tree does not store (every one
 // but build_ms).

@@ -44,7 +44,7 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .source = "Fuchs, Kedem & Naylor 1980; the notes' \"BSP trees\"",
         .precision = Precision::kObject,
         .input = InputKind::kWindowPolygons,
-        .capabilities = kExactSharedCoverage | kTransparency | kBackToFront},
+        .capabilities = kExactSharedCoverage | kTransparency | kBackToFront | kExplain},
        &drawBsp},
   };
   return table;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -73,6 +75,37 @@ TEST(Explain, TiledZBufferShowsItsTiles) {
   for (const ExplainedStep& s : e.steps) tiles += s.name == "fill tile";
   EXPECT_EQ(tiles, 12);  // 4 x 3 tiles of 64 x 64
   fs::remove_all(dir);
+}
+
+// The object-order algorithms explain themselves too: the painter's sort, swaps, splits and
+// paints; the BSP tree's splitters node by node, then its paints in the traversal's order.
+// Either way the finished frame is the algorithm's ordinary render.
+TEST(Explain, ObjectOrderAlgorithmsShowTheirSteps) {
+  const Scene scene = loadScene("demo");
+  const Camera cam = frameScene(scene, 200, 150);
+  const testing::ScratchDir scratch("hsr_explain");
+  for (const char* algorithm : {"painter", "bsp"}) {
+    SCOPED_TRACE(algorithm);
+    RenderOptions o;
+    o.algorithm = algorithm;
+    const Explanation e = explain(scene, cam, o, scratch / algorithm);
+    ASSERT_GE(e.steps.size(), 4u);
+    EXPECT_EQ(e.steps.back().name, "done");
+    std::map<std::string, int> count;
+    for (const ExplainedStep& s : e.steps) count[s.name]++;
+    EXPECT_GT(count["paint"], 0);
+    if (std::string(algorithm) == "painter") {
+      EXPECT_EQ(e.steps.front().name, "sort");
+      EXPECT_GT(count["swap"] + count["split"], 0);
+    } else {
+      EXPECT_EQ(e.steps.front().name, "choose splitter");
+      EXPECT_NE(e.steps.front().caption.find("Node 0"), std::string::npos) << e.steps.front().caption;
+      EXPECT_GT(count["choose splitter"], 1);
+    }
+    const Frame f = render(scene, cam, o);
+    EXPECT_EQ(e.frame.ids, f.ids);
+    EXPECT_EQ(e.frame.color, f.color);
+  }
 }
 
 }  // namespace
