@@ -14,12 +14,14 @@
 //
 // Each polygon of the tree is drawn as its pipeline polygon (culled, clipped, projected and
 // shaded by the shared pipeline, so with its id, colour and depth plane) restricted to its
-// side of every plane that cut it: a world plane restricted to the polygon's depth plane is a
+// side of every plane that cut it: a world plane restricted to the polygon's own plane is a
 // line of the picture, and the two pieces of one cut take opposite sides of the same line, so
 // they share out the parent's pixels exactly (raster/fill_polygons.hpp, paintPolygonPart).
+// Coplanar polygons at one node paint as a group (the nearer float wins among them).
 // Guarantee: each pixel shows the nearest polygon at its centre, as the z-buffer does, up to
-// the tree's epsilon (a polygon within it of a plane is on it); equal float depths show the
-// lower id. Cost: O(nodes) to traverse plus the pixels painted; front to back on request.
+// the tree's epsilon (a polygon within it of a plane is on it) and paintPolygonPart's ties
+// (equal floats show the lower id; a float step apart, the nearer). Cost: O(nodes) to
+// traverse plus the pixels painted; front to back on request. Tests: bsp_test.cpp.
 
 #include <algorithm>
 #include <chrono>
