@@ -57,6 +57,28 @@ TraceOutline projectOutline(const std::vector<glm::dvec3>& vertices, const glm::
   return out;
 }
 
+// The notes show a BSP tree being built from above, as a plan: the build steps are pictured
+// on the scene seen from above (orthographic, looking down the camera's up axis, the view
+// direction pointing up the picture), with the eye marked.
+Camera birdsEye(const Scene& scene, const Camera& camera) {
+  const Bounds b = scene.bounds();
+  const float r = std::max(b.radius(), 1e-3f);
+  const glm::vec3 up = glm::normalize(camera.up);
+  glm::vec3 forward = camera.target - camera.eye;
+  forward -= up * glm::dot(forward, up);
+  if (!(glm::length(forward) > 1e-6f * glm::length(camera.target - camera.eye))) forward = glm::cross(up, glm::vec3(1, 0, 0));
+  if (!(glm::length(forward) > 0)) forward = glm::cross(up, glm::vec3(0, 0, 1));
+  Camera top = camera;
+  top.ortho = true;
+  top.ortho_half_height = 1.15f * r;
+  top.target = b.center();
+  top.eye = b.center() + up * (3.0f * r);
+  top.up = glm::normalize(forward);
+  top.near = r;
+  top.far = 5.0f * r;
+  return top;
+}
+
 // Whether the box lies wholly outside one plane of the view frustum (in clip space: -w <= x,
 // y, z <= w).
 bool outsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, const glm::dvec3& hi) {
@@ -164,21 +186,44 @@ void drawBsp(const AlgorithmInput& in, Frame& frame) {
   if (!in.given) {
     std::function<void(const BspNodeReport&)> report;
     std::uint64_t nodes = 0;
-    const glm::dmat4 device_from_world = deviceFromWorld(in.camera);
+    Frame plan;
+    Camera top;
+    glm::dmat4 plan_from_world(1.0);
     if (in.trace) {
       nodes = buildBspTree(in.scene, in.options.bsp).stats.nodes;  // how many steps there will be
+      top = birdsEye(in.scene, in.camera);
+      RenderOptions o;
+      o.threads = 1;
+      o.clear_color = in.options.clear_color;
+      plan = render(in.scene, top, o);
+      plan_from_world = deviceFromWorld(top);
       report = [&](const BspNodeReport& r) {
         if (!in.trace->wants(kStepSplitter, r.node, nodes)) return;
-        std::vector<TraceOutline> outlines{projectOutline(r.splitter_vertices, device_from_world)};
-        for (const std::vector<glm::dvec3>& v : r.split) outlines.push_back(projectOutline(v, device_from_world));
+        std::vector<TraceOutline> outlines{projectOutline(r.splitter_vertices, plan_from_world)};
+        for (const std::vector<glm::dvec3>& v : r.split) outlines.push_back(projectOutline(v, plan_from_world));
+        // The eye: a small square, and a line to what it looks at.
+        const glm::dvec4 e = plan_from_world * glm::dvec4(glm::dvec3(in.camera.eye), 1.0);
+        const glm::dvec4 t = plan_from_world * glm::dvec4(glm::dvec3(in.camera.target), 1.0);
+        const glm::vec2 tp(static_cast<float>(t.x / t.w), static_cast<float>(t.y / t.w));
+        glm::vec2 ep(static_cast<float>(e.x / e.w), static_cast<float>(e.y / e.w));
+        // An eye beyond the picture is marked at its edge, in its direction from the target.
+        const glm::vec2 lo(6.0f), hi(static_cast<float>(top.width) - 7.0f, static_cast<float>(top.height) - 7.0f);
+        for (int axis = 0; axis < 2; ++axis) {
+          const float d = ep[axis] - tp[axis];
+          if (ep[axis] > hi[axis] && d > 0) ep = tp + (ep - tp) * ((hi[axis] - tp[axis]) / d);
+          if (ep[axis] < lo[axis] && d < 0) ep = tp + (ep - tp) * ((lo[axis] - tp[axis]) / d);
+        }
+        outlines.push_back({ep + glm::vec2(-3, -3), ep + glm::vec2(3, -3), ep + glm::vec2(3, 3), ep + glm::vec2(-3, 3)});
+        outlines.push_back({ep, tp});
         in.trace->record(
             {kStepSplitter,
              "Node " + std::to_string(r.node) + " (depth " + std::to_string(r.depth) + "): polygon " +
                  std::to_string(r.splitter) + " is chosen from a list of " + std::to_string(r.list) +
                  "; its plane sorts the others: " + std::to_string(r.front) + " in front, " +
                  std::to_string(r.behind) + " behind (pieces included), " + std::to_string(r.split.size()) +
-                 " split in two (outlined), " + std::to_string(r.on - 1) + " more in its plane stay at the node.",
-             &frame, std::move(outlines)});
+                 " split in two (outlined), " + std::to_string(r.on - 1) +
+                 " more in its plane stay at the node. Seen from above: the eye is the small square, looking along the line.",
+             &plan, std::move(outlines)});
       };
     }
     built = buildBspTree(in.scene, in.options.bsp, {}, report);
