@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "hsr/camera.hpp"
 #include "hsr/render.hpp"
@@ -73,6 +74,11 @@ Bsp readBsp(std::string_view bytes, const std::string& name);
 Frame render(const Bsp& bsp, const Camera& camera, RenderOptions options = {});
 // The same, drawing into `frame` and reusing its buffers' memory (for repeated frames).
 void render(const Bsp& bsp, const Camera& camera, RenderOptions options, Frame& frame);
+
+// The order the tree draws its polygons in for `camera`'s eye (their ids; each piece of a split
+// polygon in its place): back to front as painted, or front to back when asked (the order a
+// renderer that stops at the first hit wants). Subtrees outside the view are left out.
+std::vector<PolygonId> bspOrder(const Bsp& bsp, const Camera& camera, bool front_to_back = false);
 
 // The tree in Graphviz's dot language: a node per tree node (its plane, its polygons), edges
 // to the front and back subtrees. At most `max_nodes` nodes, then one that says how many more.

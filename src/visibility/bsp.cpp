@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "core/frame.hpp"
+#include "hsr/bsp.hpp"
 #include "raster/edge.hpp"
 #include "raster/fill_polygons.hpp"
 #include "visibility/algorithm.hpp"
@@ -330,3 +331,15 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
 }
 
 }  // namespace hsr::detail
+
+namespace hsr {
+
+std::vector<PolygonId> bspOrder(const Bsp& bsp, const Camera& camera, bool front_to_back) {
+  camera.validate();
+  std::vector<PolygonId> order;
+  detail::forEachBspPolygon(bsp.tree(), camera, front_to_back,
+                            [&](const detail::BspPolygon& p, std::uint32_t) { order.push_back(p.id); });
+  return order;
+}
+
+}  // namespace hsr

@@ -219,6 +219,12 @@ TEST(Bsp, TraversalOrderFollowsTheEye) {
   ASSERT_EQ(back_to_front.size(), bsp.stats().polygons);
   std::reverse(front_to_back.begin(), front_to_back.end());
   EXPECT_EQ(back_to_front, front_to_back);
+  // The public face of the same: ids in drawing order, either way.
+  std::vector<PolygonId> ids = bspOrder(bsp, camera), reversed = bspOrder(bsp, camera, true);
+  ASSERT_EQ(ids.size(), back_to_front.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) EXPECT_EQ(ids[k], back_to_front[k].first);
+  std::reverse(reversed.begin(), reversed.end());
+  EXPECT_EQ(ids, reversed);
 
   // The eye on the other side of the scene: another order, the same picture as the z-buffer.
   camera.eye = camera.target - (camera.eye - camera.target);
