@@ -7,7 +7,8 @@
 //   4. Coplanar polygons stay at the node; build the front subtree from the front list and
 //      the back subtree from the back list, the same way, until the lists are empty.
 //
-// Classification: the distance of each vertex from the unit-normal plane, in double; a vertex
+// Classification and splitting are the shared ones (geometry/polygon.hpp: classifyAgainstPlane,
+// splitVertices). Classification: the distance of each vertex from the plane, in double; a vertex
 // within `epsilon` (1e-6 of the scene's bounding-box diagonal) is on the plane, so a polygon
 // whose vertices are all within it is coplanar, and one with vertices only on one side (or on
 // the plane) goes to that side. Splitting puts a vertex on the plane into both pieces and an
@@ -45,57 +46,20 @@ constexpr int kFewestCandidates = 512;
 // The plane of a polygon (Newell's normal, unit length, through the centroid), or false when
 // it has no area or is not finite.
 bool planeOf(const std::vector<glm::dvec3>& v, glm::dvec4* plane) {
-  glm::dvec3 n(0.0), c(0.0);
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    const glm::dvec3& a = v[i];
-    const glm::dvec3& b = v[(i + 1) % v.size()];
-    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-    c += a;
-  }
-  const double len = glm::length(n);
+  const glm::dvec3 normal = newellNormal(v.size(), [&](std::size_t i) { return v[i]; });
+  const double len = glm::length(normal);
   if (!(len > 0.0) || !std::isfinite(len)) return false;
-  n /= len;
+  glm::dvec3 c(0.0);
+  for (const glm::dvec3& p : v) c += p;
   c /= static_cast<double>(v.size());
+  const glm::dvec3 n = normal / len;
   *plane = glm::dvec4(n, -glm::dot(n, c));
   return std::isfinite(plane->w);
 }
 
-double distance(const glm::dvec4& plane, const glm::dvec3& p) {
-  return glm::dot(glm::dvec3(plane), p) + plane.w;
-}
-
-enum class Side { kFront, kBack, kOn, kSpanning };
-
-Side classify(const glm::dvec4& plane, const std::vector<glm::dvec3>& v, double eps) {
-  bool front = false, back = false;
-  for (const glm::dvec3& p : v) {
-    const double d = distance(plane, p);
-    front |= d > eps;
-    back |= d < -eps;
-  }
-  if (front && back) return Side::kSpanning;
-  if (front) return Side::kFront;
-  if (back) return Side::kBack;
-  return Side::kOn;
-}
-
-// Step 3: the parts of `v` in front of the plane (and on it) and behind it (and on it).
-void splitPolygon(const glm::dvec4& plane, const std::vector<glm::dvec3>& v, double eps,
-                  std::vector<glm::dvec3>& front, std::vector<glm::dvec3>& back) {
-  const std::size_t n = v.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const glm::dvec3& a = v[i];
-    const glm::dvec3& b = v[(i + 1) % n];
-    const double da = distance(plane, a), db = distance(plane, b);
-    if (da >= -eps) front.push_back(a);
-    if (da <= eps) back.push_back(a);
-    if ((da > eps && db < -eps) || (da < -eps && db > eps)) {
-      const glm::dvec3 x = a + (da / (da - db)) * (b - a);
-      front.push_back(x);
-      back.push_back(x);
-    }
-  }
-}
+// A node's plane as geometry/polygon.hpp's Plane, for its classification (step 2) and
+// splitting (step 3): a vertex within epsilon of the plane is on it.
+Plane asPlane(const glm::dvec4& plane) { return Plane{glm::dvec3(plane), plane.w}; }
 
 struct Task {
   std::vector<std::uint32_t> list;
@@ -130,7 +94,7 @@ std::string_view toString(SplitterChoice c) {
 }
 
 int eyeSide(const BspNode& node, const glm::dvec3& eye) {
-  const double d = distance(node.plane, eye);
+  const double d = asPlane(node.plane).value(eye);
   return d > 0 ? 1 : d < 0 ? -1 : 0;
 }
 
@@ -213,17 +177,17 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
     auto score = [&](const glm::dvec4& plane) {
       Score sc;
       for (const std::uint32_t q : list) {
-        switch (classify(plane, tree.polygons[q].vertices, eps)) {
-          case Side::kSpanning:
+        switch (classifyAgainstPlane(tree.polygons[q].vertices, asPlane(plane), eps)) {
+          case PlaneSide::kSpanning:
             ++sc.splits;
             break;
-          case Side::kFront:
+          case PlaneSide::kFront:
             ++sc.front;
             break;
-          case Side::kBack:
+          case PlaneSide::kBehind:
             ++sc.back;
             break;
-          case Side::kOn:
+          case PlaneSide::kOn:
             break;
         }
       }
@@ -272,17 +236,16 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
     std::vector<std::uint32_t> on;
     std::vector<std::vector<glm::dvec3>> split_ones;  // only when reporting
     for (const std::uint32_t q : list) {
-      const Side side = q == splitter ? Side::kOn : classify(plane, tree.polygons[q].vertices, eps);
-      if (side == Side::kOn) {
+      const PlaneSide side =
+          q == splitter ? PlaneSide::kOn : classifyAgainstPlane(tree.polygons[q].vertices, asPlane(plane), eps);
+      if (side == PlaneSide::kOn) {
         on.push_back(q);
-      } else if (side == Side::kFront) {
+      } else if (side == PlaneSide::kFront) {
         front.list.push_back(q);
-      } else if (side == Side::kBack) {
+      } else if (side == PlaneSide::kBehind) {
         back.list.push_back(q);
       } else {
-        front_part.clear();
-        back_part.clear();
-        splitPolygon(plane, tree.polygons[q].vertices, eps, front_part, back_part);
+        splitVertices(tree.polygons[q].vertices, asPlane(plane), eps, &front_part, &back_part);
         ++tree.stats.splits;
         if (report) split_ones.push_back(tree.polygons[q].vertices);
         const PolygonId id = tree.polygons[q].id;
