@@ -7,7 +7,10 @@
 #include <cstdint>
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "cross/figures.hpp"
+#include "cross/random_scenes.hpp"
 #include "hsr/render.hpp"
 
 namespace hsr::testing {
@@ -60,6 +63,30 @@ inline Comparison compareWithZBuffer(const Scene& scene, const Camera& camera, c
 inline std::string describe(const Comparison& c) {
   return grouped(c.ids_differ) + " of " + grouped(c.drawn) +
          " drawn pixels show another polygon than the z-buffer, " + grouped(c.wrong) + " clearly wrong";
+}
+
+// The real models of the Mesa test, under HSR_TEST_MODELS.
+inline constexpr const char* kMesaTestModels[] = {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl",
+                                                  "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"};
+
+// Row 4's seeded random scenes (60 x the count scale, seeds 1000...) against the z-buffer:
+// no clearly wrong pixel, and equal depths wherever the ids agree. `each(scene, camera)` is
+// called for every scene too (for the algorithm's own counters). Returns the sum.
+template <class Each>
+Comparison expectNoWrongPixelOnRandomScenes(const std::string& algorithm, Each&& each) {
+  Comparison total;
+  const int scenes = 60 * countScale();
+  for (int i = 0; i < scenes; ++i) {
+    const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(i);
+    const Scene scene = agreementScene(seed);
+    const Camera camera = agreementCamera(seed);
+    const Comparison c = compareWithZBuffer(scene, camera, algorithm);
+    EXPECT_EQ(c.wrong, 0u) << "seed " << seed << ": " << c.first_wrong;
+    EXPECT_EQ(c.depth_differs_same_id, 0u) << "seed " << seed;
+    total.add(c);
+    each(scene, camera);
+  }
+  return total;
 }
 
 }  // namespace hsr::testing

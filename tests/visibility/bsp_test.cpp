@@ -163,29 +163,18 @@ TEST(Bsp, EverySplitterChoicePaintsTheZBuffersPicture) {
 
 // Seeded random scenes with interpenetrating pairs, cyclic overlaps and coplanar polygons.
 TEST(Bsp, RandomScenesHaveNoClearlyWrongPixel) {
-  Comparison total;
   std::uint64_t splits = 0;
-  const int scenes = 60 * testing::countScale();
-  for (int i = 0; i < scenes; ++i) {
-    const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(i);
-    const Scene scene = testing::agreementScene(seed);
-    const Camera camera = testing::agreementCamera(seed);
-    const Comparison c = compareWithZBuffer(scene, camera, "bsp");
-    EXPECT_EQ(c.wrong, 0u) << "seed " << seed << ": " << c.first_wrong;
-    EXPECT_EQ(c.depth_differs_same_id, 0u) << "seed " << seed;
-    total.add(c);
-    splits += buildBsp(scene).stats().splits;
-  }
+  const Comparison total = testing::expectNoWrongPixelOnRandomScenes(
+      "bsp", [&](const Scene& scene, const Camera&) { splits += buildBsp(scene).stats().splits; });
   EXPECT_GT(splits, 0u);
-  testing::printFigures("bsp, " + std::to_string(scenes) + " random scenes: " + describe(total) + "; " +
-                        testing::grouped(splits) + " splits");
+  testing::printFigures("bsp, " + std::to_string(60 * testing::countScale()) + " random scenes: " + describe(total) +
+                        "; " + testing::grouped(splits) + " splits");
 }
 
 // The real models of the Mesa test: ids agree with the z-buffer's on at least 99.9% of the
 // drawn pixels, and no pixel is clearly wrong.
 TEST(Bsp, RealModelsAgreeWithTheZBuffer) {
-  for (const char* model : {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl",
-                            "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"}) {
+  for (const char* model : testing::kMesaTestModels) {
     SCOPED_TRACE(model);
     const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
     const Camera camera = frameScene(scene, 640, 480);

@@ -100,36 +100,27 @@ TEST(Painter, OverdrawCountsEveryPaintedFragment) {
 // Seeded random scenes with interpenetrating pairs, cyclic overlaps and coplanar polygons:
 // no clearly wrong pixel, cycles closed and broken, and nothing left unresolved.
 TEST(Painter, RandomScenesHaveNoClearlyWrongPixel) {
-  Comparison total;
   std::uint64_t splits = 0, cycles = 0, unresolved = 0;
-  const int scenes = 60 * testing::countScale();
-  for (int i = 0; i < scenes; ++i) {
-    const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(i);
-    const Scene scene = testing::agreementScene(seed);
-    const Camera camera = testing::agreementCamera(seed);
-    const Comparison c = compareWithZBuffer(scene, camera, "painter");
-    EXPECT_EQ(c.wrong, 0u) << "seed " << seed << ": " << c.first_wrong;
-    EXPECT_EQ(c.depth_differs_same_id, 0u) << "seed " << seed;
-    total.add(c);
-    RenderOptions o;
-    o.algorithm = "painter";
-    const Frame f = render(scene, camera, o);
-    splits += f.stats.counter("painter: splits");
-    cycles += f.stats.counter("painter: cycles broken");
-    unresolved += f.stats.counter("painter: unresolved");
-  }
+  const Comparison total =
+      testing::expectNoWrongPixelOnRandomScenes("painter", [&](const Scene& scene, const Camera& camera) {
+        RenderOptions o;
+        o.algorithm = "painter";
+        const Frame f = render(scene, camera, o);
+        splits += f.stats.counter("painter: splits");
+        cycles += f.stats.counter("painter: cycles broken");
+        unresolved += f.stats.counter("painter: unresolved");
+      });
   EXPECT_EQ(unresolved, 0u);
   EXPECT_GT(cycles, 0u) << "the scenes' cyclic overlaps should close cycles";
-  testing::printFigures("painter, " + std::to_string(scenes) + " random scenes: " + describe(total) +
-                        "; " + testing::grouped(splits) + " splits, " + testing::grouped(cycles) +
+  testing::printFigures("painter, " + std::to_string(60 * testing::countScale()) + " random scenes: " +
+                        describe(total) + "; " + testing::grouped(splits) + " splits, " + testing::grouped(cycles) +
                         " cycles broken");
 }
 
 // The real models of the Mesa test: ids agree with the z-buffer's on at least 99.9% of the
 // drawn pixels, and no pixel is clearly wrong.
 TEST(Painter, RealModelsAgreeWithTheZBuffer) {
-  for (const char* model : {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl",
-                            "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"}) {
+  for (const char* model : testing::kMesaTestModels) {
     SCOPED_TRACE(model);
     const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
     const Camera camera = frameScene(scene, 640, 480);
