@@ -50,5 +50,6 @@ void drawZBufferTiled(const AlgorithmInput& input, Frame& frame);     // zbuffer
 void drawPainter(const AlgorithmInput& input, Frame& frame);          // painter.cpp
 void drawPainterNaive(const AlgorithmInput& input, Frame& frame);     // painter_naive.cpp
 void drawBsp(const AlgorithmInput& input, Frame& frame);              // bsp.cpp
+void drawScanline(const AlgorithmInput& input, Frame& frame);         // scanline.cpp
 
 }  // namespace hsr::detail

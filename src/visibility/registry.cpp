@@ -46,6 +46,13 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .input = InputKind::kWindowPolygons,
         .capabilities = kExactSharedCoverage | kTransparency | kBackToFront | kExplain},
        &drawBsp},
+      {{.name = "scanline",
+        .summary = "scan-line: row by row, an active edge list and in/out flags, no depth buffer",
+        .source = "Wylie et al. 1967, Bouknight 1970, Watkins 1970; the notes' \"scan-line\"",
+        .precision = Precision::kImage,
+        .input = InputKind::kScreenTriangles,
+        .capabilities = kExactSharedCoverage | kOutline | kTransparency | kExplain},
+       &drawScanline},
   };
   return table;
 }

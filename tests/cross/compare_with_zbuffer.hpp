@@ -4,13 +4,17 @@
 // nearest one there (the z-buffer's depth) by more than kClearlyDeeper, or shows nothing where
 // the z-buffer shows something (or the reverse): not a tie of two depths, a wrong answer.
 
+#include <bit>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "cross/figures.hpp"
 #include "cross/random_scenes.hpp"
+#include "cross/reference_zbuffer.hpp"
+#include "hsr/io.hpp"
 #include "hsr/render.hpp"
 
 namespace hsr::testing {
@@ -85,6 +89,97 @@ Comparison expectNoWrongPixelOnRandomScenes(const std::string& algorithm, Each&&
     EXPECT_EQ(c.depth_differs_same_id, 0u) << "seed " << seed;
     total.add(c);
     each(scene, camera);
+  }
+  return total;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bit for bit: the algorithms that share the z-buffer's coverage, fragment depth and tie rule
+// (scan-line, Warnock) must give its very frame: the same id, depth and colour at every pixel.
+
+struct Identity {
+  std::uint64_t pixels = 0, differ = 0, ids_differ = 0, depths_differ = 0, colours_differ = 0;
+  std::uint64_t unambiguous = 0, unambiguous_differ = 0;  // by the agreement oracle
+  std::string first;                                     // the first differing pixel
+
+  void add(const Identity& o) {
+    pixels += o.pixels, differ += o.differ, ids_differ += o.ids_differ;
+    depths_differ += o.depths_differ, colours_differ += o.colours_differ;
+    unambiguous += o.unambiguous, unambiguous_differ += o.unambiguous_differ;
+    if (first.empty()) first = o.first;
+  }
+};
+
+// `p` against the z-buffer's frame `z`; `ambiguous` (the oracle's flags, GL rows: bottom row
+// first) may be null.
+inline Identity compareBitForBit(const Frame& z, const Frame& p, const std::vector<std::uint8_t>* ambiguous,
+                                 const std::string& label) {
+  Identity c;
+  c.pixels = z.ids.size();
+  for (std::size_t k = 0; k < z.ids.size(); ++k) {
+    const int x = static_cast<int>(k % z.width), y = static_cast<int>(k / z.width);
+    const bool unambiguous = ambiguous && (*ambiguous)[static_cast<std::size_t>(z.height - 1 - y) * z.width + x] == 0;
+    c.unambiguous += unambiguous;
+    const bool id = p.ids[k] != z.ids[k];
+    const bool depth = std::bit_cast<std::uint32_t>(p.depth[k]) != std::bit_cast<std::uint32_t>(z.depth[k]);
+    const bool colour = p.color[k] != z.color[k];
+    if (!id && !depth && !colour) continue;
+    c.differ++, c.ids_differ += id, c.depths_differ += depth, c.colours_differ += colour;
+    c.unambiguous_differ += unambiguous;
+    if (c.first.empty())
+      c.first = label + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") [top row 0] shows " +
+                std::to_string(p.ids[k]) + " at depth " + std::to_string(p.depth[k]) + ", the z-buffer " +
+                std::to_string(z.ids[k]) + " at " + std::to_string(z.depth[k]);
+  }
+  return c;
+}
+
+inline std::string describe(const Identity& c) {
+  return grouped(c.differ) + " of " + grouped(c.pixels) + " pixels differ from the z-buffer (ids " +
+         grouped(c.ids_differ) + ", depths " + grouped(c.depths_differ) + ", colours " + grouped(c.colours_differ) +
+         "); of " + grouped(c.unambiguous) + " unambiguous pixels " + grouped(c.unambiguous_differ) + " differ";
+}
+
+// The agreement scene set (row 4's seeds and cameras, culling off, 1 and 2 threads) and the
+// real models of the Mesa test (culling off and back): `algorithm` must give the z-buffer's
+// frame on every unambiguous pixel; returns the tally so the caller can print the rest.
+inline Identity expectBitForBitWithZBuffer(const std::string& algorithm) {
+  Identity total;
+  const int scenes = 200 * countScale();
+  for (int i = 0; i < scenes; ++i) {
+    const std::uint64_t seed = 1 + static_cast<std::uint64_t>(i);
+    const Scene scene = agreementScene(seed);
+    const Camera camera = agreementCamera(seed);
+    const ReferenceFrame ref = referenceZBuffer(scene, camera);
+    RenderOptions o;
+    o.cull = CullMode::None;
+    o.threads = 1 + static_cast<int>(seed % 2);
+    o.algorithm = "zbuffer";
+    const Frame z = render(scene, camera, o);
+    o.algorithm = algorithm;
+    const Identity c = compareBitForBit(z, render(scene, camera, o), ref.valid ? &ref.ambiguous : nullptr,
+                                        algorithm + ", seed " + std::to_string(seed));
+    EXPECT_EQ(c.unambiguous_differ, 0u) << c.first;
+    total.add(c);
+  }
+  return total;
+}
+
+inline Identity expectBitForBitOnRealModels(const std::string& algorithm, int width = 640, int height = 480) {
+  Identity total;
+  for (const char* model : kMesaTestModels) {
+    const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
+    const Camera camera = frameScene(scene, width, height);
+    for (const CullMode cull : {CullMode::None, CullMode::Back}) {
+      RenderOptions o;
+      o.cull = cull;
+      const Frame z = render(scene, camera, o);
+      o.algorithm = algorithm;
+      const Identity c = compareBitForBit(z, render(scene, camera, o), nullptr, algorithm + " on " + model);
+      printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") + ": " + algorithm +
+                   ": " + describe(c));
+      total.add(c);
+    }
   }
   return total;
 }
