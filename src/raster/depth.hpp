@@ -15,6 +15,8 @@
 // would round at every step and make the depth depend on where the span began (which is
 // what once made two builds of hsr disagree on 27,246 depth values of the demo scene).
 
+#include <cmath>
+
 namespace hsr::detail {
 
 // A plain struct (no initialisers, so arrays of primitives holding it can be allocated
@@ -40,6 +42,23 @@ inline float depthInRow(double row, const DepthPlane& p, int x) {
 
 inline float fragmentDepth(const DepthPlane& p, int x, int y) {
   return depthInRow(depthRowStart(p, y), p, x);
+}
+
+// Comparing two planes over a box of pixels (a scan-line span, a Warnock area) instead of
+// pixel by pixel. The plane's depth in double at pixel (x, y), before fragmentDepth rounds it:
+inline double planeDepth(const DepthPlane& p, int x, int y) {
+  return depthRowStart(p, y) + p.dzdx * static_cast<double>(x);
+}
+// Plane P is in front of plane Q on a whole box when at each corner (a difference of planes is
+// extreme at a corner) P's planeDepth is in [0, 1] and below Q's by kSafeDepthGap: depths are
+// in [0, 1], where a float's spacing is at most 2^-24, so the gap survives the rounding at
+// every pixel in between, and P's fragment depth is strictly smaller there too...
+inline constexpr double kSafeDepthGap = 0x1p-20;
+// ... provided planeDepth is itself good to far better than the gap: its terms stay below
+// this bound (then its error is below 2^-33).
+inline bool planeDepthIsSafe(const DepthPlane& p, int x, int y) {
+  constexpr double kTermLimit = 0x1p+18;
+  return std::abs(p.z0) + std::abs(p.dzdy * y) + std::abs(p.dzdx * x) < kTermLimit;
 }
 
 // The depth plane of the device-space plane A x + B y + C z + D = 0 (x, y in the pixel

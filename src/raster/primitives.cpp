@@ -48,4 +48,19 @@ TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[
   return TriangleFate::kMade;
 }
 
+std::uint64_t numberPolygons(const ScreenTriangles& tris, std::vector<std::uint32_t>& polygon_of) {
+  auto same = [](const ScreenTriangle& a, const ScreenTriangle& b) {
+    return a.id == b.id && a.rgba == b.rgba && a.depth.dzdx == b.depth.dzdx &&
+           a.depth.dzdy == b.depth.dzdy && a.depth.z0 == b.depth.z0;
+  };
+  polygon_of.resize(tris.size());
+  std::uint64_t polygons = 0;
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const bool continues = i > 0 && same(tris[i], tris[i - 1]);
+    polygon_of[i] = continues ? polygon_of[i - 1] : static_cast<std::uint32_t>(i);
+    polygons += !continues;
+  }
+  return polygons;
+}
+
 }  // namespace hsr::detail

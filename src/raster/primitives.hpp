@@ -41,6 +41,13 @@ static_assert(sizeof(ScreenTriangle) == 64, "a screen triangle fills one cache l
 // The pipeline's output of triangles: resizing it before the parallel copy fills nothing.
 using ScreenTriangles = std::vector<ScreenTriangle, DefaultInitAllocator<ScreenTriangle>>;
 
+// The polygons of the pipeline's triangles, for the algorithms that reason about polygons
+// (scan-line, Warnock): a polygon is a run of consecutive triangles with the same id, depth
+// plane and colour (a non-planar polygon's triangles have planes of their own: each is a
+// polygon). Fills polygon_of[i] with the index of the first triangle of triangle i's polygon,
+// so polygon numbers increase in submission order; returns how many polygons there are.
+std::uint64_t numberPolygons(const ScreenTriangles& tris, std::vector<std::uint32_t>& polygon_of);
+
 // A line segment or point in the same window space, float coordinates (pixel centres at
 // integers), for polygon mode LINE/POINT and outline drawing; depth interpolated linearly.
 struct ScreenLine {

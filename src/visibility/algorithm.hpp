@@ -51,5 +51,6 @@ void drawPainter(const AlgorithmInput& input, Frame& frame);          // painter
 void drawPainterNaive(const AlgorithmInput& input, Frame& frame);     // painter_naive.cpp
 void drawBsp(const AlgorithmInput& input, Frame& frame);              // bsp.cpp
 void drawScanline(const AlgorithmInput& input, Frame& frame);         // scanline.cpp
+void drawWarnock(const AlgorithmInput& input, Frame& frame);          // warnock.cpp
 
 }  // namespace hsr::detail

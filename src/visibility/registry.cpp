@@ -53,6 +53,13 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .input = InputKind::kScreenTriangles,
         .capabilities = kExactSharedCoverage | kOutline | kTransparency | kExplain},
        &drawScanline},
+      {{.name = "warnock",
+        .summary = "Warnock's area subdivision: quadrants until what an area shows is simple",
+        .source = "Warnock 1969; the notes' \"area subdivision\"",
+        .precision = Precision::kImage,
+        .input = InputKind::kScreenTriangles,
+        .capabilities = kExactSharedCoverage | kOutline | kTransparency | kExplain},
+       &drawWarnock},
   };
   return table;
 }

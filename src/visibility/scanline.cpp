@@ -67,25 +67,6 @@ constexpr int kBandRows = 16;
 // How many triangles ahead the edge table's entries are fetched into the cache.
 constexpr std::uint32_t kPrefetch = 8;
 
-// Deciding a span at its ends: polygon P is in front of Q on the whole span when P's depth is
-// smaller than Q's by this much at both ends. Depths are in [0, 1], where a float's spacing
-// is at most 2^-24: a gap of 2^-20 survives the rounding to float at every pixel between, so
-// P's fragment depth is strictly smaller there too (the z-buffer would have kept P).
-constexpr double kEndsMargin = 0x1p-20;
-// ... provided the double evaluation z0 + dzdy y + dzdx x is itself good to far better than
-// that: its terms must stay below this bound (then its error is below 2^-33).
-constexpr double kEndsTermLimit = 0x1p+18;
-
-// ---------------------------------------------------------------------------------------------
-// The polygon table. A polygon is a run of consecutive triangles with the same id, depth plane
-// and colour (a non-planar polygon's triangles have planes of their own: each is a polygon
-// here). It is named by its first triangle, so polygon numbers increase in submission order.
-
-bool samePolygon(const ScreenTriangle& a, const ScreenTriangle& b) {
-  return a.id == b.id && a.rgba == b.rgba && a.depth.dzdx == b.depth.dzdx &&
-         a.depth.dzdy == b.depth.dzdy && a.depth.z0 == b.depth.z0;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Edges. Directed edge k of a triangle runs from vertex k to vertex k + 1; with the vertices in
 // positive (y-down) order, an edge going up (dy < 0) has the inside on its right: the walk
@@ -264,14 +245,8 @@ struct Tables {
 // AEL: its first row, or the first row of each later band it reaches (bands start afresh).
 void buildTables(const ScreenTriangles& tris, int height, int band_rows, Tables& tb) {
   tb.tris = &tris;
-  tb.polygon_of.resize(tris.size());
-  tb.polygons = 0;
+  tb.polygons = numberPolygons(tris, tb.polygon_of);  // the polygon table (raster/primitives.hpp)
   tb.rows = {0, -1};
-  for (std::size_t i = 0; i < tris.size(); ++i) {
-    const bool continues = i > 0 && samePolygon(tris[i], tris[i - 1]);
-    tb.polygon_of[i] = continues ? tb.polygon_of[i - 1] : static_cast<std::uint32_t>(i);
-    tb.polygons += !continues;
-  }
   auto forEachEntry = [&](auto&& f) {
     for (std::size_t i = 0; i < tris.size(); ++i) {
       const EdgeRows rows = rowsOfTriangle(tris[i]);
@@ -335,14 +310,6 @@ std::size_t findInside(const std::vector<Inside>& inside, std::uint32_t polygon)
   std::size_t k = 0;
   while (k < inside.size() && inside[k].polygon != polygon) ++k;
   return k;
-}
-
-double doubleDepth(const DepthPlane& p, int x, int y) {
-  return depthRowStart(p, y) + p.dzdx * static_cast<double>(x);
-}
-
-bool endsCanDecide(const DepthPlane& p, int x, int y) {
-  return std::abs(p.z0) + std::abs(p.dzdy * y) + std::abs(p.dzdx * x) < kEndsTermLimit;
 }
 
 class BandPass {
@@ -529,17 +496,17 @@ class BandPass {
     b.resize(opaque.size());
     for (std::size_t i = 0; i < opaque.size(); ++i) {
       const DepthPlane& p = tris_[opaque[i]].depth;
-      if (!endsCanDecide(p, xa, y) || !endsCanDecide(p, xb - 1, y)) {
+      if (!planeDepthIsSafe(p, xa, y) || !planeDepthIsSafe(p, xb - 1, y)) {
         c_.pixel_by_pixel++;
         return kNone;
       }
-      a[i] = doubleDepth(p, xa, y);
-      b[i] = doubleDepth(p, xb - 1, y);
+      a[i] = planeDepth(p, xa, y);
+      b[i] = planeDepth(p, xb - 1, y);
     }
     auto inFront = [&](std::size_t w) {
       if (!(a[w] >= 0.0 && a[w] <= 1.0 && b[w] >= 0.0 && b[w] <= 1.0)) return false;
       for (std::size_t i = 0; i < opaque.size(); ++i)
-        if (i != w && !(a[w] + kEndsMargin <= a[i] && b[w] + kEndsMargin <= b[i])) return false;
+        if (i != w && !(a[w] + kSafeDepthGap <= a[i] && b[w] + kSafeDepthGap <= b[i])) return false;
       return true;
     };
     // The previous row's order: the polygon shown above the span's first pixel.
