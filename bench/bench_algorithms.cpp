@@ -187,6 +187,22 @@ void runBspRender(benchmark::State& state, BspRun* run) {
   setCounters(state, *run->scene);
 }
 
+// A frame into a new Frame each time: for the octree, the tree is built for it (in the
+// registry's loop the frame, and with it the tree, is kept from view to view).
+void runFreshFrame(benchmark::State& state, AlgorithmRun* run) {
+  BenchScene* b = run->scene;
+  ensureScene(*b);
+  hsr::RenderOptions options;
+  options.algorithm = run->algorithm;
+  options.threads = g_threads;
+  for (auto _ : state) {
+    hsr::Frame frame;
+    hsr::render(*b->scene, b->camera, options, frame);
+    benchmark::DoNotOptimize(frame.ids.data());
+  }
+  setCounters(state, *b);
+}
+
 // Keeps the median real time per iteration of every benchmark (or the mean of its runs when
 // there are no aggregates), on top of the usual console output.
 class MedianCollector : public benchmark::ConsoleReporter {
@@ -258,6 +274,63 @@ void printObjectOrderTable(const MedianCollector& reporter) {
   std::printf("(x zbuffer = algorithm time / zbuffer time; n^k: growth of time from the 10k scene)\n");
 }
 
+// The image-order algorithms against the z-buffer on the same scene and thread count: speed
+// (z-buffer time / algorithm time), the algorithm's state against the z-buffer's, and the
+// counters the bars are about. Bars: scan-line at least 0.5x the z-buffer's speed
+// with at most 5% of its state; Warnock on spheres/100000 within 10x its time; the octree's
+// frame (tree built) at least 0.5x its speed on spheres/1000000, skipping most hidden leaves.
+void printImageOrderTable(const MedianCollector& reporter) {
+  std::printf("\nimage order vs zbuffer, threads=%d\n%-16s %-16s %9s %10s %7s %9s %8s  %s\n", g_threads, "algorithm",
+              "scene", "ms", "zbuffer ms", "speed", "state MiB", "% state", "work");
+  for (const char* name : {"zbuffer-textbook", "scanline", "warnock", "octree"}) {
+    for (const BenchScene& b : benchScenes()) {
+      const double ours = reporter.time("BM_" + std::string(name) + "/" + b.label);
+      const double z = reporter.time("BM_zbuffer/" + b.label);
+      const auto st = b.stats.find(name);
+      const auto zst = b.stats.find("zbuffer");
+      if (ours <= 0 || z <= 0 || st == b.stats.end() || zst == b.stats.end()) continue;
+      const hsr::Stats& s = st->second;
+      std::string work;
+      if (std::string(name) == "scanline") {
+        work = "spans " + std::to_string(s.counter("scanline: spans")) + ", several " +
+               std::to_string(s.counter("scanline: spans inside several")) + " (previous row " +
+               std::to_string(s.counter("scanline: previous row's order reused")) + ", ends " +
+               std::to_string(s.counter("scanline: decided at the span's ends")) + ", pixel by pixel " +
+               std::to_string(s.counter("scanline: compared pixel by pixel")) + ")";
+      } else if (std::string(name) == "warnock") {
+        std::uint64_t areas = 0;
+        for (const hsr::Counter& c : s.counters)
+          if (c.name.starts_with("warnock: areas at level")) areas += c.value;
+        work = "areas " + std::to_string(areas) + ", stops: nothing " +
+               std::to_string(s.counter("warnock: stop, nothing there")) + ", one polygon " +
+               std::to_string(s.counter("warnock: stop, one polygon")) + ", surrounder " +
+               std::to_string(s.counter("warnock: stop, surrounder in front")) + ", pixel " +
+               std::to_string(s.counter("warnock: stop, pixel"));
+      } else if (std::string(name) == "octree") {
+        const std::uint64_t skipped = s.counter("octree: leaves under covered octants");
+        const std::uint64_t hidden = s.counter("octree: leaves drawn, hidden");
+        char share[32];
+        std::snprintf(share, sizeof share, "%.1f%%", skipped + hidden ? 100.0 * skipped / (skipped + hidden) : 0.0);
+        work = "leaves " + std::to_string(s.counter("octree: leaves")) + ", hidden skipped " +
+               std::to_string(skipped) + " / drawn " + std::to_string(hidden) + " (" + share + " of hidden skipped)";
+      }
+      std::printf("%-16s %-16s %9.2f %10.2f %7.2f %9.2f %7.1f%%  %s\n", name, b.label.c_str(), ours, z, z / ours,
+                  static_cast<double>(s.state_bytes) / 1048576.0,
+                  100.0 * static_cast<double>(s.state_bytes) / static_cast<double>(std::max<std::uint64_t>(zst->second.state_bytes, 1)),
+                  work.c_str());
+    }
+  }
+  for (const BenchScene& b : benchScenes()) {
+    const double fresh = reporter.time("BM_octree_fresh/" + b.label);
+    const double kept = reporter.time("BM_octree/" + b.label);
+    if (fresh > 0 && kept > 0)
+      std::printf("octree %-16s a frame with the tree built %.1f ms, with it kept %.1f ms: build about %.1f ms\n",
+                  b.label.c_str(), fresh, kept, fresh - kept);
+  }
+  std::printf("(speed = zbuffer time / algorithm time: >= 1 means as fast; %% state = the algorithm's state "
+              "memory as a share of the z-buffer's)\n");
+}
+
 // The BSP tree built once and rendered from it: build time, splits, depth, memory; a frame
 // from the built tree against the z-buffer's frame; growth exponents from the 10k scene.
 void printBspTable(const MedianCollector& reporter, const std::vector<std::unique_ptr<BspRun>>& runs) {
@@ -327,6 +400,13 @@ int main(int argc, char** argv) {
     }
     configure(benchmark::RegisterBenchmark(("BM_llvmpipe/" + b.label).c_str(), runLlvmpipe, &b));
     if (b.fill_rate) continue;
+    runs.push_back(std::make_unique<AlgorithmRun>(AlgorithmRun{"octree", &b}));
+    benchmark::RegisterBenchmark(("BM_octree_fresh/" + b.label).c_str(), runFreshFrame, runs.back().get())
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Iterations(1)
+        ->Repetitions(3)
+        ->ReportAggregatesOnly(true);
     bsp_runs.push_back(std::make_unique<BspRun>(BspRun{&b, nullptr}));
     benchmark::RegisterBenchmark(("BM_bsp_build/" + b.label).c_str(), runBspBuild, bsp_runs.back().get())
         ->Unit(benchmark::kMillisecond)
@@ -366,6 +446,7 @@ int main(int argc, char** argv) {
   }
   for (const std::string& n : not_run) std::printf("not run: %s\n", n.c_str());
   printObjectOrderTable(reporter);
+  printImageOrderTable(reporter);
   printBspTable(reporter, bsp_runs);
   std::printf(
       "(ratio = llvmpipe time / algorithm time, median of repetitions: > 1 means hsr is faster)\n");

@@ -79,6 +79,10 @@ int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera);
 // window depth; w the clip w, > 0 in front of the eye), as prepare() projects.
 glm::dmat4 deviceFromWorld(const Camera& camera);
 
+// Whether the box [lo, hi] lies wholly outside one plane of the view frustum (in clip space:
+// -w <= x, y, z <= w), for skipping a part of a tree (BSP, octree) the eye cannot see.
+bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, const glm::dvec3& hi);
+
 // Whether the polygon with vertices `vi` lies in `plane` within float's precision: the
 // pipeline's test (a non-planar polygon is drawn as its triangles, each with its own plane).
 bool isPlanar(const Scene& scene, std::span<const std::uint32_t> vi, const Plane& plane);

@@ -52,5 +52,6 @@ void drawPainterNaive(const AlgorithmInput& input, Frame& frame);     // painter
 void drawBsp(const AlgorithmInput& input, Frame& frame);              // bsp.cpp
 void drawScanline(const AlgorithmInput& input, Frame& frame);         // scanline.cpp
 void drawWarnock(const AlgorithmInput& input, Frame& frame);          // warnock.cpp
+void drawOctree(const AlgorithmInput& input, Frame& frame);           // octree.cpp
 
 }  // namespace hsr::detail

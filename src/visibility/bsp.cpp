@@ -80,21 +80,6 @@ Camera birdsEye(const Scene& scene, const Camera& camera) {
   return top;
 }
 
-// Whether the box lies wholly outside one plane of the view frustum (in clip space: -w <= x,
-// y, z <= w).
-bool outsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, const glm::dvec3& hi) {
-  glm::dvec4 c[8];
-  for (int i = 0; i < 8; ++i)
-    c[i] = clip_from_world * glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
-  for (int axis = 0; axis < 3; ++axis)
-    for (const double sign : {-1.0, 1.0}) {
-      bool all_out = true;
-      for (const glm::dvec4& p : c) all_out = all_out && sign * p[axis] > p.w;
-      if (all_out) return true;
-    }
-  return false;
-}
-
 // The pixels a piece may paint: the box of its parent's outline clipped by the piece's cut
 // lines (the very lines its pixels are tested against), one pixel more each way for the
 // snapping of the outline. Empty (x0 > x1) when nothing is left.
@@ -166,7 +151,7 @@ void forEachBspPolygon(const BspTree& tree, const Camera& camera, bool front_to_
       }
       continue;
     }
-    if (outsideFrustum(clip_from_world, n.lo, n.hi)) {
+    if (boxOutsideFrustum(clip_from_world, n.lo, n.hi)) {
       if (stats) ++stats->skipped;
       continue;
     }

@@ -60,6 +60,13 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .input = InputKind::kScreenTriangles,
         .capabilities = kExactSharedCoverage | kOutline | kTransparency | kExplain},
        &drawWarnock},
+      {{.name = "octree",
+        .summary = "octree method: a world-space octree built once, octants front to back, covered ones skipped",
+        .source = "Doctor & Torborg 1981, Meagher 1982; the notes' \"octree\"",
+        .precision = Precision::kImage,
+        .input = InputKind::kScreenTriangles,
+        .capabilities = kExactSharedCoverage | kOutline | kTransparency | kExplain},
+       &drawOctree},
   };
   return table;
 }

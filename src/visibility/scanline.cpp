@@ -272,13 +272,13 @@ void buildTables(const ScreenTriangles& tris, int height, int band_rows, Tables&
 struct Counts {
   std::uint64_t rows = 0, edges_entered = 0, max_active = 0, edge_rows = 0;
   std::uint64_t spans = 0, spans_one = 0, spans_several = 0;
-  std::uint64_t order_reused = 0, decided_at_ends = 0, pixel_by_pixel = 0;
+  std::uint64_t order_reused = 0, decided_at_ends = 0, pixel_by_pixel = 0, short_spans = 0;
   FragmentCounts fragments;
   void add(const Counts& o) {
     rows += o.rows, edges_entered += o.edges_entered, edge_rows += o.edge_rows, max_active = std::max(max_active, o.max_active);
     spans += o.spans, spans_one += o.spans_one, spans_several += o.spans_several;
     order_reused += o.order_reused, decided_at_ends += o.decided_at_ends,
-        pixel_by_pixel += o.pixel_by_pixel;
+        pixel_by_pixel += o.pixel_by_pixel, short_spans += o.short_spans;
     fragments += o.fragments;
   }
 };
@@ -462,13 +462,15 @@ class BandPass {
       c_.spans_one++;
       how = "one polygon";
       fill(opaque[0], y, xa, xb);
+    } else if (opaque.size() > 1 && xb - xa <= 2) {
+      // One or two pixels: the span's ends are all its pixels.
+      c_.spans_several++;
+      c_.short_spans++;
+      how = "one or two pixels, compared at each";
+      pixelByPixel(y, xa, xb);
     } else if (opaque.size() > 1) {
       c_.spans_several++;
-      const Counts before = c_;
-      const std::uint32_t front = frontOnWholeSpan(y, xa, xb);
-      how = c_.order_reused > before.order_reused ? "previous row's order holds"
-            : c_.decided_at_ends > before.decided_at_ends ? "decided at its ends"
-                                                          : "compared pixel by pixel";
+      const std::uint32_t front = frontOnWholeSpan(y, xa, xb, &how);
       if (front != kNone)
         fill(front, y, xa, xb);
       else
@@ -488,7 +490,8 @@ class BandPass {
   // The one polygon in front of the others at both ends of the span, by a margin that no
   // rounding can close, or kNone. The previous row's polygon at the span's start is tried
   // first: where it still holds, that row's order is reused.
-  std::uint32_t frontOnWholeSpan(int y, int xa, int xb) {
+  std::uint32_t frontOnWholeSpan(int y, int xa, int xb, const char** how) {
+    *how = "compared pixel by pixel";
     const std::vector<std::uint32_t>& opaque = st_.opaque;
     std::vector<double>& a = st_.near_a;
     std::vector<double>& b = st_.near_b;
@@ -515,6 +518,7 @@ class BandPass {
       for (std::size_t i = 0; i < opaque.size(); ++i)
         if (tris_[opaque[i]].id == above && inFront(i)) {
           c_.order_reused++;
+          *how = "previous row's order holds";
           return opaque[i];
         }
     }
@@ -523,6 +527,7 @@ class BandPass {
       if (a[i] < a[nearest]) nearest = i;
     if (inFront(nearest)) {
       c_.decided_at_ends++;
+      *how = "decided at its ends";
       return opaque[nearest];
     }
     c_.pixel_by_pixel++;
@@ -539,7 +544,8 @@ class BandPass {
   // depths the polygon submitted first, the z-buffer's rule under LESS.
   void pixelByPixel(int y, int xa, int xb) {
     std::vector<std::uint32_t>& opaque = st_.opaque;
-    std::sort(opaque.begin(), opaque.end());  // in submission order
+    for (std::size_t i = 1; i < opaque.size(); ++i)  // in submission order (there are few)
+      for (std::size_t j = i; j > 0 && opaque[j] < opaque[j - 1]; --j) std::swap(opaque[j], opaque[j - 1]);
     for (int x = xa; x < xb; ++x) {
       const std::size_t k = fb_.index(x, y);
       std::uint32_t best = kNone;
@@ -706,6 +712,7 @@ void drawScanlineObserved(const AlgorithmInput& in, Frame& frame, ScanlineObserv
   frame.stats.addCounter("scanline: previous row's order reused", c.order_reused);
   frame.stats.addCounter("scanline: decided at the span's ends", c.decided_at_ends);
   frame.stats.addCounter("scanline: compared pixel by pixel", c.pixel_by_pixel);
+  frame.stats.addCounter("scanline: one or two pixels, compared at each", c.short_spans);
   frame.stats.addStage(
       "scan lines",
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
