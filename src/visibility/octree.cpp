@@ -29,6 +29,8 @@
 
 #include "visibility/octree.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -195,6 +197,7 @@ constexpr std::string_view kStepOctant = "octant";
 constexpr std::string_view kStepDone = "done";
 
 constexpr int kTile = 8;  // written pixels are counted per 8x8 tile, to test footprints fast
+constexpr int kBandRows = 8 * kTile;  // rows per band (a whole number of tiles)
 
 // The memory kept between frames: the tree (rebuilt when the scene changes) and the per-pixel
 // scratch of a leaf's exact resolution.
@@ -205,10 +208,10 @@ struct Scratch {
   std::vector<std::uint32_t> leaf_tri;  // ... its screen triangle ...
   std::vector<std::uint32_t> stamp;     // ... valid where stamp == the leaf's number
   std::vector<std::uint32_t> tile_written;
-  std::vector<std::uint32_t> touched, tri_start;
+  std::vector<std::uint32_t> tri_start;
   std::size_t bytes() const {
     return (leaf_z.capacity() + leaf_tri.capacity() + stamp.capacity() + tile_written.capacity() +
-            touched.capacity() + tri_start.capacity()) * 4;
+            tri_start.capacity()) * 4;
   }
 };
 
@@ -216,22 +219,36 @@ struct Counts {
   std::uint64_t visited = 0, outside = 0, covered = 0, covered_leaves = 0;
   std::uint64_t leaves_drawn = 0, leaves_hidden = 0, pieces = 0, pixels_written = 0, rewritten = 0;
   FragmentCounts fragments;
+  void add(const Counts& o) {
+    visited += o.visited, outside += o.outside, covered += o.covered, covered_leaves += o.covered_leaves;
+    leaves_drawn += o.leaves_drawn, leaves_hidden += o.leaves_hidden, pieces += o.pieces;
+    pixels_written += o.pixels_written, rewritten += o.rewritten;
+    fragments += o.fragments;
+  }
 };
 
+// The per-frame preparation shared by the bands: the scratch sized and cleared, each
+// polygon's screen triangles found (the pipeline gives them in id order).
+void prepareScratch(const AlgorithmInput& in, const Frame& frame, Scratch& s) {
+  const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
+  s.leaf_z.resize(pixels);
+  s.leaf_tri.resize(pixels);
+  s.stamp.assign(pixels, 0);
+  const int tiles_x = (frame.width + kTile - 1) / kTile;
+  s.tile_written.assign(static_cast<std::size_t>(tiles_x) * ((frame.height + kTile - 1) / kTile), 0);
+  s.tri_start.assign(in.scene.polygonCount() + 1, 0);
+  for (const ScreenTriangle& t : in.prepared.triangles) s.tri_start[t.id + 1]++;
+  for (std::size_t k = 1; k < s.tri_start.size(); ++k) s.tri_start[k] += s.tri_start[k - 1];
+}
+
+// Draws the rows of one band of the picture: the tree is traversed for each band, with
+// footprints cut to the band, so bands own their pixels and run in parallel.
 class Painter {
  public:
-  Painter(const AlgorithmInput& in, Frame& frame, const Octree& tree, Scratch& s)
-      : in_(in), frame_(frame), fb_(frame), tree_(tree), s_(s), tris_(in.prepared.triangles) {
-    const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
-    s_.leaf_z.resize(pixels);
-    s_.leaf_tri.resize(pixels);
-    s_.stamp.assign(pixels, 0);
+  Painter(const AlgorithmInput& in, Frame& frame, const Octree& tree, Scratch& s, int row0, int row1)
+      : in_(in), frame_(frame), fb_(frame), tree_(tree), s_(s), tris_(in.prepared.triangles),
+        band_{0, row0, frame.width - 1, row1} {
     tiles_x_ = (frame.width + kTile - 1) / kTile;
-    s_.tile_written.assign(static_cast<std::size_t>(tiles_x_) * ((frame.height + kTile - 1) / kTile), 0);
-    // Each polygon's screen triangles: the pipeline gives them in id order.
-    s_.tri_start.assign(in.scene.polygonCount() + 1, 0);
-    for (const ScreenTriangle& t : tris_) s_.tri_start[t.id + 1]++;
-    for (std::size_t k = 1; k < s_.tri_start.size(); ++k) s_.tri_start[k] += s_.tri_start[k - 1];
     device_from_world_ = deviceFromWorld(in.camera);
     clip_from_world_ = glm::dmat4(in.camera.projection()) * glm::dmat4(in.camera.view());
     device_plane_from_world_plane_ = glm::transpose(glm::inverse(device_from_world_));
@@ -254,8 +271,8 @@ class Painter {
         counts.outside++;
         continue;
       }
-      const PixelBox footprint = footprintOf(node);
-      if (footprint.empty()) {  // between pixel centres, or off the picture
+      const PixelBox footprint = cut(footprintOf(node), band_);
+      if (footprint.empty()) {  // between pixel centres, off the picture or off the band
         counts.outside++;
         continue;
       }
@@ -290,6 +307,10 @@ class Painter {
   }
 
  private:
+  static PixelBox cut(const PixelBox& a, const PixelBox& b) {
+    return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+  }
+
   // The child of `node` on the eye's side of each of its middle planes.
   int eyeOctant(const OctreeNode& node) const {
     const glm::dvec3 mid = tree_.nodes[static_cast<std::size_t>(node.first_child)].hi;  // child 0's top
@@ -354,7 +375,7 @@ class Painter {
   // A leaf's pieces resolved exactly at each pixel not yet written; then each pixel written once.
   std::uint64_t drawLeaf(const OctreeNode& leaf, const PixelBox& footprint) {
     const std::uint32_t stamp = ++leaf_number_;
-    s_.touched.clear();
+    touched_.clear();
     for (std::uint32_t k = 0; k < leaf.entry_count; ++k) {
       const OctreeEntry& e = tree_.entries[leaf.first_entry + k];
       const std::uint32_t first = s_.tri_start[e.polygon], last = s_.tri_start[e.polygon + 1];
@@ -369,7 +390,7 @@ class Painter {
     }
     // Write each pixel once: the nearest piece, if nearer than the cleared depth.
     std::uint64_t written = 0;
-    for (const std::uint32_t k : s_.touched) {
+    for (const std::uint32_t k : touched_) {
       const bool again = fb_.ids[k] != kNoPolygon;
       if (again) {
         counts.rewritten++;  // a float tie with a nearer octant, settled as the z-buffer does
@@ -436,7 +457,7 @@ class Painter {
           s_.stamp[k] = stamp;
           s_.leaf_z[k] = z;
           s_.leaf_tri[k] = index;
-          s_.touched.push_back(static_cast<std::uint32_t>(k));
+          touched_.push_back(static_cast<std::uint32_t>(k));
         } else if (z < s_.leaf_z[k] || (z == s_.leaf_z[k] && index < s_.leaf_tri[k])) {
           s_.leaf_z[k] = z;
           s_.leaf_tri[k] = index;
@@ -486,6 +507,8 @@ class Painter {
   std::uint32_t leaf_number_ = 0;
   std::uint64_t traced_ = 0;
   std::vector<PixelHalfPlane> cuts_;
+  std::vector<std::uint32_t> touched_;  // the pixels the current leaf resolves
+  PixelBox band_;
 };
 
 }  // namespace
@@ -514,9 +537,24 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
                       &frame,
                       {}});
   t0 = std::chrono::steady_clock::now();
-  Painter painter(in, frame, tree, s);
-  painter.run();
-  Counts c = painter.counts;
+  // The picture in bands of kBandRows rows, in parallel; the bands are fixed, so the picture
+  // and every count are the same at any thread count.
+  prepareScratch(in, frame, s);
+  const int band_rows = in.trace ? std::max(frame.height, 1) : kBandRows;
+  const int bands = (frame.height + band_rows - 1) / band_rows;
+  std::vector<Counts> per_band(static_cast<std::size_t>(bands));
+  auto drawBand = [&](int b) {
+    Painter painter(in, frame, tree, s, b * band_rows, std::min(frame.height, (b + 1) * band_rows) - 1);
+    painter.run();
+    per_band[static_cast<std::size_t>(b)] = painter.counts;
+  };
+  if (in.trace) {
+    for (int b = 0; b < bands; ++b) drawBand(b);
+  } else {
+    tbb::parallel_for(0, bands, drawBand);
+  }
+  Counts c;
+  for (const Counts& b : per_band) c.add(b);
 
   // See-through polygons over the finished picture, in submission order, as the z-buffer.
   const FrameView fb(frame);

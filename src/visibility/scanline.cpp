@@ -62,7 +62,7 @@ constexpr std::string_view kStepDone = "done";
 
 // Rows per band. Each band starts its own AEL at its first row, so bands run in parallel;
 // the size is fixed, so the picture and every count are the same at any thread count.
-constexpr int kBandRows = 16;
+constexpr int kBandRows = 32;
 
 // How many triangles ahead the edge table's entries are fetched into the cache.
 constexpr std::uint32_t kPrefetch = 8;

@@ -96,6 +96,24 @@ TEST(Octree, WritesEachPixelOnceSkipsHiddenOctantsAndReusesTheTree) {
   EXPECT_EQ(frame.stats.counter("octree: built for this frame"), 1u);
 }
 
+// Bands of rows are drawn in parallel; the picture and every count are the same at any thread
+// count.
+TEST(Octree, SameFrameAndCountsAtAnyThreadCount) {
+  const Scene scene = makeBuiltinScene("spheres:20000");
+  const Camera camera = frameScene(scene, 400, 300);
+  RenderOptions o;
+  o.algorithm = "octree";
+  o.threads = 1;
+  const Frame one = render(scene, camera, o);
+  for (const int threads : {2, 4}) {
+    o.threads = threads;
+    const Frame many = render(scene, camera, o);
+    const testing::Identity c = testing::compareBitForBit(one, many, nullptr, "threads");
+    EXPECT_EQ(c.differ, 0u) << c.first;
+    for (const Counter& k : one.stats.counters) EXPECT_EQ(many.stats.counter(k.name), k.value) << k.name;
+  }
+}
+
 // Every polygon is held by some leaf, and only by leaves its bounding box reaches.
 TEST(Octree, TreeHoldsEveryPolygonInTheOctantsItReaches) {
   const Scene scene = testing::agreementScene(7);
