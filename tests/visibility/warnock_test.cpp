@@ -54,7 +54,7 @@ TEST(Warnock, BlendsTransparentPolygonsAndOutlinesAsTheZBuffer) {
 // Counts how often each pixel lies in a leaf, and the deepest level.
 class LeafChecker : public detail::WarnockObserver {
  public:
-  LeafChecker(int width, int height) : width(width), height(height), hits(static_cast<std::size_t>(width) * height) {}
+  LeafChecker(int w, int h) : width(w), height(h), hits(static_cast<std::size_t>(w) * h) {}
   void leaf(const detail::PixelBox& a, int level, detail::WarnockStop why) override {
     EXPECT_LE(0, a.x0);
     EXPECT_LE(a.x0, a.x1);
@@ -62,7 +62,9 @@ class LeafChecker : public detail::WarnockObserver {
     EXPECT_LE(0, a.y0);
     EXPECT_LE(a.y0, a.y1);
     EXPECT_LT(a.y1, height);
-    if (why == detail::WarnockStop::kPixel) EXPECT_TRUE(a.x0 == a.x1 && a.y0 == a.y1);
+    if (why == detail::WarnockStop::kPixel) {
+      EXPECT_TRUE(a.x0 == a.x1 && a.y0 == a.y1);
+    }
     for (int y = a.y0; y <= a.y1; ++y)
       for (int x = a.x0; x <= a.x1; ++x) hits[static_cast<std::size_t>(y) * width + x]++;
     deepest = std::max(deepest, level);
