@@ -6,13 +6,18 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <string>
 
+#include "hsr/camera.hpp"
+#include "hsr/error.hpp"
 #include "hsr/io.hpp"
 
 namespace hsr {
 
 std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& camera,
-                                             const RenderOptions& options) {
+                                             const RenderOptions& options, int views) {
+  if (views < 1 || views > kMaxCompareViews)
+    throw Error("views must be 1 to " + std::to_string(kMaxCompareViews) + " (got " + std::to_string(views) + ")");
   std::vector<ComparisonRow> rows;
   for (const AlgorithmInfo& info : algorithms()) {
     RenderOptions o = options;
@@ -50,6 +55,40 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
     for (std::size_t i = 0; i < ref.size(); ++i) diff += r.frame.ids[i] != ref[i];
     r.differing_pixels = diff;
     r.id_agreement = ref.empty() ? 1.0 : 1.0 - static_cast<double>(diff) / static_cast<double>(ref.size());
+  }
+  if (views == 1) return rows;
+
+  // The orbit: every algorithm draws each further view into a frame that shares the first
+  // view's kept state (a copy of a Frame shares its scratch), then is compared with the
+  // reference's frame of the same view.
+  std::vector<ComparisonRow*> run;
+  std::vector<Frame> frames;
+  std::size_t ref_index = 0;
+  for (ComparisonRow& r : rows) {
+    if (!r.not_run.empty()) continue;
+    if (&r == &*ref_row) ref_index = run.size();
+    run.push_back(&r);
+    frames.push_back(r.frame);
+  }
+  std::uint64_t pixels = ref.size();
+  for (int k = 1; k < views; ++k) {
+    const Camera view = orbitView(camera, k, views);
+    for (std::size_t i = 0; i < run.size(); ++i) {
+      RenderOptions o = options;
+      o.algorithm = run[i]->algorithm;
+      const auto t0 = std::chrono::steady_clock::now();
+      render(scene, view, o, frames[i]);
+      run[i]->view_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
+    const std::vector<PolygonId>& view_ref = frames[ref_index].ids;
+    for (std::size_t i = 0; i < run.size(); ++i)
+      for (std::size_t p = 0; p < view_ref.size(); ++p) run[i]->differing_pixels += frames[i].ids[p] != view_ref[p];
+    pixels += view_ref.size();
+  }
+  for (ComparisonRow* r : run) {
+    r->views = views;
+    r->view_ms /= views - 1;
+    r->id_agreement = 1.0 - static_cast<double>(r->differing_pixels) / static_cast<double>(std::max<std::uint64_t>(pixels, 1));
   }
   return rows;
 }

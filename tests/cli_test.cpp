@@ -11,6 +11,8 @@
 
 #include <sys/wait.h>
 
+#include "hsr/compare.hpp"
+#include "hsr/io.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -200,6 +202,33 @@ TEST(Cli, CompareWritesTableAndSheet) {
   EXPECT_NE(r.out.find("zbuffer"), std::string::npos);
   EXPECT_NE(r.out.find("100.0000%"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(sheet));
+}
+
+// An orbit of views: each algorithm keeps its frame (and the octree its tree) from view to
+// view; ids are compared on every view, so the exact algorithms stay at 100%.
+TEST(Cli, CompareOrbitsTheTargetWithViews) {
+  const CliRun r = runCli("compare demo --size 120x90 --views 4");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("4 views on an orbit"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("next views ms"), std::string::npos) << r.out;
+  for (const char* exact : {"zbuffer-textbook", "scanline", "warnock"}) {
+    const std::size_t at = r.out.find(std::string("  ") + exact + " ");
+    ASSERT_NE(at, std::string::npos) << exact;
+    const std::string line = r.out.substr(at, r.out.find('\n', at) - at);
+    EXPECT_NE(line.find("100.0000%"), std::string::npos) << line;
+  }
+  expectCleanError("compare demo --views 0", "--views");
+  expectCleanError("compare demo --views 100000", "--views");
+  // The library: three views each, the bit-exact algorithms equal on all of them.
+  const hsr::Scene scene = hsr::makeBuiltinScene("spheres:2000");
+  const std::vector<hsr::ComparisonRow> rows = hsr::compareAlgorithms(scene, hsr::frameScene(scene, 80, 60), {}, 3);
+  for (const hsr::ComparisonRow& row : rows) {
+    if (!row.not_run.empty()) continue;
+    EXPECT_EQ(row.views, 3) << row.algorithm;
+    EXPECT_GT(row.view_ms, 0.0) << row.algorithm;
+    if (row.algorithm == "zbuffer-textbook" || row.algorithm == "scanline" || row.algorithm == "warnock")
+      EXPECT_EQ(row.differing_pixels, 0u) << row.algorithm;
+  }
 }
 
 TEST(Cli, ExplainWritesNumberedPicturesASheetAndAnIndex) {

@@ -31,6 +31,7 @@ struct Args {
   std::string output_file;
   std::string raw_dir, stats_file, sheet_file;
   int threads = 0;
+  int views = 1;  // hsr compare --views
   std::string bsp_splitter = "balanced";
   std::uint64_t bsp_seed = 1;
   int bsp_candidates = 8;

@@ -117,17 +117,9 @@ int runRender(BspVerb& v) {
   }
   // N views on a ring around the target, about the up axis, at the camera's distance.
   hsr::OutputDirectory dir(out);
-  const glm::vec3 up = glm::normalize(camera.up);
-  const glm::vec3 offset = camera.eye - camera.target;
   double total_ms = 0;
   for (int k = 0; k < v.orbit; ++k) {
-    const float angle = 6.2831853f * static_cast<float>(k) / static_cast<float>(v.orbit);
-    // Rodrigues' rotation of the offset about `up`.
-    const glm::vec3 rotated = offset * std::cos(angle) + glm::cross(up, offset) * std::sin(angle) +
-                              up * glm::dot(up, offset) * (1.0f - std::cos(angle));
-    hsr::Camera view = camera;
-    view.eye = camera.target + rotated;
-    const hsr::Frame frame = hsr::render(bsp, view, options);
+    const hsr::Frame frame = hsr::render(bsp, hsr::orbitView(camera, k, v.orbit), options);
     total_ms += frame.stats.totalMs();
     dir.write(fmt::format("view-{:04}.png", k),
               {hsr::encodePng(frame.width, frame.height, 3, hsr::picture(frame, "color").data())});

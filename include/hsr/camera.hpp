@@ -36,4 +36,9 @@ Camera frameScene(const Scene& scene, int width, int height);
 Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg = 45.0f,
                    bool ortho = false);
 
+// View k of n on a ring around the camera's target, about its up axis, at its distance from
+// the target (view 0 is the camera itself): an orbit, for showing that what an algorithm
+// builds once (a BSP tree, an octree) serves every view.
+Camera orbitView(const Camera& camera, int k, int n);
+
 }  // namespace hsr

@@ -19,13 +19,21 @@ struct ComparisonRow {
   double id_agreement = 1.0;        // fraction of pixels whose id equals the z-buffer's
   std::uint64_t differing_pixels = 0;
   std::string not_run;              // why it was not run (it cannot do what the options ask)
-  Frame frame;
+  int views = 1;                    // views rendered: the camera's, then an orbit (orbitView)
+  double view_ms = 0.0;             // mean wall time of the views after the first
+  Frame frame;                      // the first view
 };
 
+// The most views compareAlgorithms takes.
+inline constexpr int kMaxCompareViews = 360;
+
 // Every algorithm of the registry; one that cannot do what the options ask is listed with
-// not_run set and no frame (the sheet leaves it out).
+// not_run set and no frame (the sheet leaves it out). With views > 1, each algorithm then
+// draws views 1 .. views - 1 of an orbit around the target into the frame it drew the first
+// view in, keeping what it keeps between frames (an octree, its buffers), and id agreement
+// counts every view's pixels.
 std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& camera,
-                                             const RenderOptions& options);
+                                             const RenderOptions& options, int views = 1);
 
 // A labelled contact sheet: one column per algorithm, rows colour / ids / overdraw.
 // Returns RGB8 top row first and sets width and height.

@@ -105,6 +105,19 @@ Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, b
   return c;
 }
 
+Camera orbitView(const Camera& camera, int k, int n) {
+  if (n < 1) throw Error("an orbit needs at least 1 view (got " + std::to_string(n) + ")");
+  const glm::vec3 up = glm::normalize(camera.up);
+  const glm::vec3 offset = camera.eye - camera.target;
+  const float angle = 6.2831853f * static_cast<float>(k) / static_cast<float>(n);
+  // Rodrigues' rotation of the offset about `up`.
+  const glm::vec3 rotated = offset * std::cos(angle) + glm::cross(up, offset) * std::sin(angle) +
+                            up * glm::dot(up, offset) * (1.0f - std::cos(angle));
+  Camera view = camera;
+  view.eye = camera.target + rotated;
+  return view;
+}
+
 Camera frameScene(const Scene& scene, int width, int height) {
   if (scene.camera) {
     const SceneCamera& s = *scene.camera;
