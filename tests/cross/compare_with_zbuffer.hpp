@@ -73,6 +73,42 @@ inline std::string describe(const Comparison& c) {
 inline constexpr const char* kMesaTestModels[] = {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl",
                                                   "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"};
 
+// The real models of the Mesa test at 640x480, cull none and back: the frame `draw(scene,
+// camera, options)` gives against the z-buffer's: no pixel clearly wrong, ids agreeing on at
+// least 99.9% of the drawn pixels, equal depths wherever the ids agree. `more(frame)` adds to
+// the printed line.
+template <class Draw, class More>
+void expectRealModelsAgreeWithTheZBuffer(const std::string& algorithm, Draw&& draw, More&& more) {
+  for (const char* model : kMesaTestModels) {
+    SCOPED_TRACE(model);
+    const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
+    const Camera camera = frameScene(scene, 640, 480);
+    for (const CullMode cull : {CullMode::None, CullMode::Back}) {
+      RenderOptions o;
+      o.cull = cull;
+      const Frame z = render(scene, camera, o);
+      const Frame f = draw(scene, camera, o);
+      const Comparison c = compareFrames(z, f, algorithm);
+      printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") + ": " + algorithm +
+                   ": " + describe(c) + " (" + percent(c.drawn - c.ids_differ, c.drawn) + " agree)" + more(f));
+      EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
+      EXPECT_LE(c.ids_differ, c.drawn / 1000);
+      EXPECT_EQ(c.depth_differs_same_id, 0u);
+    }
+  }
+}
+
+// The same for an algorithm of the registry, drawn by render().
+inline void expectRealModelsAgreeWithTheZBuffer(const std::string& algorithm) {
+  expectRealModelsAgreeWithTheZBuffer(
+      algorithm,
+      [&](const Scene& scene, const Camera& camera, RenderOptions o) {
+        o.algorithm = algorithm;
+        return render(scene, camera, o);
+      },
+      [](const Frame&) { return std::string(); });
+}
+
 // Row 4's seeded random scenes (60 x the count scale, seeds 1000...) against the z-buffer:
 // no clearly wrong pixel, and equal depths wherever the ids agree. `each(scene, camera)` is
 // called for every scene too (for the algorithm's own counters). Returns the sum.
@@ -182,6 +218,39 @@ inline Identity expectBitForBitOnRealModels(const std::string& algorithm, int wi
     }
   }
   return total;
+}
+
+// Glass over opaque polygons (the demo) and the outline pen: colours too are the z-buffer's.
+inline void expectBlendsAndOutlinesAsTheZBuffer(const std::string& algorithm) {
+  const Scene scene = makeBuiltinScene("demo");
+  const Camera camera = frameScene(scene, 320, 240);
+  for (const bool outline : {false, true}) {
+    RenderOptions o;
+    o.outline = outline;
+    const Frame z = render(scene, camera, o);
+    o.algorithm = algorithm;
+    const Identity c = compareBitForBit(z, render(scene, camera, o), nullptr, "demo");
+    EXPECT_EQ(c.differ, 0u) << c.first;
+  }
+}
+
+// spheres:20000 at 400x300 on 1, 2 and 4 threads: the same picture and every count the same.
+// Returns the 1-thread frame.
+inline Frame expectSameFrameAndCountsAtAnyThreadCount(const std::string& algorithm) {
+  const Scene scene = makeBuiltinScene("spheres:20000");
+  const Camera camera = frameScene(scene, 400, 300);
+  RenderOptions o;
+  o.algorithm = algorithm;
+  o.threads = 1;
+  Frame one = render(scene, camera, o);
+  for (const int threads : {2, 4}) {
+    o.threads = threads;
+    const Frame many = render(scene, camera, o);
+    const Identity c = compareBitForBit(one, many, nullptr, "threads");
+    EXPECT_EQ(c.differ, 0u) << c.first;
+    for (const Counter& k : one.stats.counters) EXPECT_EQ(many.stats.counter(k.name), k.value) << k.name;
+  }
+  return one;
 }
 
 }  // namespace hsr::testing

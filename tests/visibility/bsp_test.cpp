@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "cross/compare_with_zbuffer.hpp"
@@ -174,23 +175,18 @@ TEST(Bsp, RandomScenesHaveNoClearlyWrongPixel) {
 // The real models of the Mesa test: ids agree with the z-buffer's on at least 99.9% of the
 // drawn pixels, and no pixel is clearly wrong.
 TEST(Bsp, RealModelsAgreeWithTheZBuffer) {
-  for (const char* model : testing::kMesaTestModels) {
-    SCOPED_TRACE(model);
-    const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
-    const Camera camera = frameScene(scene, 640, 480);
-    const Bsp bsp = buildBsp(scene);  // one tree for both renders
-    for (const CullMode cull : {CullMode::None, CullMode::Back}) {
-      RenderOptions o;
-      o.cull = cull;
-      const Comparison c = testing::compareFrames(render(scene, camera, o), render(bsp, camera, o), "bsp");
-      testing::printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") +
-                            ": bsp: " + describe(c) + " (" + testing::percent(c.drawn - c.ids_differ, c.drawn) +
-                            " agree)");
-      EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
-      EXPECT_LE(c.ids_differ, c.drawn / 1000);
-      EXPECT_EQ(c.depth_differs_same_id, 0u);
-    }
-  }
+  // One tree per model for both renders (models told apart by name and size).
+  std::string built_for;
+  std::optional<Bsp> bsp;
+  testing::expectRealModelsAgreeWithTheZBuffer(
+      "bsp",
+      [&](const Scene& scene, const Camera& camera, const RenderOptions& o) {
+        const std::string key =
+            scene.name + "/" + std::to_string(scene.polygonCount()) + "/" + std::to_string(scene.vertexCount());
+        if (!bsp || built_for != key) bsp.emplace(buildBsp(scene)), built_for = key;
+        return render(*bsp, camera, o);
+      },
+      [](const Frame&) { return std::string(); });
 }
 
 // The notes' traversal: front to back is back to front reversed (no plane holds the eye), and

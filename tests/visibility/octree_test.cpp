@@ -38,26 +38,16 @@ TEST(Octree, RandomScenesHaveNoClearlyWrongPixel) {
 }
 
 TEST(Octree, RealModelsAgreeWithTheZBuffer) {
-  for (const char* model : testing::kMesaTestModels) {
-    SCOPED_TRACE(model);
-    const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
-    const Camera camera = frameScene(scene, 640, 480);
-    for (const CullMode cull : {CullMode::None, CullMode::Back}) {
-      RenderOptions o;
-      o.cull = cull;
-      const Frame z = render(scene, camera, o);
-      o.algorithm = "octree";
-      const Frame f = render(scene, camera, o);
-      const Comparison c = testing::compareFrames(z, f, "octree");
-      testing::printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") +
-                            ": octree: " + describe(c) + " (" + testing::percent(c.drawn - c.ids_differ, c.drawn) +
-                            " agree); " + testing::grouped(f.stats.counter("octree: pixels rewritten on a float tie")) +
-                            " pixels rewritten on a float tie");
-      EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
-      EXPECT_LE(c.ids_differ, c.drawn / 1000);
-      EXPECT_EQ(c.depth_differs_same_id, 0u);
-    }
-  }
+  testing::expectRealModelsAgreeWithTheZBuffer(
+      "octree",
+      [](const Scene& scene, const Camera& camera, RenderOptions o) {
+        o.algorithm = "octree";
+        return render(scene, camera, o);
+      },
+      [](const Frame& f) {
+        return "; " + testing::grouped(f.stats.counter("octree: pixels rewritten on a float tie")) +
+               " pixels rewritten on a float tie";
+      });
 }
 
 // Every pixel is written once at most (the overdraw buffer counts writes), most hidden
@@ -99,19 +89,7 @@ TEST(Octree, WritesEachPixelOnceSkipsHiddenOctantsAndReusesTheTree) {
 // Bands of rows are drawn in parallel; the picture and every count are the same at any thread
 // count.
 TEST(Octree, SameFrameAndCountsAtAnyThreadCount) {
-  const Scene scene = makeBuiltinScene("spheres:20000");
-  const Camera camera = frameScene(scene, 400, 300);
-  RenderOptions o;
-  o.algorithm = "octree";
-  o.threads = 1;
-  const Frame one = render(scene, camera, o);
-  for (const int threads : {2, 4}) {
-    o.threads = threads;
-    const Frame many = render(scene, camera, o);
-    const testing::Identity c = testing::compareBitForBit(one, many, nullptr, "threads");
-    EXPECT_EQ(c.differ, 0u) << c.first;
-    for (const Counter& k : one.stats.counters) EXPECT_EQ(many.stats.counter(k.name), k.value) << k.name;
-  }
+  testing::expectSameFrameAndCountsAtAnyThreadCount("octree");
 }
 
 // Every polygon is held by some leaf, and only by leaves its bounding box reaches.

@@ -120,22 +120,7 @@ TEST(Painter, RandomScenesHaveNoClearlyWrongPixel) {
 // The real models of the Mesa test: ids agree with the z-buffer's on at least 99.9% of the
 // drawn pixels, and no pixel is clearly wrong.
 TEST(Painter, RealModelsAgreeWithTheZBuffer) {
-  for (const char* model : testing::kMesaTestModels) {
-    SCOPED_TRACE(model);
-    const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
-    const Camera camera = frameScene(scene, 640, 480);
-    for (const CullMode cull : {CullMode::None, CullMode::Back}) {
-      RenderOptions o;
-      o.cull = cull;
-      const Comparison c = compareWithZBuffer(scene, camera, "painter", o);
-      testing::printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") +
-                            ": " + describe(c) + " (" + testing::percent(c.drawn - c.ids_differ, c.drawn) +
-                            " agree)");
-      EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
-      EXPECT_LE(c.ids_differ, c.drawn / 1000);
-      EXPECT_EQ(c.depth_differs_same_id, 0u);
-    }
-  }
+  testing::expectRealModelsAgreeWithTheZBuffer("painter");
 }
 
 }  // namespace

@@ -37,16 +37,7 @@ TEST(Scanline, EqualsTheZBufferBitForBitOnRealModels) {
 
 // Glass over opaque polygons (the demo) and the outline pen: colours too are the z-buffer's.
 TEST(Scanline, BlendsTransparentPolygonsAndOutlinesAsTheZBuffer) {
-  const Scene scene = makeBuiltinScene("demo");
-  const Camera camera = frameScene(scene, 320, 240);
-  for (const bool outline : {false, true}) {
-    RenderOptions o;
-    o.outline = outline;
-    const Frame z = render(scene, camera, o);
-    o.algorithm = "scanline";
-    const testing::Identity c = testing::compareBitForBit(z, render(scene, camera, o), nullptr, "demo");
-    EXPECT_EQ(c.differ, 0u) << c.first;
-  }
+  testing::expectBlendsAndOutlinesAsTheZBuffer("scanline");
 }
 
 // Watches the pass: each row is cut into spans that follow each other from column 0 to the
@@ -114,19 +105,7 @@ TEST(Scanline, SpansPartitionEveryRowAndTheActiveEdgeListEndsEmpty) {
 
 // Bands of rows run in parallel; the picture and every count are the same at any thread count.
 TEST(Scanline, SameFrameAndCountsAtAnyThreadCount) {
-  const Scene scene = makeBuiltinScene("spheres:20000");
-  const Camera camera = frameScene(scene, 400, 300);
-  RenderOptions o;
-  o.algorithm = "scanline";
-  o.threads = 1;
-  const Frame one = render(scene, camera, o);
-  for (const int threads : {2, 4}) {
-    o.threads = threads;
-    const Frame many = render(scene, camera, o);
-    const testing::Identity c = testing::compareBitForBit(one, many, nullptr, "threads");
-    EXPECT_EQ(c.differ, 0u) << c.first;
-    for (const Counter& k : one.stats.counters) EXPECT_EQ(many.stats.counter(k.name), k.value) << k.name;
-  }
+  const Frame one = testing::expectSameFrameAndCountsAtAnyThreadCount("scanline");
   // The notes' coherence at work: spans wider than two pixels inside several polygons are
   // mostly settled at their ends, many by the previous row's order, few pixel by pixel.
   const std::uint64_t several = one.stats.counter("scanline: spans inside several");

@@ -39,16 +39,7 @@ TEST(Warnock, EqualsTheZBufferBitForBitOnRealModels) {
 
 // Glass over opaque polygons (the demo) and the outline pen: colours too are the z-buffer's.
 TEST(Warnock, BlendsTransparentPolygonsAndOutlinesAsTheZBuffer) {
-  const Scene scene = makeBuiltinScene("demo");
-  const Camera camera = frameScene(scene, 320, 240);
-  for (const bool outline : {false, true}) {
-    RenderOptions o;
-    o.outline = outline;
-    const Frame z = render(scene, camera, o);
-    o.algorithm = "warnock";
-    const testing::Identity c = testing::compareBitForBit(z, render(scene, camera, o), nullptr, "demo");
-    EXPECT_EQ(c.differ, 0u) << c.first;
-  }
+  testing::expectBlendsAndOutlinesAsTheZBuffer("warnock");
 }
 
 // Counts how often each pixel lies in a leaf, and the deepest level.
@@ -117,19 +108,7 @@ TEST(Warnock, LeavesPartitionTheViewportWithinTheDepthBound) {
 // Quadrants near the top run in parallel; the picture and every count are the same at any
 // thread count.
 TEST(Warnock, SameFrameAndCountsAtAnyThreadCount) {
-  const Scene scene = makeBuiltinScene("spheres:20000");
-  const Camera camera = frameScene(scene, 400, 300);
-  RenderOptions o;
-  o.algorithm = "warnock";
-  o.threads = 1;
-  const Frame one = render(scene, camera, o);
-  for (const int threads : {2, 4}) {
-    o.threads = threads;
-    const Frame many = render(scene, camera, o);
-    const testing::Identity c = testing::compareBitForBit(one, many, nullptr, "threads");
-    EXPECT_EQ(c.differ, 0u) << c.first;
-    for (const Counter& k : one.stats.counters) EXPECT_EQ(many.stats.counter(k.name), k.value) << k.name;
-  }
+  testing::expectSameFrameAndCountsAtAnyThreadCount("warnock");
 }
 
 }  // namespace
