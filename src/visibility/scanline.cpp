@@ -127,44 +127,50 @@ Sides sidesOf(const ScreenTriangle& t) {
   return s;
 }
 
-// An edge in the active edge list: what the walk reads and the sort moves. Its x on a row is
-// the column where its polygon's flag flips: an entering edge's first column inside, a
-// leaving edge's first column past the triangle.
+// An edge in the active edge list. Its x on a row is the column where its polygon's flag
+// flips: an entering edge's first column inside, a leaving edge's first column past the
+// triangle. x moves by 1/m per row, kept as a whole part q and a remainder and stepped exactly
+// (as Bresenham steps a line), so that x equals the shared edge setup's span limit on every
+// row: the edge function's value at column 0 of a row, E, grows by a constant per row, and
+// x = floor(E / den) + 1 for a leaving edge, -floor(E / den) for an entering one. One edge
+// fills one cache line; the walk reads the list's order (Crossing) rather than the edges.
 struct ActiveEdge {
   std::int32_t x;
-  std::int16_t flip;        // +1 entering, -1 leaving
-  bool transparent;         // its polygon's
-  std::uint32_t polygon;    // the polygon table's number
-  std::uint32_t slot;       // its EdgeStep in the band's pool
-};
-
-// How an active edge's x moves: by 1/m per row, kept as a whole part q and a remainder and
-// stepped exactly (as Bresenham steps a line), so that x equals the shared edge setup's span
-// limit on every row. The edge function's value at column 0 of a row, E, grows by a constant
-// per row; x = floor(E / den) + 1 for a leaving edge, -floor(E / den) for an entering one.
-struct EdgeStep {
-  std::int64_t q, rem, den, dq, drem;  // floor(E / den), E mod den, and their steps per row
-  std::int32_t last_row;               // the last row of the current edge
+  std::uint32_t polygon;     // the polygon table's number
+  std::int8_t flip;          // +1 entering, -1 leaving
+  bool transparent;          // its polygon's
+  std::int8_t edge, next_edge;  // the triangle's directed edge; a bent side's second, or -1
+  std::int32_t last_row;     // the last row of the current edge
   std::uint32_t triangle;
-  std::int16_t x_min, x_max;           // the triangle's columns, [x0, x1 + 1]
-  std::int8_t edge, next_edge;         // the triangle's directed edge; a bent side's second, or -1
-  std::int8_t flip;
+  std::int16_t x_min, x_max;  // the triangle's columns, [x0, x1 + 1]
+  std::int64_t q, rem, den, dq, drem;  // floor(E / den), E mod den, and their steps per row
+};
+static_assert(sizeof(ActiveEdge) == 64, "an active edge fills one cache line");
+
+// What the walk reads of an active edge, in the list's order.
+struct Crossing {
+  std::int32_t x;
+  std::uint32_t polygon;
+  std::int16_t flip;
+  bool transparent;
 };
 
-int flipColumn(const EdgeStep& e) {
+int flipColumn(const ActiveEdge& e) {
   const std::int64_t x = e.flip > 0 ? -e.q : e.q + 1;
-  return static_cast<int>(std::clamp<std::int64_t>(x, e.x_min, e.x_max));
+  return static_cast<int>(std::min<std::int64_t>(std::max<std::int64_t>(x, e.x_min), e.x_max));
 }
 
 // Edge `k` of triangle `tri`, set up at row y (the shared edge setup's formula).
-ActiveEdge startEdge(const ScreenTriangle& t, std::uint32_t tri, std::uint32_t polygon, int k, int y,
-                     std::int8_t next_edge, std::uint32_t slot, EdgeStep& e) {
+void startEdge(const ScreenTriangle& t, std::uint32_t tri, std::uint32_t polygon, int k, int y,
+               std::int8_t next_edge, ActiveEdge& e) {
   const std::int64_t ax = t.x[k], ay = t.y[k];
   const std::int64_t dx = std::int64_t{t.x[(k + 1) % 3]} - ax, dy = std::int64_t{t.y[(k + 1) % 3]} - ay;
   const bool owns_centres = dy < 0 || (dy == 0 && dx < 0);  // the fill rule, as setupTriangle
   const std::int64_t value = dx * (std::int64_t{y} * kSubpixelOne - ay) + dy * ax + (owns_centres ? 0 : -1);
+  e.polygon = polygon;
   e.triangle = tri;
   e.flip = dy < 0 ? 1 : -1;
+  e.transparent = t.transparent();
   e.edge = static_cast<std::int8_t>(k);
   e.next_edge = next_edge;
   e.last_row = rowsOfEdge(t, k).last;
@@ -176,52 +182,30 @@ ActiveEdge startEdge(const ScreenTriangle& t, std::uint32_t tri, std::uint32_t p
   const std::int64_t step = dx * kSubpixelOne;  // per row
   e.dq = floorDiv(step, e.den);
   e.drem = step - e.dq * e.den;
-  return {flipColumn(e), e.flip, t.transparent(), polygon, slot};
+  e.x = flipColumn(e);
 }
 
-int stepEdge(EdgeStep& e) {
-  e.q += e.dq;
-  e.rem += e.drem;
-  if (e.rem >= e.den) {
-    e.rem -= e.den;
-    e.q++;
-  }
-  return flipColumn(e);
+void stepEdge(ActiveEdge& e) {
+  const std::int64_t rem = e.rem + e.drem;
+  const bool carry = rem >= e.den;  // (without a branch: the carry comes as the slope says)
+  e.rem = rem - (carry ? e.den : 0);
+  e.q += e.dq + carry;
+  e.x = flipColumn(e);
 }
-
-// The band's pool of EdgeSteps, slots reused as edges leave.
-struct EdgePool {
-  std::vector<EdgeStep> steps;
-  std::vector<std::uint32_t> free;
-  std::uint32_t take() {
-    if (!free.empty()) {
-      const std::uint32_t s = free.back();
-      free.pop_back();
-      return s;
-    }
-    steps.emplace_back();
-    return static_cast<std::uint32_t>(steps.size() - 1);
-  }
-  void clear() {
-    steps.clear();
-    free.clear();
-  }
-  std::size_t bytes() const { return steps.capacity() * sizeof(EdgeStep) + free.capacity() * 4; }
-};
 
 // Both sides of a triangle entering the AEL at row y (its first row, or a band's first row
 // when it began above the band: a bent side then starts on the edge that holds row y).
 void enterTriangle(const ScreenTriangles& tris, std::uint32_t tri, std::uint32_t polygon, int y,
-                   EdgePool& pool, std::vector<ActiveEdge>& out) {
+                   std::vector<ActiveEdge>& out) {
   const ScreenTriangle& t = tris[tri];
   const Sides s = sidesOf(t);
   for (const std::int8_t* side : {s.entering, s.leaving}) {
     if (side[0] < 0) continue;  // cannot happen for a triangle of positive area
-    const std::uint32_t slot = pool.take();
+    ActiveEdge& e = out.emplace_back();
     if (side[1] >= 0 && y > rowsOfEdge(t, side[0]).last)
-      out.push_back(startEdge(t, tri, polygon, side[1], y, -1, slot, pool.steps[slot]));
+      startEdge(t, tri, polygon, side[1], y, -1, e);
     else
-      out.push_back(startEdge(t, tri, polygon, side[0], y, side[1], slot, pool.steps[slot]));
+      startEdge(t, tri, polygon, side[0], y, side[1], e);
   }
 }
 
@@ -287,27 +271,27 @@ struct Counts {
 struct Inside {
   std::uint32_t polygon;
   std::int32_t count;
-  bool transparent;
 };
 
 struct BandState {
-  std::vector<ActiveEdge> ael, sorted;
+  std::vector<ActiveEdge> ael;     // the active edges, in order of x when there are few
+  std::vector<Crossing> crossings;  // the list's order: the edges' crossings of the row, by x
   std::vector<std::uint32_t> key_start;  // the counting sort's buckets: O(width)
-  EdgePool pool;
-  std::vector<Inside> inside;  // sorted by polygon number
-  std::vector<std::uint32_t> opaque, transparent;
+  std::vector<Inside> opaque, transparent;  // the walk's flags, sorted by polygon number
   std::vector<double> near_a, near_b;
   std::size_t bytes() const {
-    return (ael.capacity() + sorted.capacity()) * sizeof(ActiveEdge) + key_start.capacity() * 4 + pool.bytes() +
-           inside.capacity() * sizeof(Inside) + (opaque.capacity() + transparent.capacity()) * 4 +
+    return ael.capacity() * sizeof(ActiveEdge) + crossings.capacity() * sizeof(Crossing) + key_start.capacity() * 4 +
+           (opaque.capacity() + transparent.capacity()) * sizeof(Inside) +
            (near_a.capacity() + near_b.capacity()) * 8;
   }
 };
 
-// The walk's flags: the polygons it is inside, in no particular order (there are few).
+// The walk's flags: the polygons it is inside, opaque and see-through apart, each kept in order
+// of polygon number, which is the order of submission (there are few). Where `polygon` is or
+// would go.
 std::size_t findInside(const std::vector<Inside>& inside, std::uint32_t polygon) {
   std::size_t k = 0;
-  while (k < inside.size() && inside[k].polygon != polygon) ++k;
+  while (k < inside.size() && inside[k].polygon < polygon) ++k;
   return k;
 }
 
@@ -321,7 +305,6 @@ class BandPass {
   void run(int first_row, int end_row) {
     std::vector<ActiveEdge>& ael = st_.ael;
     ael.clear();
-    st_.pool.clear();
     first_row_ = first_row;
     for (int y = first_row; y < end_row; ++y) {
       // 1. Edges starting on this row join the list; the list is put in order of x.
@@ -333,7 +316,7 @@ class BandPass {
         }
         const std::uint32_t tri = tb_.bucket[k];
         const std::size_t before = ael.size();
-        enterTriangle(tris_, tri, tb_.polygon_of[tri], y, st_.pool, ael);
+        enterTriangle(tris_, tri, tb_.polygon_of[tri], y, ael);
         c_.edges_entered += ael.size() - before;
       }
       sortByX();
@@ -351,30 +334,26 @@ class BandPass {
       walkRow(y);
       if (show) traceRow(y);
 
-      // 3. Edges ending here leave (a bent side goes on with its second edge); the others step
-      // to the next row.
-      std::size_t kept = 0;
-      for (std::size_t i = 0; i < ael.size(); ++i) {
-        ActiveEdge e = ael[i];
-        EdgeStep& step = st_.pool.steps[e.slot];
-        if (step.last_row <= y) {
-          const ScreenTriangle& t = tris_[step.triangle];
-          if (step.next_edge < 0 || y + 1 > rowsOfEdge(t, step.next_edge).last) {
-            st_.pool.free.push_back(e.slot);
-            continue;
-          }
-          e = startEdge(t, step.triangle, e.polygon, step.next_edge, y + 1, -1, e.slot, step);
+      // 3. Edges ending here leave (a bent side goes on with its second edge; the last edge
+      // takes the place of one that leaves). The others step to the next row.
+      for (std::size_t i = 0; i < ael.size();) {
+        ActiveEdge& e = ael[i];
+        if (e.last_row > y) {
+          stepEdge(e);
+        } else if (e.next_edge >= 0 && y + 1 <= rowsOfEdge(tris_[e.triangle], e.next_edge).last) {
+          startEdge(tris_[e.triangle], e.triangle, e.polygon, e.next_edge, y + 1, -1, e);
         } else {
-          e.x = stepEdge(step);
+          e = ael.back();
+          ael.pop_back();
+          continue;
         }
-        ael[kept++] = e;
+        ++i;
       }
-      ael.resize(kept);
     }
     // After the band's last row, only edges going on below it may be left (the next band sets
     // them up itself); after the picture's last row, none.
     std::size_t left = 0;
-    for (const ActiveEdge& e : ael) left += st_.pool.steps[e.slot].last_row < end_row || end_row == fb_.height;
+    for (const ActiveEdge& e : ael) left += e.last_row < end_row || end_row == fb_.height;
     HSR_CHECK_EQ(left, 0u);
     if (observer_ && end_row == fb_.height) observer_->finished(ael.size());
   }
@@ -385,12 +364,16 @@ class BandPass {
     return a.x < b.x || (a.x == b.x && a.flip > b.flip);
   }
 
-  // The AEL in order of x, entering edges first at one x. Few edges: an insertion sort, as
-  // the notes keep the list (edges cross rarely in a big polygon). Many: in a dense mesh they
-  // cross all the time (a small triangle's sides meet at its corners), and since x is a pixel
-  // column, a counting sort by x restores the order in O(width + edges).
+  // The AEL in order of x, entering edges first at one x: st_.crossings. Few edges: an
+  // insertion sort of the list itself, as the notes keep it (edges cross rarely in a big
+  // polygon). Many: in a dense mesh they cross all the time (a small triangle's sides meet at
+  // its corners), and since x is a pixel column, a counting sort by x puts the crossings in
+  // order in O(width + edges), the edges staying where they are.
   void sortByX() {
     std::vector<ActiveEdge>& ael = st_.ael;
+    std::vector<Crossing>& out = st_.crossings;
+    auto crossing = [](const ActiveEdge& e) { return Crossing{e.x, e.polygon, e.flip, e.transparent}; };
+    out.resize(ael.size());
     if (ael.size() < 64) {
       for (std::size_t i = 1; i < ael.size(); ++i) {
         const ActiveEdge e = ael[i];
@@ -398,22 +381,22 @@ class BandPass {
         for (; j > 0 && byX(e, ael[j - 1]); --j) ael[j] = ael[j - 1];
         ael[j] = e;
       }
+      for (std::size_t i = 0; i < ael.size(); ++i) out[i] = crossing(ael[i]);
       return;
     }
     // key = 2 x + (leaving): entering edges first
+    auto key = [](const ActiveEdge& e) { return 2 * static_cast<std::size_t>(e.x) + (e.flip < 0); };
     std::vector<std::uint32_t>& start = st_.key_start;
     start.assign(2 * static_cast<std::size_t>(fb_.width) + 3, 0);
-    for (const ActiveEdge& e : ael) start[2 * e.x + (e.flip < 0) + 1]++;
+    for (const ActiveEdge& e : ael) start[key(e) + 1]++;
     for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
-    st_.sorted.resize(ael.size());
-    for (const ActiveEdge& e : ael) st_.sorted[start[2 * e.x + (e.flip < 0)]++] = e;
-    ael.swap(st_.sorted);
+    for (const ActiveEdge& e : ael) out[start[key(e)]++] = crossing(e);
   }
 
   void walkRow(int y) {
-    const std::vector<ActiveEdge>& ael = st_.ael;
-    std::vector<Inside>& inside = st_.inside;
-    inside.clear();
+    const std::vector<Crossing>& ael = st_.crossings;
+    st_.opaque.clear();
+    st_.transparent.clear();
     int x = 0;  // the start of the current span
     for (std::size_t i = 0; i < ael.size();) {
       // The edges at one x flip their flags together, entering edges first. Where they leave
@@ -422,45 +405,43 @@ class BandPass {
       // changes.
       const int at = ael[i].x;
       for (; i < ael.size() && ael[i].x == at; ++i) {
-        const ActiveEdge& e = ael[i];
+        const Crossing& e = ael[i];
+        std::vector<Inside>& inside = e.transparent ? st_.transparent : st_.opaque;
         const std::size_t k = findInside(inside, e.polygon);
-        const bool in = k < inside.size();
+        const bool in = k < inside.size() && inside[k].polygon == e.polygon;
         const bool changes = !in || inside[k].count + e.flip == 0;
         if (changes && at > x) {
           resolveSpan(y, x, at);
           x = at;
         }
         if (!in) {
-          inside.push_back({e.polygon, e.flip, e.transparent});  // -1 only for a moment: an
-        } else if ((inside[k].count += e.flip) == 0) {            // exit before its entry at one x
-          inside[k] = inside.back();
+          // -1 only for a moment: an exit before its entry at one x
+          // (swapped into place: the list is a few entries long, too short for a memmove)
+          inside.push_back({e.polygon, e.flip});
+          for (std::size_t j = inside.size() - 1; j > k; --j) std::swap(inside[j], inside[j - 1]);
+        } else if ((inside[k].count += e.flip) == 0) {
+          for (std::size_t j = k + 1; j < inside.size(); ++j) std::swap(inside[j - 1], inside[j]);
           inside.pop_back();
         }
       }
     }
-    HSR_CHECK(inside.empty());  // every triangle entered on the row was left again
+    HSR_CHECK(st_.opaque.empty() && st_.transparent.empty());  // every triangle entered was left
     if (x < fb_.width) resolveSpan(y, x, fb_.width);
   }
 
-  // Columns [xa, xb) of row y, inside the polygons of st_.inside.
+  // Columns [xa, xb) of row y, inside the polygons of st_.opaque and st_.transparent.
   void resolveSpan(int y, int xa, int xb) {
     HSR_CHECK(0 <= xa && xa < xb && xb <= fb_.width);
-    if (observer_) observer_->span(y, xa, xb, st_.inside.size());
-    if (st_.inside.empty()) return;  // background: render() has cleared it
+    const std::vector<Inside>& opaque = st_.opaque;
+    const std::vector<Inside>& transparent = st_.transparent;
+    if (observer_) observer_->span(y, xa, xb, opaque.size() + transparent.size());
+    if (opaque.empty() && transparent.empty()) return;  // background: render() has cleared it
     c_.spans++;
-    std::vector<std::uint32_t>& opaque = st_.opaque;
-    std::vector<std::uint32_t>& transparent = st_.transparent;
-    opaque.clear();
-    transparent.clear();
-    for (const Inside& p : st_.inside) {
-      HSR_CHECK_GT(p.count, 0);
-      (p.transparent ? transparent : opaque).push_back(p.polygon);
-    }
     const char* how = "see-through only";
     if (opaque.size() == 1) {
       c_.spans_one++;
       how = "one polygon";
-      fill(opaque[0], y, xa, xb);
+      fill(opaque[0].polygon, y, xa, xb);
     } else if (opaque.size() > 1 && xb - xa <= 2) {
       // One or two pixels: the span's ends are all its pixels.
       c_.spans_several++;
@@ -478,7 +459,8 @@ class BandPass {
     if (!transparent.empty()) blendTransparent(y, xa, xb);
     if (noting_ && notes_shown_++ < 8) {
       std::string ids;
-      for (const Inside& p : st_.inside) ids += (ids.empty() ? "" : "+") + std::to_string(tris_[p.polygon].id);
+      for (const auto* list : {&opaque, &transparent})
+        for (const Inside& p : *list) ids += (ids.empty() ? "" : "+") + std::to_string(tris_[p.polygon].id);
       notes_ += (notes_.empty() ? "" : "; ") + std::string("[") + std::to_string(xa) + ", " + std::to_string(xb) +
                 ") in " + ids + ": " + how;
     }
@@ -491,13 +473,13 @@ class BandPass {
   // first: where it still holds, that row's order is reused.
   std::uint32_t frontOnWholeSpan(int y, int xa, int xb, const char** how) {
     *how = "compared pixel by pixel";
-    const std::vector<std::uint32_t>& opaque = st_.opaque;
+    const std::vector<Inside>& opaque = st_.opaque;
     std::vector<double>& a = st_.near_a;
     std::vector<double>& b = st_.near_b;
     a.resize(opaque.size());
     b.resize(opaque.size());
     for (std::size_t i = 0; i < opaque.size(); ++i) {
-      const DepthPlane& p = tris_[opaque[i]].depth;
+      const DepthPlane& p = tris_[opaque[i].polygon].depth;
       if (!planeDepthIsSafe(p, xa, y) || !planeDepthIsSafe(p, xb - 1, y)) {
         c_.pixel_by_pixel++;
         return kNone;
@@ -515,10 +497,10 @@ class BandPass {
     if (y > first_row_) {
       const PolygonId above = fb_.ids[fb_.index(xa, y - 1)];
       for (std::size_t i = 0; i < opaque.size(); ++i)
-        if (tris_[opaque[i]].id == above && inFront(i)) {
+        if (tris_[opaque[i].polygon].id == above && inFront(i)) {
           c_.order_reused++;
           *how = "previous row's order holds";
-          return opaque[i];
+          return opaque[i].polygon;
         }
     }
     std::size_t nearest = 0;
@@ -527,7 +509,7 @@ class BandPass {
     if (inFront(nearest)) {
       c_.decided_at_ends++;
       *how = "decided at its ends";
-      return opaque[nearest];
+      return opaque[nearest].polygon;
     }
     c_.pixel_by_pixel++;
     return kNone;
@@ -542,16 +524,14 @@ class BandPass {
   // Where planes cross (or nearly tie) inside the span: at every pixel, the nearest; of equal
   // depths the polygon submitted first, the z-buffer's rule under LESS.
   void pixelByPixel(int y, int xa, int xb) {
-    std::vector<std::uint32_t>& opaque = st_.opaque;
-    for (std::size_t i = 1; i < opaque.size(); ++i)  // in submission order (there are few)
-      for (std::size_t j = i; j > 0 && opaque[j] < opaque[j - 1]; --j) std::swap(opaque[j], opaque[j - 1]);
+    const std::vector<Inside>& opaque = st_.opaque;  // in submission order
     for (int x = xa; x < xb; ++x) {
       const std::size_t k = fb_.index(x, y);
       std::uint32_t best = kNone;
       float best_z = 0.0f;
-      for (const std::uint32_t p : opaque) {
-        const float z = fragmentDepth(tris_[p].depth, x, y);
-        if (best == kNone || z < best_z) best = p, best_z = z;
+      for (const Inside& p : opaque) {
+        const float z = fragmentDepth(tris_[p.polygon].depth, x, y);
+        if (best == kNone || z < best_z) best = p.polygon, best_z = z;
       }
       c_.fragments.tested += opaque.size();
       if (!(best_z < fb_.depth[k])) continue;  // at or beyond the cleared depth
@@ -564,12 +544,12 @@ class BandPass {
     }
   }
 
-  // See-through polygons, after the visible opaque one: blended over it in submission order
-  // where they are nearer than it, leaving its depth and id (the z-buffer's second pass).
+  // See-through polygons (st_.transparent), after the visible opaque one: blended over it in
+  // submission order where they are nearer than it, leaving its depth and id (the z-buffer's
+  // second pass).
   void blendTransparent(int y, int xa, int xb) {
-    std::sort(st_.transparent.begin(), st_.transparent.end());  // in submission order
-    for (const std::uint32_t p : st_.transparent) {
-      const ScreenTriangle& t = tris_[p];
+    for (const Inside& p : st_.transparent) {
+      const ScreenTriangle& t = tris_[p.polygon];
       const double row = depthRowStart(t.depth, y);
       for (int x = xa; x < xb; ++x) {
         const std::size_t k = fb_.index(x, y);
@@ -591,7 +571,7 @@ class BandPass {
                         {fb_.width - 0.5f, fy + 0.5f}, {-0.5f, fy + 0.5f}});
     std::string list;
     int shown = 0;
-    for (const ActiveEdge& e : st_.ael) {
+    for (const Crossing& e : st_.crossings) {
       const float fx = static_cast<float>(e.x) - 0.5f;
       outlines.push_back({{fx, fy - 6.0f}, {fx, fy + 6.0f}});
       if (shown++ < 12)
