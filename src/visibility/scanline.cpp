@@ -41,6 +41,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -277,21 +278,22 @@ struct BandState {
   std::vector<ActiveEdge> ael;     // the active edges, in order of x when there are few
   std::vector<Crossing> crossings;  // the list's order: the edges' crossings of the row, by x
   std::vector<std::uint32_t> key_start;  // the counting sort's buckets: O(width)
-  std::vector<Inside> opaque, transparent;  // the walk's flags, sorted by polygon number
+  std::vector<Inside> opaque, transparent;  // the walk's flags
+  std::vector<std::uint32_t> order;          // see-through polygons in submission order
   std::vector<double> near_a, near_b;
   std::size_t bytes() const {
     return ael.capacity() * sizeof(ActiveEdge) + crossings.capacity() * sizeof(Crossing) + key_start.capacity() * 4 +
-           (opaque.capacity() + transparent.capacity()) * sizeof(Inside) +
+           (opaque.capacity() + transparent.capacity()) * sizeof(Inside) + order.capacity() * 4 +
            (near_a.capacity() + near_b.capacity()) * 8;
   }
 };
 
-// The walk's flags: the polygons it is inside, opaque and see-through apart, each kept in order
-// of polygon number, which is the order of submission (there are few). Where `polygon` is or
-// would go.
+// The walk's flags: the polygons it is inside, opaque and see-through apart, in no particular
+// order (there are few). Where `polygon` is, or inside.size(): every entry is looked at, with
+// no branch to mispredict (whether a polygon is met for the first time cannot be foreseen).
 std::size_t findInside(const std::vector<Inside>& inside, std::uint32_t polygon) {
-  std::size_t k = 0;
-  while (k < inside.size() && inside[k].polygon < polygon) ++k;
+  std::size_t k = inside.size();
+  for (std::size_t j = 0; j < inside.size(); ++j) k = inside[j].polygon == polygon ? j : k;
   return k;
 }
 
@@ -388,8 +390,13 @@ class BandPass {
     auto key = [](const ActiveEdge& e) { return 2 * static_cast<std::size_t>(e.x) + (e.flip < 0); };
     std::vector<std::uint32_t>& start = st_.key_start;
     start.assign(2 * static_cast<std::size_t>(fb_.width) + 3, 0);
-    for (const ActiveEdge& e : ael) start[key(e) + 1]++;
-    for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    std::size_t lo = start.size(), hi = 0;  // the keys' range: the prefix sum needs no more
+    for (const ActiveEdge& e : ael) {
+      const std::size_t k = key(e);
+      start[k + 1]++;
+      lo = std::min(lo, k), hi = std::max(hi, k);
+    }
+    for (std::size_t k = lo + 1; k <= hi; ++k) start[k] += start[k - 1];
     for (const ActiveEdge& e : ael) out[start[key(e)]++] = crossing(e);
   }
 
@@ -408,19 +415,16 @@ class BandPass {
         const Crossing& e = ael[i];
         std::vector<Inside>& inside = e.transparent ? st_.transparent : st_.opaque;
         const std::size_t k = findInside(inside, e.polygon);
-        const bool in = k < inside.size() && inside[k].polygon == e.polygon;
+        const bool in = k < inside.size();
         const bool changes = !in || inside[k].count + e.flip == 0;
         if (changes && at > x) {
           resolveSpan(y, x, at);
           x = at;
         }
         if (!in) {
-          // -1 only for a moment: an exit before its entry at one x
-          // (swapped into place: the list is a few entries long, too short for a memmove)
-          inside.push_back({e.polygon, e.flip});
-          for (std::size_t j = inside.size() - 1; j > k; --j) std::swap(inside[j], inside[j - 1]);
-        } else if ((inside[k].count += e.flip) == 0) {
-          for (std::size_t j = k + 1; j < inside.size(); ++j) std::swap(inside[j - 1], inside[j]);
+          inside.push_back({e.polygon, e.flip});  // -1 only for a moment: an exit before
+        } else if ((inside[k].count += e.flip) == 0) {  // its entry at one x
+          inside[k] = inside.back();
           inside.pop_back();
         }
       }
@@ -522,18 +526,19 @@ class BandPass {
   }
 
   // Where planes cross (or nearly tie) inside the span: at every pixel, the nearest; of equal
-  // depths the polygon submitted first, the z-buffer's rule under LESS.
+  // depths the polygon submitted first (the lowest number), the z-buffer's rule under LESS.
   void pixelByPixel(int y, int xa, int xb) {
-    const std::vector<Inside>& opaque = st_.opaque;  // in submission order
+    const std::vector<Inside>& opaque = st_.opaque;
     for (int x = xa; x < xb; ++x) {
       const std::size_t k = fb_.index(x, y);
       std::uint32_t best = kNone;
-      float best_z = 0.0f;
+      float best_z = std::numeric_limits<float>::infinity();  // (NaN never wins, as under LESS)
       for (const Inside& p : opaque) {
         const float z = fragmentDepth(tris_[p.polygon].depth, x, y);
-        if (best == kNone || z < best_z) best = p.polygon, best_z = z;
+        if (z < best_z || (z == best_z && p.polygon < best)) best = p.polygon, best_z = z;
       }
       c_.fragments.tested += opaque.size();
+      if (best == kNone) continue;
       if (!(best_z < fb_.depth[k])) continue;  // at or beyond the cleared depth
       const ScreenTriangle& t = tris_[best];
       c_.fragments.written++;
@@ -548,8 +553,12 @@ class BandPass {
   // submission order where they are nearer than it, leaving its depth and id (the z-buffer's
   // second pass).
   void blendTransparent(int y, int xa, int xb) {
-    for (const Inside& p : st_.transparent) {
-      const ScreenTriangle& t = tris_[p.polygon];
+    std::vector<std::uint32_t>& order = st_.order;
+    order.clear();
+    for (const Inside& p : st_.transparent) order.push_back(p.polygon);
+    std::sort(order.begin(), order.end());  // submission order
+    for (const std::uint32_t p : order) {
+      const ScreenTriangle& t = tris_[p];
       const double row = depthRowStart(t.depth, y);
       for (int x = xa; x < xb; ++x) {
         const std::size_t k = fb_.index(x, y);
