@@ -48,6 +48,23 @@ using ScreenTriangles = std::vector<ScreenTriangle, DefaultInitAllocator<ScreenT
 // so polygon numbers increase in submission order; returns how many polygons there are.
 std::uint64_t numberPolygons(const ScreenTriangles& tris, std::vector<std::uint32_t>& polygon_of);
 
+// Whether triangle b, following a, goes on with a's polygon (the rule above).
+bool samePolygon(const ScreenTriangle& a, const ScreenTriangle& b);
+
+// The same numbering in a bit per triangle (does it start a polygon?), for an algorithm whose
+// memory must stay small (scan-line): polygonOf(i) is the nearest start at or before i, found
+// in O(1) words for a polygon of up to 4096 triangles, O(its length / 4096) beyond.
+class PolygonStarts {
+ public:
+  std::uint64_t build(const ScreenTriangles& tris);  // returns how many polygons there are
+  std::uint32_t polygonOf(std::uint32_t triangle) const;
+  std::size_t bytes() const { return (bits_.capacity() + summary_.capacity()) * 8; }
+
+ private:
+  std::vector<std::uint64_t> bits_;     // bit i: triangle i starts a polygon
+  std::vector<std::uint64_t> summary_;  // bit w: word w of bits_ holds a start
+};
+
 // A line segment or point in the same window space, float coordinates (pixel centres at
 // integers), for polygon mode LINE/POINT and outline drawing; depth interpolated linearly.
 struct ScreenLine {

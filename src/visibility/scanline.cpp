@@ -133,18 +133,18 @@ Sides sidesOf(const ScreenTriangle& t) {
 // triangle. x moves by 1/m per row, kept as a whole part q and a remainder and stepped exactly
 // (as Bresenham steps a line), so that x equals the shared edge setup's span limit on every
 // row: the edge function's value at column 0 of a row, E, grows by a constant per row, and
-// x = floor(E / den) + 1 for a leaving edge, -floor(E / den) for an entering one. One edge
-// fills one cache line; the walk reads the list's order (Crossing) rather than the edges.
+// x = floor(E / den) + 1 for a leaving edge, -floor(E / den) for an entering one. The walk
+// reads the list's order (Crossing) rather than the edges.
 struct ActiveEdge {
   std::int32_t x;
-  std::uint32_t polygon;     // the polygon table's number
-  std::int8_t flip;          // +1 entering, -1 leaving
-  bool transparent;          // its polygon's
-  std::int8_t edge, next_edge;  // the triangle's directed edge; a bent side's second, or -1
-  std::int32_t last_row;     // the last row of the current edge
+  std::uint32_t polygon;        // the polygon table's number
   std::uint32_t triangle;
-  std::int16_t x_min, x_max;  // the triangle's columns, [x0, x1 + 1]
+  std::int32_t last_row;        // the last row of the current edge
   std::int64_t q, rem, den, dq, drem;  // floor(E / den), E mod den, and their steps per row
+  std::int16_t x_min, x_max;    // the triangle's columns, [x0, x1 + 1]
+  std::int8_t flip;             // +1 entering, -1 leaving
+  bool transparent;             // its polygon's
+  std::int8_t next_edge;        // a bent side's second edge, or -1
 };
 static_assert(sizeof(ActiveEdge) == 64, "an active edge fills one cache line");
 
@@ -172,7 +172,6 @@ void startEdge(const ScreenTriangle& t, std::uint32_t tri, std::uint32_t polygon
   e.triangle = tri;
   e.flip = dy < 0 ? 1 : -1;
   e.transparent = t.transparent();
-  e.edge = static_cast<std::int8_t>(k);
   e.next_edge = next_edge;
   e.last_row = rowsOfEdge(t, k).last;
   e.x_min = t.x0;
@@ -213,15 +212,47 @@ void enterTriangle(const ScreenTriangles& tris, std::uint32_t tri, std::uint32_t
 // ---------------------------------------------------------------------------------------------
 // The shared state of one frame's pass: the polygon and edge tables.
 
+// The edge table's bucket of a row lists its triangles in increasing order, each as the
+// difference from the one before in 7-bit groups (LEB128: most take two bytes where an index
+// would take four), so the table stays a small part of the frame's memory.
+int deltaBytes(std::uint32_t delta) { return delta < (1u << 7) ? 1 : delta < (1u << 14) ? 2 : delta < (1u << 21) ? 3 : delta < (1u << 28) ? 4 : 5; }
+
+std::uint8_t* putDelta(std::uint8_t* out, std::uint32_t delta) {
+  for (; delta >= 0x80; delta >>= 7) *out++ = static_cast<std::uint8_t>(delta | 0x80);
+  *out++ = static_cast<std::uint8_t>(delta);
+  return out;
+}
+
+// Reads one row's bucket, triangle by triangle.
+struct BucketReader {
+  const std::uint8_t* at;
+  const std::uint8_t* end;
+  std::uint32_t triangle = 0;
+  bool next(std::uint32_t& out) {
+    if (at == end) return false;
+    std::uint32_t delta = 0;
+    for (int shift = 0;; shift += 7) {
+      const std::uint8_t b = *at++;
+      delta |= static_cast<std::uint32_t>(b & 0x7F) << shift;
+      if (b < 0x80) break;
+    }
+    out = triangle += delta;
+    return true;
+  }
+};
+
 struct Tables {
   const ScreenTriangles* tris = nullptr;
-  std::vector<std::uint32_t> polygon_of;     // the polygon table: triangle -> its polygon
-  std::vector<std::uint32_t> bucket_start;   // the edge table: row -> first entry (height + 1)
-  std::vector<std::uint32_t> bucket;         // triangles whose edges enter on each row
+  PolygonStarts polygon_starts;           // the polygon table: triangle -> its polygon
+  std::vector<std::size_t> bucket_start;  // the edge table: row -> its bucket's first byte
+  std::vector<std::uint8_t> buckets;      // the triangles whose edges enter on each row
   std::uint64_t polygons = 0;
   EdgeRows rows{0, -1};  // the first and last row any triangle covers
+  BucketReader bucket(int y) const {
+    return {buckets.data() + bucket_start[y], buckets.data() + bucket_start[y + 1]};
+  }
   std::size_t bytes() const {
-    return polygon_of.capacity() * 4 + bucket_start.capacity() * 4 + bucket.capacity() * 4;
+    return polygon_starts.bytes() + bucket_start.capacity() * sizeof(std::size_t) + buckets.capacity();
   }
 };
 
@@ -229,7 +260,7 @@ struct Tables {
 // AEL: its first row, or the first row of each later band it reaches (bands start afresh).
 void buildTables(const ScreenTriangles& tris, int height, int band_rows, Tables& tb) {
   tb.tris = &tris;
-  tb.polygons = numberPolygons(tris, tb.polygon_of);  // the polygon table (raster/primitives.hpp)
+  tb.polygons = tb.polygon_starts.build(tris);  // the polygon table (raster/primitives.hpp)
   tb.rows = {0, -1};
   auto forEachEntry = [&](auto&& f) {
     for (std::size_t i = 0; i < tris.size(); ++i) {
@@ -242,12 +273,22 @@ void buildTables(const ScreenTriangles& tris, int height, int band_rows, Tables&
       for (int b = (first / band_rows + 1) * band_rows; b <= last; b += band_rows) f(b, i);
     }
   };
+  // Each row's size in bytes, then the entries themselves.
+  std::vector<std::uint32_t> last(static_cast<std::size_t>(height), 0);  // each row's last entry
   tb.bucket_start.assign(static_cast<std::size_t>(height) + 1, 0);
-  forEachEntry([&](int row, std::size_t) { tb.bucket_start[row + 1]++; });
+  forEachEntry([&](int row, std::size_t i) {
+    tb.bucket_start[row + 1] += deltaBytes(static_cast<std::uint32_t>(i) - last[row]);
+    last[row] = static_cast<std::uint32_t>(i);
+  });
   for (int y = 0; y < height; ++y) tb.bucket_start[y + 1] += tb.bucket_start[y];
-  tb.bucket.resize(tb.bucket_start[height]);
-  std::vector<std::uint32_t> fill(tb.bucket_start.begin(), tb.bucket_start.end() - 1);
-  forEachEntry([&](int row, std::size_t i) { tb.bucket[fill[row]++] = static_cast<std::uint32_t>(i); });
+  tb.buckets.resize(tb.bucket_start[height]);
+  std::vector<std::size_t> fill(tb.bucket_start.begin(), tb.bucket_start.end() - 1);
+  std::fill(last.begin(), last.end(), 0);
+  forEachEntry([&](int row, std::size_t i) {
+    const std::uint8_t* end = putDelta(tb.buckets.data() + fill[row], static_cast<std::uint32_t>(i) - last[row]);
+    fill[row] = static_cast<std::size_t>(end - tb.buckets.data());
+    last[row] = static_cast<std::uint32_t>(i);
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -310,15 +351,14 @@ class BandPass {
     first_row_ = first_row;
     for (int y = first_row; y < end_row; ++y) {
       // 1. Edges starting on this row join the list; the list is put in order of x.
-      const std::uint32_t bucket_end = tb_.bucket_start[y + 1];
-      for (std::uint32_t k = tb_.bucket_start[y]; k < bucket_end; ++k) {
-        if (k + kPrefetch < bucket_end) {  // the triangles are scattered in memory: ask early
-          __builtin_prefetch(&tris_[tb_.bucket[k + kPrefetch]]);
-          __builtin_prefetch(&tb_.polygon_of[tb_.bucket[k + kPrefetch]]);
-        }
-        const std::uint32_t tri = tb_.bucket[k];
+      // The triangles are scattered in memory: a second reader runs ahead, asking for them early.
+      BucketReader bucket = tb_.bucket(y), ahead = tb_.bucket(y);
+      std::uint32_t tri = 0, next = 0;
+      for (std::uint32_t k = 0; k < kPrefetch && ahead.next(next); ++k) __builtin_prefetch(&tris_[next]);
+      while (bucket.next(tri)) {
+        if (ahead.next(next)) __builtin_prefetch(&tris_[next]);
         const std::size_t before = ael.size();
-        enterTriangle(tris_, tri, tb_.polygon_of[tri], y, ael);
+        enterTriangle(tris_, tri, tb_.polygon_starts.polygonOf(tri), y, ael);
         c_.edges_entered += ael.size() - before;
       }
       sortByX();
@@ -622,7 +662,7 @@ class BandPass {
 
 struct Scratch {
   Tables tables;
-  std::vector<BandState> bands;  // one per band
+  std::vector<BandState> workers;  // one per thread: a band runs on one thread, start to end
 };
 
 }  // namespace
@@ -652,11 +692,14 @@ void drawScanlineObserved(const AlgorithmInput& in, Frame& frame, ScanlineObserv
 
   // The rows, band by band.
   const int bands = (frame.height + band_rows - 1) / band_rows;
-  if (scratch.bands.size() < static_cast<std::size_t>(bands)) scratch.bands.resize(bands);
+  const int threads = tbb::this_task_arena::max_concurrency();
+  if (scratch.workers.size() < static_cast<std::size_t>(threads)) scratch.workers.resize(threads);
   std::vector<Counts> counts(static_cast<std::size_t>(bands));
   const SpanFn span = spanFunction(DepthFunc::Less);
   auto runBand = [&](int b) {
-    BandPass pass(tb, fb, span, scratch.bands[b], counts[b], observer, in, frame);
+    const int worker = std::max(0, tbb::this_task_arena::current_thread_index());
+    HSR_CHECK_LT(static_cast<std::size_t>(worker), scratch.workers.size());
+    BandPass pass(tb, fb, span, scratch.workers[worker], counts[b], observer, in, frame);
     pass.traceRows(tb.rows);
     pass.run(b * band_rows, std::min(frame.height, (b + 1) * band_rows));
   };
@@ -683,10 +726,9 @@ void drawScanlineObserved(const AlgorithmInput& in, Frame& frame, ScanlineObserv
                       &frame,
                       {}});
 
-  std::size_t band_bytes = 0;
-  for (const BandState& b : scratch.bands) band_bytes = std::max(band_bytes, b.bytes());
-  const std::size_t workers = one_pass ? 1 : std::min<std::size_t>(bands, tbb::this_task_arena::max_concurrency());
-  frame.stats.state_bytes += tb.bytes() + band_bytes * workers;
+  std::size_t worker_bytes = 0;
+  for (const BandState& w : scratch.workers) worker_bytes += w.bytes();
+  frame.stats.state_bytes += tb.bytes() + worker_bytes;
   frame.stats.fragments_tested += c.fragments.tested;
   frame.stats.fragments_written += c.fragments.written;
   frame.stats.addCounter("scanline: polygons", tb.polygons);
