@@ -173,18 +173,28 @@ Octree buildOctree(const Scene& scene) {
 }
 
 std::uint64_t sceneFingerprint(const Scene& scene) {
-  std::uint64_t h = 0x9E3779B97F4A7C15ull ^ scene.polygonCount();
-  auto mix = [&](std::uint64_t v) {
-    h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+  // Four lanes mixed apart, so that each step need not wait for the one before (it is done
+  // every frame), then mixed together.
+  std::uint64_t h[4] = {0x9E3779B97F4A7C15ull ^ scene.polygonCount(), 1, 2, 3};
+  auto mix = [](std::uint64_t& lane, std::uint64_t v) {
+    lane ^= v + 0x9E3779B97F4A7C15ull + (lane << 6) + (lane >> 2);
   };
-  for (const glm::vec3& p : scene.positions())
-    mix((std::uint64_t{std::bit_cast<std::uint32_t>(p.x)} << 32 | std::bit_cast<std::uint32_t>(p.y)) ^
-        (std::uint64_t{std::bit_cast<std::uint32_t>(p.z)} << 17));
-  for (PolygonId p = 0; p < scene.polygonCount(); ++p) {
-    mix(scene.polygon(p).size());
-    for (const std::uint32_t v : scene.polygon(p)) mix(v);
+  const std::vector<glm::vec3>& positions = scene.positions();
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const glm::vec3& p = positions[i];
+    mix(h[i % 4], (std::uint64_t{std::bit_cast<std::uint32_t>(p.x)} << 32 | std::bit_cast<std::uint32_t>(p.y)) ^
+                      (std::uint64_t{std::bit_cast<std::uint32_t>(p.z)} << 17));
   }
-  return h;
+  const std::size_t polygons = scene.polygonCount();
+  for (PolygonId p = 0; p < polygons; ++p) mix(h[p % 4], scene.polygon(p).size());
+  if (polygons > 0) {  // the polygons' vertex indices lie one after another
+    const std::uint32_t* first = scene.polygon(0).data();
+    const std::span<const std::uint32_t> last = scene.polygon(static_cast<PolygonId>(polygons - 1));
+    const std::size_t n = static_cast<std::size_t>(last.data() + last.size() - first);
+    for (std::size_t i = 0; i < n; ++i) mix(h[i % 4], first[i]);
+  }
+  for (int lane = 1; lane < 4; ++lane) mix(h[0], h[lane]);
+  return h[0];
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -199,6 +209,11 @@ constexpr std::string_view kStepDone = "done";
 constexpr int kTile = 8;  // written pixels are counted per 8x8 tile, to test footprints fast
 constexpr int kBandRows = 8 * kTile;  // rows per band (a whole number of tiles)
 
+// A pixel rectangle in 8 bytes (the picture's sides are at most 2^14).
+struct SmallBox {
+  std::int16_t x0, y0, x1, y1;
+};
+
 // The memory kept between frames: the tree (rebuilt when the scene changes) and the per-pixel
 // scratch of a leaf's exact resolution.
 struct Scratch {
@@ -208,20 +223,23 @@ struct Scratch {
   std::vector<std::uint32_t> leaf_tri;  // ... its screen triangle ...
   std::vector<std::uint32_t> stamp;     // ... valid where stamp == the leaf's number
   std::vector<std::uint32_t> tile_written;
-  std::vector<std::uint32_t> tri_start;
+  std::vector<std::uint32_t> tri_start;  // each polygon's first screen triangle
+  std::vector<SmallBox> polygon_box;      // the rectangle around each polygon's opaque ones
   std::size_t bytes() const {
     return (leaf_z.capacity() + leaf_tri.capacity() + stamp.capacity() + tile_written.capacity() +
-            tri_start.capacity()) * 4;
+            tri_start.capacity()) * 4 + polygon_box.capacity() * sizeof(SmallBox);
   }
 };
 
 struct Counts {
   std::uint64_t visited = 0, outside = 0, covered = 0, covered_leaves = 0;
-  std::uint64_t leaves_drawn = 0, leaves_hidden = 0, pieces = 0, pixels_written = 0, rewritten = 0;
+  std::uint64_t leaves_drawn = 0, leaves_hidden = 0, pieces = 0, triangles_covered = 0;
+  std::uint64_t pixels_written = 0, rewritten = 0;
   FragmentCounts fragments;
   void add(const Counts& o) {
     visited += o.visited, outside += o.outside, covered += o.covered, covered_leaves += o.covered_leaves;
     leaves_drawn += o.leaves_drawn, leaves_hidden += o.leaves_hidden, pieces += o.pieces;
+    triangles_covered += o.triangles_covered;
     pixels_written += o.pixels_written, rewritten += o.rewritten;
     fragments += o.fragments;
   }
@@ -237,7 +255,14 @@ void prepareScratch(const AlgorithmInput& in, const Frame& frame, Scratch& s) {
   const int tiles_x = (frame.width + kTile - 1) / kTile;
   s.tile_written.assign(static_cast<std::size_t>(tiles_x) * ((frame.height + kTile - 1) / kTile), 0);
   s.tri_start.assign(in.scene.polygonCount() + 1, 0);
-  for (const ScreenTriangle& t : in.prepared.triangles) s.tri_start[t.id + 1]++;
+  const auto w = static_cast<std::int16_t>(frame.width), h = static_cast<std::int16_t>(frame.height);
+  s.polygon_box.assign(in.scene.polygonCount(), SmallBox{w, h, -1, -1});
+  for (const ScreenTriangle& t : in.prepared.triangles) {
+    s.tri_start[t.id + 1]++;
+    if (t.transparent()) continue;
+    SmallBox& b = s.polygon_box[t.id];
+    b = {std::min(b.x0, t.x0), std::min(b.y0, t.y0), std::max(b.x1, t.x1), std::max(b.y1, t.y1)};
+  }
   for (std::size_t k = 1; k < s.tri_start.size(); ++k) s.tri_start[k] += s.tri_start[k - 1];
 }
 
@@ -307,6 +332,12 @@ class Painter {
   }
 
  private:
+  // std::nextafter(d, 0.0f), inline: one step of the float's magnitude toward zero.
+  static float stepTowardZero(float d) {
+    if (d == 0.0f || d != d) return d == 0.0f ? 0.0f : d;
+    return std::bit_cast<float>(std::bit_cast<std::uint32_t>(d) - 1u);
+  }
+
   static PixelBox cut(const PixelBox& a, const PixelBox& b) {
     return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
   }
@@ -345,12 +376,8 @@ class Painter {
   PixelBox contentFootprint(const OctreeNode& leaf, const PixelBox& footprint) const {
     PixelBox b{frame_.width, frame_.height, -1, -1};
     for (std::uint32_t k = 0; k < leaf.entry_count; ++k) {
-      const PolygonId p = tree_.entries[leaf.first_entry + k].polygon;
-      for (std::uint32_t i = s_.tri_start[p]; i < s_.tri_start[p + 1]; ++i) {
-        const ScreenTriangle& t = tris_[i];
-        if (t.transparent()) continue;
-        b = {std::min<int>(b.x0, t.x0), std::min<int>(b.y0, t.y0), std::max<int>(b.x1, t.x1), std::max<int>(b.y1, t.y1)};
-      }
+      const SmallBox& p = s_.polygon_box[tree_.entries[leaf.first_entry + k].polygon];
+      b = {std::min<int>(b.x0, p.x0), std::min<int>(b.y0, p.y0), std::max<int>(b.x1, p.x1), std::max<int>(b.y1, p.y1)};
     }
     return {std::max(b.x0, footprint.x0), std::max(b.y0, footprint.y0), std::min(b.x1, footprint.x1),
             std::min(b.y1, footprint.y1)};
@@ -376,6 +403,9 @@ class Painter {
   std::uint64_t drawLeaf(const OctreeNode& leaf, const PixelBox& footprint) {
     const std::uint32_t stamp = ++leaf_number_;
     touched_.clear();
+    // The pieces' triangles lie all over the pipeline's list: ask for them all at once.
+    for (std::uint32_t k = 0; k < leaf.entry_count; ++k)
+      __builtin_prefetch(&tris_[s_.tri_start[tree_.entries[leaf.first_entry + k].polygon]]);
     for (std::uint32_t k = 0; k < leaf.entry_count; ++k) {
       const OctreeEntry& e = tree_.entries[leaf.first_entry + k];
       const std::uint32_t first = s_.tri_start[e.polygon], last = s_.tri_start[e.polygon + 1];
@@ -384,6 +414,11 @@ class Painter {
       for (std::uint32_t i = first; i < last; ++i) {
         const ScreenTriangle& t = tris_[i];
         if (t.transparent()) continue;  // blended afterwards
+        const PixelBox box = cut(t.box(), footprint);
+        if (box.empty() || fullyWritten(box)) {  // hidden by nearer octants
+          counts.triangles_covered++;
+          continue;
+        }
         cutsOf(leaf, e.cuts, t.depth);
         resolveTriangle(t, i, footprint, stamp);
       }
@@ -447,7 +482,7 @@ class Painter {
         // the same float depth, or one a step nearer; there the z-buffer's rule decides (the
         // nearer float; of equal ones the polygon submitted first).
         if (fb_.ids[k] != kNoPolygon && s_.stamp[k] != stamp &&
-            !(z == std::nextafter(fb_.depth[k], 0.0f) || (z == fb_.depth[k] && index < s_.leaf_tri[k])))
+            !(z == stepTowardZero(fb_.depth[k]) || (z == fb_.depth[k] && index < s_.leaf_tri[k])))
           continue;
         bool inside = true;
         for (const PixelHalfPlane& h : cuts_) inside = inside && h.contains(x, y);
@@ -587,6 +622,7 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("octree: leaves drawn, visible", c.leaves_drawn);
   frame.stats.addCounter("octree: leaves drawn, hidden", c.leaves_hidden);
   frame.stats.addCounter("octree: pieces drawn", c.pieces);
+  frame.stats.addCounter("octree: triangles skipped, covered", c.triangles_covered);
   frame.stats.addCounter("octree: pixels written once", c.pixels_written);
   frame.stats.addCounter("octree: pixels rewritten on a float tie", c.rewritten);
   frame.stats.addStage("octree traverse + draw",
