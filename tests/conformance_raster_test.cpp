@@ -99,7 +99,9 @@ bool refCoverage(const GridTri& t, int width, int height, std::vector<std::uint8
 // ---------------------------------------------------------------------------------------------
 // Rendering through hsr.
 
-// One object per triangle (z = 0, facing the camera either way), depth test off, no culling.
+// One object per triangle (z = 0, facing the camera either way), no culling, depth test off
+// where the algorithm has one to turn off (no two triangles of a batch share a pixel, so for
+// the others, LESS-only, the test makes no difference).
 Frame renderTris(const std::vector<GridTri>& tris, const std::string& algorithm) {
   Scene scene;
   for (std::size_t i = 0; i < tris.size(); ++i) {
@@ -111,7 +113,7 @@ Frame renderTris(const std::vector<GridTri>& tris, const std::string& algorithm)
   }
   scene.addMaterial({});
   RenderOptions o = testing::optionsFor(algorithm);
-  o.depth_test = false;
+  if (findAlgorithm(algorithm).has(kDepthFuncs)) o.depth_test = false;
   o.cull = CullMode::None;
   o.frustum_cull = false;
   o.shade = false;
@@ -302,7 +304,7 @@ TEST_P(ConformanceRaster, RandomTrianglesBitExact) {
   EXPECT_EQ(tot.differing, 0u) << "seed " << seed;
 }
 
-HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(ConformanceRaster, kExactSharedCoverage | kDepthFuncs);
+HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(ConformanceRaster, kExactSharedCoverage);
 
 }  // namespace
 }  // namespace hsr
