@@ -33,6 +33,8 @@ namespace {
 using testing::pixelCamera;
 using testing::Rng;
 
+std::vector<const AlgorithmInfo*> lessOnlyAlgorithms();
+
 // "[ figures ]" for the README's Reliability table: Degenerate tests run and passed.
 [[maybe_unused]] ::testing::Environment* const kFigures = testing::printFiguresAtEnd([] {
   const testing::SuiteTally t = testing::tallySuite("Degenerate");
@@ -41,9 +43,12 @@ using testing::Rng;
   const auto applicable = testing::algorithmsWith("Degenerate", kExactSharedCoverage | kDepthFuncs);
   for (const AlgorithmInfo* a : applicable)
     names += (names.empty() ? "" : ", ") + std::string(a->name);
+  std::string less_only;
+  for (const AlgorithmInfo* a : lessOnlyAlgorithms())
+    less_only += (less_only.empty() ? "" : ", ") + std::string(a->name);
   std::printf("[ figures ] row 14 degenerate catalogue: %d cases run, %d passed, each on %zu "
-              "algorithm(s) (%s)\n",
-              t.run, t.passed, applicable.size(), names.c_str());
+              "algorithm(s) (%s) and, held to the z-buffer's frame with LESS, on %s\n",
+              t.run, t.passed, applicable.size(), names.c_str(), less_only.c_str());
 });
 
 constexpr int kSize = 256;  // most cases render at kSize x kSize with the pixel camera
@@ -143,8 +148,19 @@ RenderOptions countEveryFragment() {
   return o;
 }
 
+// The algorithms with exact shared coverage but the depth test LESS alone (scan-line, Warnock,
+// the octree): they cannot count every fragment, so each degenerate scene is drawn by them with
+// LESS and must equal the z-buffer's frame drawn so, bit for bit (ids, depths, colours).
+std::vector<const AlgorithmInfo*> lessOnlyAlgorithms() {
+  std::vector<const AlgorithmInfo*> out;
+  for (const AlgorithmInfo* a : testing::algorithmsWith("Degenerate, LESS only", kExactSharedCoverage))
+    if (!a->has(kDepthFuncs)) out.push_back(a);
+  return out;
+}
+
 // Runs `check` on the frame of every registered algorithm this catalogue applies to: its
-// expectations are exact pixel coverage and counts (drawn with the depth test off).
+// expectations are exact pixel coverage and counts (drawn with the depth test off). Then the
+// LESS-only algorithms draw the same scene with LESS and are held to the z-buffer's frame.
 template <class Check>
 void forEachAlgorithm(const Scene& scene, const Camera& camera, RenderOptions options, Check check) {
   for (const AlgorithmInfo* ap :
@@ -154,6 +170,26 @@ void forEachAlgorithm(const Scene& scene, const Camera& camera, RenderOptions op
     options.algorithm = std::string(a.name);
     const Frame f = render(scene, camera, options);
     check(f);
+  }
+  options.depth_test = true;
+  options.depth_func = DepthFunc::Less;
+  options.depth_mask = true;
+  options.algorithm = "zbuffer";
+  const Frame reference = render(scene, camera, options);
+  for (const AlgorithmInfo* ap : lessOnlyAlgorithms()) {
+    if (!unsupported(*ap, camera, options).empty()) continue;  // a line mode or outline case
+    SCOPED_TRACE("algorithm " + std::string(ap->name) + " (LESS, against the z-buffer)");
+    options.algorithm = std::string(ap->name);
+    const Frame f = render(scene, camera, options);
+    EXPECT_EQ(f.stats.degenerate_dropped, reference.stats.degenerate_dropped);
+    std::size_t differ = 0, first = f.ids.size();
+    for (std::size_t k = 0; k < f.ids.size(); ++k)
+      if (f.ids[k] != reference.ids[k] && differ++ == 0) first = k;
+    EXPECT_EQ(differ, 0u) << "pixels whose id differs from the z-buffer's; first at " << first
+                          << ": " << (differ ? f.ids[first] : 0) << " against "
+                          << (differ ? reference.ids[first] : 0);
+    EXPECT_TRUE(f.depth == reference.depth) << "depths differ from the z-buffer's";
+    EXPECT_TRUE(f.color == reference.color) << "colours differ from the z-buffer's";
   }
 }
 
@@ -610,6 +646,8 @@ TEST(Degenerate, HugeCoordinatesNeverCrashOrWriteNaN) {
         o.polygon_mode = mode;
         o.frustum_cull = (renders & 1) != 0;
         o.outline = mode == PolygonMode::Fill;
+        SCOPED_TRACE("magnitude " + std::to_string(mag) + (cam.ortho ? ", pixel camera" : ", perspective") +
+                     ", frustum cull " + std::to_string(o.frustum_cull));
         forEachAlgorithm(s, cam, o, [&](const Frame& f) {
           ++frames;
           expectSaneBuffers(f, s.polygonCount());

@@ -63,7 +63,6 @@ struct Item {
 struct Builder {
   const std::vector<glm::dvec3>& lo;  // each polygon's bounding box
   const std::vector<glm::dvec3>& hi;
-  double eps;  // a polygon within this of a plane lies in it
   Octree& tree;
 
   // Fills node `n` (its box set) with `items`.
@@ -77,11 +76,14 @@ struct Builder {
       std::size_t handed = 0;
       for (const Item& it : items) {
         // Per axis: below the middle, above it (a polygon in the middle plane counts as above),
-        // or across it (then the piece on each side is cut by the middle plane).
+        // or across it (then the piece on each side is cut by the middle plane). The planes are
+        // axis-aligned and the vertices exact, so the comparisons are exact: no epsilon, which
+        // (as 10^-6 of the scene's diagonal) once let a polygon reach 300 units across a plane
+        // uncut in a scene 10^8 wide, and be drawn in the wrong octant's turn.
         bool below[3], above[3], across[3];
         for (int a = 0; a < 3; ++a) {
-          across[a] = lo[it.polygon][a] < mid[a] - eps && hi[it.polygon][a] > mid[a] + eps;
-          above[a] = across[a] || lo[it.polygon][a] >= mid[a] - eps;
+          across[a] = lo[it.polygon][a] < mid[a] && hi[it.polygon][a] > mid[a];
+          above[a] = across[a] || lo[it.polygon][a] >= mid[a];
           below[a] = across[a] || !above[a];
         }
         for (int c = 0; c < 8; ++c) {
@@ -161,8 +163,7 @@ Octree buildOctree(const Scene& scene) {
   if (all.empty()) box_lo = box_hi = glm::dvec3(0.0);
   tree.nodes[0].lo = box_lo;
   tree.nodes[0].hi = box_hi;
-  const double diagonal = glm::length(box_hi - box_lo);
-  Builder b{lo, hi, 1e-6 * diagonal, tree};
+  Builder b{lo, hi, tree};
   b.build(0, std::move(all), 0);
   tree.stats.nodes = tree.nodes.size();
   tree.stats.entries = tree.entries.size();
