@@ -4,7 +4,7 @@ set -euo pipefail
 pkgs=(build-essential cmake pkg-config
       libglm-dev libassimp-dev zlib1g-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtbb-dev libstb-dev
       libgtest-dev libgmock-dev libbenchmark-dev
-      libosmesa6-dev assimp-testmodels
+      libosmesa6-dev libembree-dev assimp-testmodels
       clang-14 libclang-rt-14-dev)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -75,9 +75,40 @@ inline PreparedScene prepare(const Scene& scene, const Camera& camera,
 // eye. Returns +1 (CCW seen from the eye), -1 (CW) or 0 (edge-on or degenerate).
 int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera);
 
+// A material's colour as the pipeline uses it (channels clamped to [0, 1], NaN as 0) and its
+// alpha as the top byte of an rgba (below 0xFF: see-through, blended in a second pass).
+glm::vec3 materialRgb(const Material& m);
+std::uint32_t materialAlphaBits(const Material& m);
+
+// The shaded colour prepare() gives polygon `id` (its material, lit by the headlight when
+// options.shade), for an algorithm that finds a polygon without the pipeline's triangles (the
+// ray caster, for a polygon hit between the snapped triangles' pixels).
+std::uint32_t shadedColour(const Scene& scene, const Camera& camera, const RenderOptions& options, PolygonId id);
+
 // World -> homogeneous device coordinates (x, y in pixels with centres at integers, y down; z
 // window depth; w the clip w, > 0 in front of the eye), as prepare() projects.
 glm::dmat4 deviceFromWorld(const Camera& camera);
+
+// The ray through pixel (x, y)'s centre (device coordinates: top row 0), as the ray caster
+// casts it: in perspective from the eye to the far plane's point, t = near / far at the near
+// plane and 1 at the far plane (a hit's eye depth is t * far); in parallel from the near
+// plane's point to the far plane's, t from 0 to 1 (the window depth). Rays hit for
+// tmin < t < tmax; tmax is one float step past 1, so the far plane is included, as clipping does.
+struct PixelRay {
+  glm::vec3 org, dir;
+  float tmin, tmax;
+};
+class PixelRays {
+ public:
+  explicit PixelRays(const Camera& camera);
+  PixelRay at(int x, int y) const;
+
+ private:
+  glm::dmat4 world_from_device_;
+  glm::dvec3 eye_;
+  bool ortho_;
+  float tmin_;
+};
 
 // Whether the box [lo, hi] lies wholly outside one plane of the view frustum (in clip space:
 // -w <= x, y, z <= w), for skipping a part of a tree (BSP, octree) the eye cannot see.

@@ -215,9 +215,8 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
               {},
               {}};
   for (const Material& m : scene.materials) {
-    auto unit = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
-    ctx.material_rgb.emplace_back(unit(m.color.r), unit(m.color.g), unit(m.color.b));
-    ctx.material_alpha.push_back(static_cast<std::uint32_t>(unit(m.alpha) * 255.0f + 0.5f) << 24);
+    ctx.material_rgb.push_back(materialRgb(m));
+    ctx.material_alpha.push_back(materialAlphaBits(m));
   }
   const std::size_t n = scene.polygonCount();
   const std::size_t chunks = (n + kChunk - 1) / kChunk;

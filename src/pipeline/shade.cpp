@@ -26,7 +26,37 @@ std::uint32_t shadeRgba(const glm::vec3& rgb, std::uint32_t alpha_bits, float la
   return q(rgb.r) | (q(rgb.g) << 8) | (q(rgb.b) << 16) | alpha_bits;
 }
 
+// Headlight Lambert, two-sided: light along the view axis, 20% ambient (1 when not shading).
+float lambertOf(const RenderOptions& options, const glm::dvec3& n, double len2, const glm::dvec3& view_dir) {
+  if (!options.shade) return 1.0f;
+  const double cosine = std::abs(glm::dot(n, view_dir)) / std::sqrt(len2);
+  // Any overflow (inf/inf) or 0/0 reads as facing the light.
+  const float lambert = cosine >= 0.0 && cosine <= 1.0 ? static_cast<float>(cosine) : 1.0f;
+  return 0.2f + 0.8f * lambert;
+}
+
+float unitChannel(float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; }
+
 }  // namespace
+
+std::uint32_t materialAlphaBits(const Material& m) {
+  return static_cast<std::uint32_t>(unitChannel(m.alpha) * 255.0f + 0.5f) << 24;
+}
+
+glm::vec3 materialRgb(const Material& m) {
+  return {unitChannel(m.color.r), unitChannel(m.color.g), unitChannel(m.color.b)};
+}
+
+std::uint32_t shadedColour(const Scene& scene, const Camera& camera, const RenderOptions& options, PolygonId id) {
+  const std::span<const std::uint32_t> vi = scene.polygon(id);
+  const glm::dvec3 n = vi.size() >= 3 ? polygonNormal(scene, vi) : glm::dvec3(0.0);
+  const double len2 = glm::dot(n, n);
+  const glm::dvec3 view_dir = glm::normalize(glm::dvec3(camera.target) - glm::dvec3(camera.eye));
+  const std::uint32_t m = scene.material(id);
+  const Material material = m < scene.materials.size() ? scene.materials[m] : Material{};
+  return shadeRgba(materialRgb(material), m < scene.materials.size() ? materialAlphaBits(material) : 0xFF000000u,
+                   lambertOf(options, n, len2, view_dir));
+}
 
 // Largest distance of a vertex from the plane, against the tolerance of a planar polygon:
 // one part in 10^6 of its extent plus its coordinates' magnitude (float vertices are only
@@ -166,14 +196,7 @@ PolygonInfo describePolygon(const Context& ctx, PolygonId id, std::span<const st
                                            }));
   info.eye_orientation =
       eyeOrientation(n, glm::dvec3(scene.position(vi[0])), ctx.camera, ctx.view_dir);
-  // Headlight Lambert, two-sided: light along the view axis, 20% ambient.
-  float lambert = 1.0f;
-  if (ctx.options.shade) {
-    const double cosine = std::abs(glm::dot(n, ctx.view_dir)) / std::sqrt(len2);
-    // Any overflow (inf/inf) or 0/0 reads as facing the light.
-    lambert = cosine >= 0.0 && cosine <= 1.0 ? static_cast<float>(cosine) : 1.0f;
-    lambert = 0.2f + 0.8f * lambert;
-  }
+  const float lambert = lambertOf(ctx.options, n, len2, ctx.view_dir);
   const std::uint32_t m = scene.material(id);
   const bool known = m < ctx.material_rgb.size();
   const glm::vec3 rgb = known ? ctx.material_rgb[m] : Material{}.color;

@@ -53,5 +53,6 @@ void drawBsp(const AlgorithmInput& input, Frame& frame);              // bsp.cpp
 void drawScanline(const AlgorithmInput& input, Frame& frame);         // scanline.cpp
 void drawWarnock(const AlgorithmInput& input, Frame& frame);          // warnock.cpp
 void drawOctree(const AlgorithmInput& input, Frame& frame);           // octree.cpp
+void drawRaycast(const AlgorithmInput& input, Frame& frame);          // raycast.cpp
 
 }  // namespace hsr::detail

@@ -7,6 +7,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/scene_digest.hpp"
 #include "hsr/scene.hpp"
 
 namespace hsr::detail {
@@ -49,7 +50,5 @@ inline constexpr int kOctreeMaxDepth = 10;                // ... unless this dee
 
 Octree buildOctree(const Scene& scene);
 
-// A digest of the scene's positions and polygons: a tree is reused while it is unchanged.
-std::uint64_t sceneFingerprint(const Scene& scene);
 
 }  // namespace hsr::detail

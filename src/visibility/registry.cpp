@@ -67,6 +67,13 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .input = InputKind::kScreenTriangles,
         .capabilities = kExactSharedCoverage | kOutline | kTransparency | kExplain},
        &drawOctree},
+      {{.name = "raycast",
+        .summary = "ray casting: a ray from the eye through each pixel centre, nearest hit wins (BVH)",
+        .source = "Appel 1968; the notes' \"ray casting\"; BVH: Wald 2007, Woop et al. 2013",
+        .precision = Precision::kImage,
+        .input = InputKind::kWorldPolygons,
+        .capabilities = kOutline | kTransparency},
+       &drawRaycast},
   };
   return table;
 }

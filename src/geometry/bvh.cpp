@@ -1,0 +1,522 @@
+// The bounding volume hierarchy (bvh.hpp): binned SAH build, collapse to four children per
+// node, nearest-hit and any-hit traversal.
+
+#include "geometry/bvh.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
+
+#include <glm/common.hpp>
+
+#include "core/check.hpp"
+
+#if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
+#include <smmintrin.h>
+#define HSR_BVH_SSE 1
+#endif
+
+namespace hsr::detail {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Building
+
+constexpr int kBins = 32;               // SAH candidates per axis (Wald 2007 uses 16 to 32)
+constexpr std::uint32_t kLeafSize = 4;  // triangles per leaf: one BvhTriangles4
+constexpr int kMedianDepth = 40;        // deeper than this, split at the median: depth stays bounded
+constexpr std::uint32_t kParallelTriangles = 4096;  // smaller subtrees are built by one task
+
+struct Box {
+  glm::vec3 lo{INFINITY}, hi{-INFINITY};
+  void extend(const Box& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  void extend(const glm::vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  float halfArea() const {
+    const glm::vec3 d = hi - lo;
+    return d.x < 0.0f ? 0.0f : d.x * d.y + d.y * d.z + d.z * d.x;
+  }
+};
+
+// A node of the binary tree the SAH builds, before it is collapsed.
+struct BinaryNode {
+  Box box;
+  std::uint32_t left = 0, right = 0;  // inner: children
+  std::uint32_t first = 0, count = 0;  // leaf: refs[first, first + count)
+  bool leaf = false;
+};
+
+// Per bin: the triangles whose centroid falls in it, and their boxes.
+struct Bins {
+  Box box[3][kBins];
+  std::uint32_t count[3][kBins] = {};
+  void add(const Bins& o) {
+    for (int a = 0; a < 3; ++a)
+      for (int i = 0; i < kBins; ++i) box[a][i].extend(o.box[a][i]), count[a][i] += o.count[a][i];
+  }
+};
+
+// SAH cost of a leaf of n triangles, counted in blocks of four (they are tested together).
+float blocks(std::uint32_t n) { return static_cast<float>((n + kLeafSize - 1) / kLeafSize); }
+
+struct Builder {
+  const std::vector<Box>& boxes;
+  const std::vector<glm::vec3>& centroids;
+  std::vector<std::uint32_t>& refs;
+  std::vector<BinaryNode>& nodes;
+  std::atomic<std::uint32_t> next_node{0};
+  std::atomic<std::uint32_t> max_depth{0};
+
+  std::uint32_t newNode() { return next_node.fetch_add(1, std::memory_order_relaxed); }
+
+  // Builds the subtree over refs[begin, end) into nodes[index].
+  void build(std::uint32_t index, std::uint32_t begin, std::uint32_t end, std::uint32_t depth) {
+    std::uint32_t seen = max_depth.load(std::memory_order_relaxed);
+    while (depth > seen && !max_depth.compare_exchange_weak(seen, depth)) {
+    }
+    BinaryNode& node = nodes[index];
+    const std::uint32_t n = end - begin;
+    // Bounds of the triangles and of their centroids
+    Box box, centroid_box;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      box.extend(boxes[refs[i]]);
+      centroid_box.extend(centroids[refs[i]]);
+    }
+    node.box = box;
+    if (n <= kLeafSize) {
+      node.leaf = true, node.first = begin, node.count = n;
+      return;
+    }
+    const std::uint32_t mid = split(begin, end, centroid_box, depth);
+    node.left = newNode();
+    node.right = newNode();
+    const std::uint32_t left = node.left, right = node.right;
+    if (n > kParallelTriangles) {
+      tbb::parallel_invoke([&] { build(left, begin, mid, depth + 1); },
+                           [&] { build(right, mid, end, depth + 1); });
+    } else {
+      build(left, begin, mid, depth + 1);
+      build(right, mid, end, depth + 1);
+    }
+  }
+
+  // Reorders refs[begin, end) into two non-empty halves and returns where the second starts.
+  std::uint32_t split(std::uint32_t begin, std::uint32_t end, const Box& cb, std::uint32_t depth) {
+    const glm::vec3 extent = cb.hi - cb.lo;
+    const int widest = extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2) : (extent.y >= extent.z ? 1 : 2);
+    if (!(extent[widest] > 0.0f)) return begin + (end - begin) / 2;  // all centroids at one point
+    if (depth < kMedianDepth) {
+      // Bin the centroids along each axis (in parallel for a large node)
+      glm::vec3 scale;
+      for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? kBins * 0.999f / extent[a] : 0.0f;
+      auto binOf = [&](std::uint32_t ref, int a) {
+        return std::min(kBins - 1, static_cast<int>((centroids[ref][a] - cb.lo[a]) * scale[a]));
+      };
+      auto fill = [&](std::uint32_t b, std::uint32_t e, Bins& bins) {
+        for (std::uint32_t i = b; i < e; ++i)
+          for (int a = 0; a < 3; ++a) {
+            const int k = binOf(refs[i], a);
+            bins.box[a][k].extend(boxes[refs[i]]);
+            bins.count[a][k]++;
+          }
+      };
+      Bins bins;
+      if (end - begin > 4 * kParallelTriangles) {
+        bins = tbb::parallel_reduce(
+            tbb::blocked_range<std::uint32_t>(begin, end, kParallelTriangles), Bins{},
+            [&](const tbb::blocked_range<std::uint32_t>& r, Bins acc) {
+              fill(r.begin(), r.end(), acc);
+              return acc;
+            },
+            [](Bins x, const Bins& y) {
+              x.add(y);
+              return x;
+            });
+      } else {
+        fill(begin, end, bins);
+      }
+      // Sweep: the cost of splitting after bin k is area(left) * blocks(left) + area(right) * blocks(right)
+      float best_cost = INFINITY;
+      int best_axis = -1, best_bin = 0;
+      for (int a = 0; a < 3; ++a) {
+        if (!(extent[a] > 0.0f)) continue;
+        float right_cost[kBins];
+        Box acc;
+        std::uint32_t count = 0;
+        for (int k = kBins - 1; k > 0; --k) {
+          acc.extend(bins.box[a][k]);
+          count += bins.count[a][k];
+          right_cost[k] = acc.halfArea() * blocks(count);
+        }
+        acc = Box{};
+        count = 0;
+        for (int k = 0; k < kBins - 1; ++k) {
+          acc.extend(bins.box[a][k]);
+          count += bins.count[a][k];
+          const float cost = acc.halfArea() * blocks(count) + right_cost[k + 1];
+          if (count > 0 && count < end - begin && cost < best_cost) best_cost = cost, best_axis = a, best_bin = k;
+        }
+      }
+      if (best_axis >= 0) {
+        const auto mid = std::partition(refs.begin() + begin, refs.begin() + end,
+                                        [&](std::uint32_t ref) { return binOf(ref, best_axis) <= best_bin; });
+        const auto m = static_cast<std::uint32_t>(mid - refs.begin());
+        if (m > begin && m < end) return m;
+      }
+    }
+    // The median along the widest axis (ties by triangle number, so the tree is deterministic)
+    const std::uint32_t m = begin + (end - begin) / 2;
+    std::nth_element(refs.begin() + begin, refs.begin() + m, refs.begin() + end,
+                     [&](std::uint32_t x, std::uint32_t y) {
+                       return centroids[x][widest] < centroids[y][widest] ||
+                              (centroids[x][widest] == centroids[y][widest] && x < y);
+                     });
+    return m;
+  }
+};
+
+// The binary tree collapsed to four children per node, depth first.
+struct Collapser {
+  const std::vector<BinaryNode>& binary;
+  const std::vector<std::uint32_t>& refs;
+  std::span<const glm::vec3> a, b, c;
+  Bvh& bvh;
+  std::uint64_t depth = 0;
+  double sah = 0;  // sum over nodes of area * cost, divided by the root's area at the end
+
+  std::uint32_t leaf(const BinaryNode& n) {
+    BvhTriangles4 t{};
+    for (int lane = 0; lane < 4; ++lane) {
+      t.triangle[lane] = kBvhNoTriangle;
+      for (int ax = 0; ax < 3; ++ax) t.a[ax][lane] = t.b[ax][lane] = t.c[ax][lane] = 0.0f;
+    }
+    for (std::uint32_t i = 0; i < n.count; ++i) {
+      const std::uint32_t tri = refs[n.first + i];
+      t.triangle[i] = tri;
+      for (int ax = 0; ax < 3; ++ax) t.a[ax][i] = a[tri][ax], t.b[ax][i] = b[tri][ax], t.c[ax][i] = c[tri][ax];
+    }
+    // Lanes in ascending triangle number: the first hit of a tie is then the one kept
+    std::uint32_t order[4] = {0, 1, 2, 3};
+    std::sort(order, order + n.count, [&](std::uint32_t x, std::uint32_t y) { return t.triangle[x] < t.triangle[y]; });
+    BvhTriangles4 sorted = t;
+    for (std::uint32_t i = 0; i < n.count; ++i) {
+      sorted.triangle[i] = t.triangle[order[i]];
+      for (int ax = 0; ax < 3; ++ax) {
+        sorted.a[ax][i] = t.a[ax][order[i]];
+        sorted.b[ax][i] = t.b[ax][order[i]];
+        sorted.c[ax][i] = t.c[ax][order[i]];
+      }
+    }
+    sah += n.box.halfArea() * blocks(n.count);
+    bvh.leaves.push_back(sorted);
+    bvh.stats.leaves++;
+    return BvhNode4::kLeaf | static_cast<std::uint32_t>(bvh.leaves.size() - 1);
+  }
+
+  std::uint32_t collapse(std::uint32_t index, std::uint64_t level) {
+    const BinaryNode& n = binary[index];
+    if (n.leaf) return leaf(n);
+    depth = std::max(depth, level);
+    // The children: the two halves, then, while fewer than four, the largest inner child opened
+    std::uint32_t kids[4] = {n.left, n.right, 0, 0};
+    int count = 2;
+    while (count < 4) {
+      int open = -1;
+      float area = -1.0f;
+      for (int i = 0; i < count; ++i)
+        if (!binary[kids[i]].leaf && binary[kids[i]].box.halfArea() > area) open = i, area = binary[kids[i]].box.halfArea();
+      if (open < 0) break;
+      const BinaryNode& o = binary[kids[open]];
+      kids[open] = o.left;
+      kids[count++] = o.right;
+    }
+    sah += n.box.halfArea();
+    const auto me = static_cast<std::uint32_t>(bvh.nodes.size());
+    bvh.nodes.emplace_back();
+    for (int i = 0; i < 4; ++i) {
+      BvhNode4 node = bvh.nodes[me];
+      if (i < count) {
+        const Box& box = binary[kids[i]].box;
+        for (int ax = 0; ax < 3; ++ax) node.lo[ax][i] = box.lo[ax], node.hi[ax][i] = box.hi[ax];
+      } else {
+        for (int ax = 0; ax < 3; ++ax) node.lo[ax][i] = INFINITY, node.hi[ax][i] = -INFINITY;
+        node.child[i] = BvhNode4::kEmpty;
+      }
+      bvh.nodes[me] = node;
+    }
+    for (int i = 0; i < count; ++i) {
+      const std::uint32_t ref = collapse(kids[i], level + 1);
+      bvh.nodes[me].child[i] = ref;
+    }
+    return me;
+  }
+};
+
+}  // namespace
+
+Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::span<const glm::vec3> c) {
+  const auto t0 = std::chrono::steady_clock::now();
+  HSR_CHECK(a.size() == b.size() && b.size() == c.size());
+  Bvh bvh;
+  // Each finite triangle's box and centroid
+  std::vector<Box> boxes(a.size());
+  std::vector<glm::vec3> centroids(a.size());
+  std::vector<std::uint32_t> refs;
+  refs.reserve(a.size());
+  Box all;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    Box box;
+    box.extend(a[i]);
+    box.extend(b[i]);
+    box.extend(c[i]);
+    const glm::vec3 sum = a[i] + b[i] + c[i];
+    if (!std::isfinite(sum.x) || !std::isfinite(sum.y) || !std::isfinite(sum.z) ||
+        !std::isfinite(box.lo.x + box.lo.y + box.lo.z + box.hi.x + box.hi.y + box.hi.z))
+      continue;
+    boxes[i] = box;
+    centroids[i] = (box.lo + box.hi) * 0.5f;
+    all.extend(box);
+    refs.push_back(static_cast<std::uint32_t>(i));
+  }
+  bvh.stats.triangles = refs.size();
+  if (refs.empty()) {
+    bvh.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return bvh;
+  }
+  bvh.lo = all.lo, bvh.hi = all.hi;
+  // The binary tree: at most 2n - 1 nodes
+  std::vector<BinaryNode> binary(2 * refs.size());
+  Builder builder{boxes, centroids, refs, binary};
+  const std::uint32_t root = builder.newNode();
+  builder.build(root, 0, static_cast<std::uint32_t>(refs.size()), 0);
+  // Collapsed, depth first
+  Collapser collapser{binary, refs, a, b, c, bvh};
+  bvh.nodes.reserve(builder.next_node.load() / 3 + 1);
+  bvh.leaves.reserve(refs.size() / 2 + 1);
+  bvh.root = collapser.collapse(root, 1);
+  bvh.stats.nodes = bvh.nodes.size();
+  bvh.stats.depth = std::max<std::uint64_t>(collapser.depth, 1);
+  const float root_area = binary[root].box.halfArea();
+  bvh.stats.sah_cost = root_area > 0.0f ? collapser.sah / root_area : 0.0;
+  bvh.stats.bytes = bvh.nodes.capacity() * sizeof(BvhNode4) + bvh.leaves.capacity() * sizeof(BvhTriangles4);
+  bvh.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return bvh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Traversal
+
+namespace {
+
+// Ize 2013: widening the far distance by 2 gamma(3) makes the float box test conservative.
+constexpr float kWidenFar = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+
+// max and min as SSE's maxps/minps: a NaN in `a` yields `b`.
+inline float maxps(float a, float b) { return a > b ? a : b; }
+inline float minps(float a, float b) { return a < b ? a : b; }
+
+}  // namespace
+
+bool rayIsValid(const glm::vec3& org, const glm::vec3& dir) {
+  return std::isfinite(org.x) && std::isfinite(org.y) && std::isfinite(org.z) && std::isfinite(dir.x) &&
+         std::isfinite(dir.y) && std::isfinite(dir.z) && (dir.x != 0.0f || dir.y != 0.0f || dir.z != 0.0f);
+}
+
+BoxRay boxRayOf(const glm::vec3& org, const glm::vec3& dir) {
+  BoxRay r;
+  for (int a = 0; a < 3; ++a) {
+    r.org[a] = org[a];
+    r.inv[a] = 1.0f / dir[a];  // +-infinity along an axis the ray is parallel to
+    r.near_is_hi[a] = std::signbit(dir[a]) ? 1 : 0;
+  }
+  return r;
+}
+
+// The slab test (Kay & Kajiya 1986) for four boxes. A NaN, from a ray lying in a box's face,
+// never narrows the interval, so the test stays conservative.
+unsigned boxHits4Scalar(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]) {
+  unsigned mask = 0;
+  for (int i = 0; i < 4; ++i) {
+    float t0 = tmin, t1 = INFINITY;
+    for (int a = 0; a < 3; ++a) {
+      const float near_face = r.near_is_hi[a] ? node.hi[a][i] : node.lo[a][i];
+      const float far_face = r.near_is_hi[a] ? node.lo[a][i] : node.hi[a][i];
+      t0 = maxps((near_face - r.org[a]) * r.inv[a], t0);
+      t1 = minps((far_face - r.org[a]) * r.inv[a], t1);
+    }
+    t1 = minps(t1 * kWidenFar, tmax);
+    tnear[i] = t0;
+    if (t0 <= t1) mask |= 1u << i;
+  }
+  return mask;
+}
+
+#ifdef HSR_BVH_SSE
+unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]) {
+  __m128 t0 = _mm_set1_ps(tmin), t1 = _mm_set1_ps(INFINITY);
+  for (int a = 0; a < 3; ++a) {
+    const __m128 o = _mm_set1_ps(r.org[a]), inv = _mm_set1_ps(r.inv[a]);
+    const __m128 near_face = _mm_load_ps(r.near_is_hi[a] ? node.hi[a] : node.lo[a]);
+    const __m128 far_face = _mm_load_ps(r.near_is_hi[a] ? node.lo[a] : node.hi[a]);
+    t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(near_face, o), inv), t0);
+    t1 = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(far_face, o), inv), t1);
+  }
+  t1 = _mm_min_ps(_mm_mul_ps(t1, _mm_set1_ps(kWidenFar)), _mm_set1_ps(tmax));
+  _mm_storeu_ps(tnear, t0);
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+}
+bool boxHits4SseAvailable() { return true; }
+#else
+unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]) {
+  return boxHits4Scalar(node, r, tmin, tmax, tnear);
+}
+bool boxHits4SseAvailable() { return false; }
+#endif
+
+namespace {
+
+// The node test this build uses, chosen once.
+#ifdef HSR_BVH_SSE
+constexpr auto boxHits4 = boxHits4Sse;
+#else
+constexpr auto boxHits4 = boxHits4Scalar;
+#endif
+
+constexpr int kStackSize = 3 * (kMedianDepth + 32) + 8;  // three pushed per level at most
+
+struct StackEntry {
+  std::uint32_t ref;
+  float tnear;
+};
+
+// Pushes a node's hit children so that the nearest is popped first.
+inline void pushChildren(const BvhNode4& node, unsigned mask, const float tnear[4], StackEntry* stack, int& sp) {
+  StackEntry hit[4];
+  int n = 0;
+  for (int i = 0; i < 4; ++i)
+    if (mask & (1u << i)) hit[n++] = {node.child[i], tnear[i]};
+  // Farthest first onto the stack (an insertion sort of at most four)
+  for (int i = 1; i < n; ++i)
+    for (int j = i; j > 0 && hit[j - 1].tnear < hit[j].tnear; --j) std::swap(hit[j - 1], hit[j]);
+  for (int i = 0; i < n; ++i) stack[sp++] = hit[i];
+}
+
+}  // namespace
+
+namespace {
+
+// Hits sorted by t, then by triangle number.
+bool before(const BvhHit& x, const BvhHit& y) { return x.t < y.t || (x.t == y.t && x.triangle < y.triangle); }
+
+// The nearest-hit traversal; with kBand, the hits within limit(nearest) are kept too.
+template <bool kBand>
+void traverseNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
+                     HitSides sides, BvhBandLimit limit_of, const void* context, BvhCandidates* out,
+                     BvhTraversalCounts* counts) {
+  out->count = 0;
+  if (bvh.root == BvhNode4::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return;
+  const ShearedRay sheared = shearRay(org, dir);
+  const BoxRay box_ray = boxRayOf(org, dir);
+  StackEntry stack[kStackSize];
+  int sp = 0;
+  stack[sp++] = {bvh.root, tmin};
+  // Hits are looked for up to `limit`: tmax until something is hit, then the nearest hit's t
+  // (or its band's end)
+  float limit = tmax;
+  bool found = false;
+  std::uint64_t visited = 0, tested = 0;
+  while (sp > 0) {
+    const StackEntry e = stack[--sp];
+    if (e.tnear > limit) continue;  // a nearer hit was found since it was pushed
+    if (e.ref & BvhNode4::kLeaf) {
+      // A leaf: its triangles, each kept when nearer than what was kept (a tie: the lower number)
+      const BvhTriangles4& leaf = bvh.leaves[e.ref & ~BvhNode4::kLeaf];
+      for (int lane = 0; lane < 4 && leaf.triangle[lane] != kBvhNoTriangle; ++lane) {
+        ++tested;
+        TriangleHit h;
+        const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
+        const glm::vec3 b(leaf.b[0][lane], leaf.b[1][lane], leaf.b[2][lane]);
+        const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
+        // Up to the limit itself once something is hit (a tie), short of tmax before
+        const float upto = found ? std::nextafter(limit, INFINITY) : tmax;
+        if (!intersectTriangle(sheared, a, b, c, tmin, upto, sides, &h)) continue;
+        const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise};
+        // Insert in order, the farthest falling off the end
+        int i = out->count < kBvhCandidates ? out->count++ : kBvhCandidates;
+        if (i == kBvhCandidates && !before(hit, out->hit[kBvhCandidates - 1])) continue;
+        if (i == kBvhCandidates) --i;
+        for (; i > 0 && before(hit, out->hit[i - 1]); --i) out->hit[i] = out->hit[i - 1];
+        out->hit[i] = hit;
+        if (i == 0) {  // a new nearest: the limit moves in, and hits beyond it go
+          found = true;
+          limit = kBand ? limit_of(context, hit.t) : hit.t;
+          while (out->count > 1 && out->hit[out->count - 1].t > limit) --out->count;
+        }
+      }
+      continue;
+    }
+    // An inner node: test its four boxes, go on with the nearest
+    ++visited;
+    const BvhNode4& node = bvh.nodes[e.ref];
+    float tnear[4];
+    const unsigned mask = boxHits4(node, box_ray, tmin, limit, tnear);
+    pushChildren(node, mask, tnear, stack, sp);
+  }
+  if (counts) counts->nodes += visited, counts->triangles += tested;
+}
+
+}  // namespace
+
+BvhHit intersectNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
+                        HitSides sides, BvhTraversalCounts* counts) {
+  BvhCandidates found;
+  traverseNearest<false>(bvh, org, dir, tmin, tmax, sides, nullptr, nullptr, &found, counts);
+  return found.count > 0 ? found.hit[0] : BvhHit{};
+}
+
+void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
+                          HitSides sides, BvhBandLimit limit, const void* context, BvhCandidates* out,
+                          BvhTraversalCounts* counts) {
+  traverseNearest<true>(bvh, org, dir, tmin, tmax, sides, limit, context, out, counts);
+}
+
+bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax) {
+  if (bvh.root == BvhNode4::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return false;
+  const ShearedRay sheared = shearRay(org, dir);
+  const BoxRay box_ray = boxRayOf(org, dir);
+  StackEntry stack[kStackSize];
+  int sp = 0;
+  stack[sp++] = {bvh.root, tmin};
+  while (sp > 0) {
+    const StackEntry e = stack[--sp];
+    if (e.ref & BvhNode4::kLeaf) {
+      const BvhTriangles4& leaf = bvh.leaves[e.ref & ~BvhNode4::kLeaf];
+      for (int lane = 0; lane < 4 && leaf.triangle[lane] != kBvhNoTriangle; ++lane) {
+        TriangleHit h;
+        const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
+        const glm::vec3 b(leaf.b[0][lane], leaf.b[1][lane], leaf.b[2][lane]);
+        const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
+        if (intersectTriangle(sheared, a, b, c, tmin, tmax, HitSides::kBoth, &h)) return true;
+      }
+      continue;
+    }
+    const BvhNode4& node = bvh.nodes[e.ref];
+    float tnear[4];
+    const unsigned mask = boxHits4(node, box_ray, tmin, tmax, tnear);
+    for (int i = 0; i < 4; ++i)
+      if (mask & (1u << i)) stack[sp++] = {node.child[i], tnear[i]};
+  }
+  return false;
+}
+
+}  // namespace hsr::detail

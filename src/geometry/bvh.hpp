@@ -1,0 +1,116 @@
+#pragma once
+// A bounding volume hierarchy over triangles, for casting rays (the ray caster and
+// hsr::RayScene). Built top down with the surface-area heuristic over binned centroids
+// (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"), then collapsed
+// to four children per node so that one ray tests four boxes at once (Dammertz, Hanika &
+// Keller 2008; Embree's BVH4). Leaves hold up to four triangles side by side.
+//
+// Guarantees: every triangle with finite vertices is in exactly one leaf; a ray that hits a
+// triangle reaches its leaf (the box test is conservative: its far distance is widened by
+// 2 gamma(3), Ize 2013, "Robust BVH ray traversal"); the nearest hit is chosen with ties to the
+// lowest triangle number, so the answer does not depend on the traversal order, the SIMD or
+// scalar node test, or the thread count.
+//
+// Cost: build O(n log n), about 100 B per triangle; a ray visits O(log n) nodes on typical
+// scenes. Tests: tests/geometry/bvh_test.cpp, tests/agreement/embree_test.cpp.
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "geometry/ray_triangle.hpp"
+
+namespace hsr::detail {
+
+inline constexpr std::uint32_t kBvhNoTriangle = 0xFFFFFFFFu;
+
+// Four boxes side by side (structure of arrays, one SSE register per row) and what is in them.
+struct alignas(64) BvhNode4 {
+  float lo[3][4], hi[3][4];  // [axis][child]
+  std::uint32_t child[4];    // an inner node's index; kLeaf | a leaf's block; or kEmpty
+  std::uint32_t pad[4];
+
+  static constexpr std::uint32_t kLeaf = 0x80000000u;
+  static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
+};
+static_assert(sizeof(BvhNode4) == 128, "two cache lines a node");
+
+// Up to four triangles side by side, for a leaf.
+struct alignas(16) BvhTriangles4 {
+  float a[3][4], b[3][4], c[3][4];  // [axis][lane]
+  std::uint32_t triangle[4];        // the caller's triangle number, kBvhNoTriangle if unused
+};
+
+struct BvhStats {
+  std::uint64_t triangles = 0;  // in the tree (non-finite ones are left out)
+  std::uint64_t nodes = 0, leaves = 0, depth = 0;
+  std::uint64_t bytes = 0;
+  double build_ms = 0;
+  double sah_cost = 0;  // the tree's SAH cost, traversal step 1, triangle test 1 (lower is better)
+};
+
+struct Bvh {
+  std::vector<BvhNode4> nodes;  // nodes[0] is the root (an empty tree has no nodes)
+  std::vector<BvhTriangles4> leaves;
+  glm::vec3 lo{0.0f}, hi{0.0f};  // bounds of everything
+  std::uint32_t root = BvhNode4::kEmpty;  // nodes[0], or a leaf when there are at most 4
+  BvhStats stats;
+};
+
+// Builds over triangles (a[i], b[i], c[i]); triangle i is reported as i. Uses the calling
+// task arena's threads (oneTBB); the tree is the same at any thread count.
+Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::span<const glm::vec3> c);
+
+struct BvhHit {
+  float t = std::numeric_limits<float>::infinity();
+  float u = 0, v = 0;
+  std::uint32_t triangle = kBvhNoTriangle;
+  bool counter_clockwise = false;
+};
+
+struct BvhTraversalCounts {
+  std::uint64_t nodes = 0;      // inner nodes visited
+  std::uint64_t triangles = 0;  // ray/triangle tests
+};
+
+// The nearest hit with tmin < t < tmax on the allowed sides; of hits at the same t, the lowest
+// triangle number. A ray with a non-finite origin or direction, or a zero direction, hits
+// nothing. `counts` may be null.
+BvhHit intersectNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin,
+                        float tmax, HitSides sides, BvhTraversalCounts* counts = nullptr);
+// The nearest hit and the hits just behind it: every hit with t <= limit(context, nearest t),
+// nearest first (of equal t, the lowest triangle first); at most kBvhCandidates, the farthest
+// dropped beyond that. For a caller that settles near-ties by a rule of its own (the ray caster
+// gives them to the z-buffer's float depth). `limit(c, t)` must be >= t and grow with t.
+inline constexpr int kBvhCandidates = 8;
+struct BvhCandidates {
+  int count = 0;
+  BvhHit hit[kBvhCandidates];
+};
+using BvhBandLimit = float (*)(const void* context, float nearest_t);
+void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
+                          HitSides sides, BvhBandLimit limit, const void* context, BvhCandidates* out,
+                          BvhTraversalCounts* counts = nullptr);
+
+// Whether anything is hit with tmin < t < tmax (either side).
+bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax);
+
+// Whether the ray is one the queries answer (finite origin, finite non-zero direction).
+bool rayIsValid(const glm::vec3& org, const glm::vec3& dir);
+
+// The four box tests of a node for one ray, as a bit per child hit and each child's entry
+// distance: the SSE sibling and the scalar one (the same bits; which runs is chosen at build
+// time, HSR_NO_SIMD picks the scalar). Open to the tests, which pin the two together.
+struct BoxRay {
+  float org[3], inv[3];  // inv: 1 / direction (an infinity where a component is 0)
+  int near_is_hi[3];     // per axis: the near face is `hi` (the direction is negative)
+};
+BoxRay boxRayOf(const glm::vec3& org, const glm::vec3& dir);
+unsigned boxHits4Scalar(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]);
+unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]);
+bool boxHits4SseAvailable();
+
+}  // namespace hsr::detail

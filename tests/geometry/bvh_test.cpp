@@ -1,0 +1,250 @@
+// The bounding volume hierarchy and its ray queries (geometry/bvh.hpp, hsr::RayScene).
+// docs/testing.md row 9 (watertight: no ray from inside a closed mesh escapes) and row 13
+// (NaN and infinite rays answer "no hit" and harm no other), the hierarchy's own invariants,
+// and the SSE node test pinned to the scalar one bit for bit.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <bit>
+#include <numbers>
+#include <vector>
+
+#include "core/random.hpp"
+#include "cross/figures.hpp"
+#include "geometry/bvh.hpp"
+#include "geometry/ray_scene_data.hpp"
+#include "hsr/error.hpp"
+#include "hsr/io.hpp"
+#include "hsr/ray_scene.hpp"
+#include "hsr/render.hpp"
+#include "test_util.hpp"
+
+namespace hsr {
+namespace {
+
+using testing::grouped;
+
+float uniform(detail::SplitMix64& rng) { return static_cast<float>(rng.next() >> 40) / static_cast<float>(1u << 24); }
+
+// A closed UV sphere of radius r at `centre` (poles as triangle fans): every edge shared by
+// exactly two triangles, which share its two vertices exactly.
+Scene closedSphere(glm::vec3 centre, float r, int rings, int segments) {
+  Scene s;
+  const std::uint32_t m = s.addMaterial({});
+  s.beginObject("sphere");
+  std::vector<std::uint32_t> v;
+  const std::uint32_t north = s.addVertex(centre + glm::vec3(0, 0, r));
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double th = std::numbers::pi * i / rings, ph = 2 * std::numbers::pi * j / segments;
+      v.push_back(s.addVertex(centre + glm::vec3(float(r * std::sin(th) * std::cos(ph)),
+                                                 float(r * std::sin(th) * std::sin(ph)), float(r * std::cos(th)))));
+    }
+  const std::uint32_t south = s.addVertex(centre + glm::vec3(0, 0, -r));
+  auto at = [&](int i, int j) { return v[static_cast<std::size_t>(i) * segments + (j % segments)]; };
+  for (int j = 0; j < segments; ++j) s.addPolygon({north, at(0, j), at(0, j + 1)}, m);
+  for (int i = 0; i + 1 < rings - 1; ++i)
+    for (int j = 0; j < segments; ++j) {
+      s.addPolygon({at(i, j), at(i + 1, j), at(i + 1, j + 1)}, m);
+      s.addPolygon({at(i, j), at(i + 1, j + 1), at(i, j + 1)}, m);
+    }
+  for (int j = 0; j < segments; ++j) s.addPolygon({south, at(rings - 2, j + 1), at(rings - 2, j)}, m);
+  return s;
+}
+
+// Row 9: rays from points inside a closed sphere far from the origin (where floats are coarse),
+// aimed exactly at its vertices and at its edges' midpoints, where cracks would show: none may
+// escape. 10^6 rays in CI.
+TEST(Bvh, WatertightNoRayEscapesAClosedSphereFarFromTheOrigin) {
+  const glm::vec3 centre(1000.0f, -2000.0f, 3000.0f);
+  const Scene sphere = closedSphere(centre, 1.0f, 48, 96);
+  const RayScene rays(sphere);
+  detail::SplitMix64 rng(9);
+  std::vector<glm::vec3> targets;
+  for (std::size_t v = 0; v < sphere.vertexCount(); ++v) targets.push_back(sphere.position(static_cast<std::uint32_t>(v)));
+  for (PolygonId p = 0; p < sphere.polygonCount(); ++p) {
+    const auto vi = sphere.polygon(p);
+    for (int k = 0; k < 3; ++k) targets.push_back((sphere.position(vi[k]) + sphere.position(vi[(k + 1) % 3])) * 0.5f);
+  }
+  const std::size_t n = 1000000 * static_cast<std::size_t>(testing::countScale());
+  std::vector<glm::vec3> org(n), dir(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    org[i] = centre + 0.5f * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+    dir[i] = targets[i % targets.size()] - org[i];
+  }
+  const std::vector<RayHit> hits = rays.intersect(org, dir);
+  std::uint64_t misses = 0;
+  for (const RayHit& h : hits) misses += !h.hit();
+  testing::printFigures("row 9 watertight: " + grouped(n) + " rays from inside a closed sphere at (1000, -2000, 3000), " +
+                        "aimed at its " + grouped(sphere.vertexCount()) + " vertices and edge midpoints: " +
+                        grouped(misses) + " escaped");
+  EXPECT_EQ(misses, 0u);
+  // And through random directions
+  for (std::size_t i = 0; i < n / 10; ++i) dir[i] = glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+  const std::vector<RayHit> random_hits =
+      rays.intersect(std::span(org).first(n / 10), std::span(dir).first(n / 10));
+  for (const RayHit& h : random_hits) EXPECT_TRUE(h.hit());
+}
+
+// Row 13: a ray with a NaN or infinite component, or a zero direction, hits nothing; the
+// valid rays beside it in the same batch get the answer they get alone; and such rays cost no
+// more than finite ones (the catalogue's bound: at most 2.5x).
+TEST(Bvh, NaNAndInfiniteRaysHitNothingAndHarmNoOther) {
+  const Scene scene = makeBuiltinScene("spheres:2000");
+  const RayScene rays(scene);
+  const Bounds b = scene.bounds();
+  detail::SplitMix64 rng(13);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const std::size_t n = 200000;
+  std::vector<glm::vec3> org(n), dir(n), bad_org(n), bad_dir(n);
+  std::vector<std::uint8_t> bad(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    org[i] = b.lo + (b.hi - b.lo) * glm::vec3(uniform(rng), uniform(rng), uniform(rng));
+    dir[i] = glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+    bad_org[i] = org[i], bad_dir[i] = dir[i];
+    bad[i] = i % 2 == 1;
+    if (!bad[i]) continue;
+    switch (i / 2 % 5) {
+      case 0: bad_org[i][static_cast<int>(i / 10 % 3)] = nan; break;
+      case 1: bad_dir[i][static_cast<int>(i / 10 % 3)] = nan; break;
+      case 2: bad_org[i][static_cast<int>(i / 10 % 3)] = -inf; break;
+      case 3: bad_dir[i][static_cast<int>(i / 10 % 3)] = inf; break;
+      default: bad_dir[i] = glm::vec3(0.0f); break;
+    }
+  }
+  const std::vector<RayHit> good = rays.intersect(org, dir);
+  const std::vector<RayHit> mixed = rays.intersect(bad_org, bad_dir);
+  std::uint64_t hit_by_bad = 0, changed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (bad[i]) {
+      hit_by_bad += mixed[i].hit() || rays.occluded(bad_org[i], bad_dir[i]);
+    } else {
+      changed += mixed[i].polygon != good[i].polygon || mixed[i].t != good[i].t;
+    }
+  }
+  EXPECT_EQ(hit_by_bad, 0u);
+  EXPECT_EQ(changed, 0u);
+  // Time per ray, all bad against all finite (single-threaded, best of 3)
+  auto time = [&](const std::vector<glm::vec3>& o, const std::vector<glm::vec3>& d) {
+    double best = 1e30;
+    for (int rep = 0; rep < 3; ++rep) {
+      const auto t0 = std::chrono::steady_clock::now();
+      std::uint64_t sink = 0;
+      for (std::size_t i = 1; i < n; i += 2) sink += rays.intersect(o[i], d[i]).polygon;
+      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      EXPECT_NE(sink, 1u);
+    }
+    return best;
+  };
+  const double bad_s = time(bad_org, bad_dir), good_s = time(org, dir);
+  testing::printFigures("row 13 rays: " + grouped(n / 2) + " NaN/Inf/zero rays hit nothing, " + grouped(n / 2) +
+                        " finite rays beside them unchanged; bad rays take " + std::to_string(bad_s / good_s) +
+                        "x the time of finite ones");
+  EXPECT_LE(bad_s, 2.5 * good_s);
+}
+
+// Every finite triangle sits in exactly one leaf, inside every box on its way from the root.
+TEST(Bvh, EveryTriangleInOneLeafInsideItsBoxes) {
+  const Scene scene = makeBuiltinScene("spheres:3000");
+  const RayScene rays(scene);
+  const detail::Bvh& bvh = rays.data().bvh;
+  std::vector<int> seen(rays.triangleCount(), 0);
+  struct Item {
+    std::uint32_t ref;
+    glm::vec3 lo, hi;
+  };
+  std::vector<Item> stack{{bvh.root, bvh.lo, bvh.hi}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    if (it.ref & detail::BvhNode4::kLeaf) {
+      const detail::BvhTriangles4& leaf = bvh.leaves[it.ref & ~detail::BvhNode4::kLeaf];
+      for (int lane = 0; lane < 4 && leaf.triangle[lane] != detail::kBvhNoTriangle; ++lane) {
+        seen[leaf.triangle[lane]]++;
+        for (int a = 0; a < 3; ++a)
+          for (const float c : {leaf.a[a][lane], leaf.b[a][lane], leaf.c[a][lane]}) {
+            EXPECT_GE(c, it.lo[a]);
+            EXPECT_LE(c, it.hi[a]);
+          }
+      }
+      continue;
+    }
+    const detail::BvhNode4& node = bvh.nodes[it.ref];
+    for (int i = 0; i < 4; ++i) {
+      if (node.child[i] == detail::BvhNode4::kEmpty) continue;
+      glm::vec3 lo, hi;
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = node.lo[a][i], hi[a] = node.hi[a][i];
+        EXPECT_GE(lo[a], it.lo[a]);
+        EXPECT_LE(hi[a], it.hi[a]);
+      }
+      stack.push_back({node.child[i], lo, hi});
+    }
+  }
+  for (std::size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t;
+  EXPECT_GT(bvh.stats.sah_cost, 0.0);
+}
+
+// The SSE node test gives the scalar one's bits: the mask and the entry distances, for random
+// boxes and rays, axis-parallel rays and rays starting on a box's face among them.
+TEST(Bvh, SseNodeTestEqualsTheScalarOne) {
+  if (!detail::boxHits4SseAvailable()) GTEST_SKIP() << "HSR_NO_SIMD build: the scalar test alone";
+  detail::SplitMix64 rng(4);
+  std::uint64_t cases = 0, hits = 0;
+  for (int i = 0; i < 200000; ++i) {
+    detail::BvhNode4 node{};
+    for (int c = 0; c < 4; ++c)
+      for (int a = 0; a < 3; ++a) {
+        const float x = uniform(rng) * 4 - 2, y = uniform(rng) * 4 - 2;
+        node.lo[a][c] = std::min(x, y), node.hi[a][c] = i % 7 == 0 ? std::min(x, y) : std::max(x, y);
+      }
+    glm::vec3 o(uniform(rng) * 6 - 3, uniform(rng) * 6 - 3, uniform(rng) * 6 - 3);
+    glm::vec3 d(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+    if (i % 5 == 0) d[i % 3] = 0.0f;                  // parallel to a slab
+    if (i % 11 == 0) o[i % 3] = node.lo[i % 3][i % 4];  // starting on a face
+    const detail::BoxRay r = detail::boxRayOf(o, d);
+    float a[4], b[4];
+    const unsigned ma = detail::boxHits4Scalar(node, r, 0.0f, 10.0f, a);
+    const unsigned mb = detail::boxHits4Sse(node, r, 0.0f, 10.0f, b);
+    ASSERT_EQ(ma, mb) << "case " << i;
+    for (int c = 0; c < 4; ++c)
+      if (ma & (1u << c)) ASSERT_EQ(std::bit_cast<std::uint32_t>(a[c]), std::bit_cast<std::uint32_t>(b[c]));
+    ++cases;
+    hits += static_cast<unsigned>(std::popcount(ma));
+  }
+  EXPECT_GT(hits, cases / 20);  // the boxes are hit often enough for the entry distances to be compared
+}
+
+// The same answers from one ray at a time, a batch, and any thread count.
+TEST(Bvh, BatchAndSingleQueriesAgreeAtAnyThreadCount) {
+  const Scene scene = makeBuiltinScene("spheres:500");
+  const RayScene rays(scene);
+  const CameraRays cam = cameraRays(frameScene(scene, 160, 120));
+  const std::vector<RayHit> batch = rays.intersect(cam.origins, cam.directions, cam.tmax, cam.tmin);
+  std::uint64_t hit = 0;
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    const RayHit one = rays.intersect(cam.origins[i], cam.directions[i], cam.tmax, cam.tmin);
+    ASSERT_EQ(one.polygon, batch[i].polygon);
+    ASSERT_EQ(one.t, batch[i].t);
+    hit += one.hit();
+    if (one.hit()) {
+      EXPECT_NEAR(glm::length(one.normal), 1.0f, 1e-5f);
+      EXPECT_EQ(one.object, scene.object(one.polygon));
+      // The hit point from the barycentrics is the hit point from t
+      glm::vec3 v0, v1, v2;
+      rays.triangleOf(one, &v0, &v1, &v2);
+      const glm::vec3 p = (1 - one.u - one.v) * v0 + one.u * v1 + one.v * v2;
+      const glm::vec3 q = cam.origins[i] + one.t * cam.directions[i];
+      EXPECT_LT(glm::length(p - q), 1e-4f * (1 + glm::length(q)));
+      EXPECT_EQ(rays.occluded(cam.origins[i], cam.directions[i], cam.tmax, cam.tmin), true);
+    }
+  }
+  EXPECT_GT(hit, batch.size() / 20);
+  EXPECT_THROW(rays.intersect(std::span(cam.origins).first(3), std::span(cam.directions).first(2)), Error);
+}
+
+}  // namespace
+}  // namespace hsr
