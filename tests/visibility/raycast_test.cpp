@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/matrix.hpp>
@@ -40,6 +41,7 @@ struct RayComparison {
 };
 
 constexpr float kTie = 1e-5f;  // window depth: as the object-order tests' "clearly deeper"
+constexpr std::pair<int, int> kJitter[] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
 
 // The polygon a ray through device point (x, y) meets first, as the ray caster's rays go.
 PolygonId polygonAt(const RayScene& rays, const Camera& cam, const glm::dmat4& world_from_device, double x,
@@ -74,7 +76,7 @@ RayComparison compareRays(const Scene& scene, const Camera& cam, const RenderOpt
     }
     const PolygonId centre = polygonAt(rays, cam, world_from_device, x, y, sides);
     bool near_edge = false;
-    for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}}) {
+    for (const auto& [dx, dy] : kJitter) {
       const PolygonId p = polygonAt(rays, cam, world_from_device, x + dx / 64.0, y + dy / 64.0, sides);
       near_edge = near_edge || p == z.ids[k] || p != centre;
     }
