@@ -34,6 +34,8 @@ constexpr std::uint32_t kParallelTriangles = 4096;  // smaller subtrees are buil
 
 struct Box {
   glm::vec3 lo{INFINITY}, hi{-INFINITY};
+  Box() = default;
+  Box(const glm::vec3& l, const glm::vec3& h) : lo(l), hi(h) {}
   void extend(const Box& b) {
     lo = glm::min(lo, b.lo);
     hi = glm::max(hi, b.hi);
@@ -52,7 +54,7 @@ struct Box {
 struct BinaryNode {
   Box box;
   std::uint32_t left = 0, right = 0;  // inner: children
-  std::uint32_t first = 0, count = 0;  // leaf: refs[first, first + count)
+  std::uint32_t first = 0, count = 0;  // leaf: the PrimRefs [first, first + count)
   bool leaf = false;
 };
 
@@ -69,73 +71,87 @@ struct Bins {
 // SAH cost of a leaf of n triangles, counted in blocks of four (they are tested together).
 float blocks(std::uint32_t n) { return static_cast<float>((n + kLeafSize - 1) / kLeafSize); }
 
+// A triangle while building: its box, its number, and its box's centre as its centroid
+// (halves added: no overflow near FLT_MAX). Kept in one array that the build reorders in
+// place, so each pass over a node reads memory in order.
+struct PrimRef {
+  glm::vec3 lo;
+  std::uint32_t triangle;
+  glm::vec3 hi;
+  std::uint32_t pad;
+  float centroid(int a) const { return 0.5f * lo[a] + 0.5f * hi[a]; }
+  glm::vec3 centroid() const { return 0.5f * lo + 0.5f * hi; }
+};
+
+// A node's range of PrimRefs with the bounds of their boxes and of their centroids.
+struct Range {
+  std::uint32_t begin, end;
+  Box box, centroids;
+};
+
 struct Builder {
-  const std::vector<Box>& boxes;
-  const std::vector<glm::vec3>& centroids;
-  std::vector<std::uint32_t>& refs;
+  std::vector<PrimRef>& refs;
   std::vector<BinaryNode>& nodes;
   std::atomic<std::uint32_t> next_node{0};
   std::atomic<std::uint32_t> max_depth{0};
 
   std::uint32_t newNode() { return next_node.fetch_add(1, std::memory_order_relaxed); }
 
-  // Builds the subtree over refs[begin, end) into nodes[index].
-  void build(std::uint32_t index, std::uint32_t begin, std::uint32_t end, std::uint32_t depth) {
+  // Builds the subtree over `r` into nodes[index].
+  void build(std::uint32_t index, const Range& r, std::uint32_t depth) {
     std::uint32_t seen = max_depth.load(std::memory_order_relaxed);
     while (depth > seen && !max_depth.compare_exchange_weak(seen, depth)) {
     }
     BinaryNode& node = nodes[index];
-    const std::uint32_t n = end - begin;
-    // Bounds of the triangles and of their centroids
-    Box box, centroid_box;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      box.extend(boxes[refs[i]]);
-      centroid_box.extend(centroids[refs[i]]);
-    }
-    node.box = box;
+    node.box = r.box;
+    const std::uint32_t n = r.end - r.begin;
     if (n <= kLeafSize) {
-      node.leaf = true, node.first = begin, node.count = n;
+      node.leaf = true, node.first = r.begin, node.count = n;
       return;
     }
-    const std::uint32_t mid = split(begin, end, centroid_box, depth);
+    Range left, right;
+    split(r, depth, &left, &right);
     node.left = newNode();
     node.right = newNode();
-    const std::uint32_t left = node.left, right = node.right;
+    const std::uint32_t l = node.left, rr = node.right;
     if (n > kParallelTriangles) {
-      tbb::parallel_invoke([&] { build(left, begin, mid, depth + 1); },
-                           [&] { build(right, mid, end, depth + 1); });
+      tbb::parallel_invoke([&] { build(l, left, depth + 1); }, [&] { build(rr, right, depth + 1); });
     } else {
-      build(left, begin, mid, depth + 1);
-      build(right, mid, end, depth + 1);
+      build(l, left, depth + 1);
+      build(rr, right, depth + 1);
     }
   }
 
-  // Reorders refs[begin, end) into two non-empty halves and returns where the second starts.
-  std::uint32_t split(std::uint32_t begin, std::uint32_t end, const Box& cb, std::uint32_t depth) {
+  // Reorders r's PrimRefs into two non-empty halves, each with its bounds.
+  void split(const Range& r, std::uint32_t depth, Range* left, Range* right) {
+    const Box& cb = r.centroids;
     const glm::vec3 extent = cb.hi - cb.lo;
     const int widest = extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2) : (extent.y >= extent.z ? 1 : 2);
-    if (!(extent[widest] > 0.0f)) return begin + (end - begin) / 2;  // all centroids at one point
-    if (depth < kMedianDepth) {
+    std::uint32_t mid = r.begin + (r.end - r.begin) / 2;  // all centroids at one point: halve the range
+    if (extent[widest] > 0.0f && depth < kMedianDepth) {
       // Bin the centroids along each axis (in parallel for a large node)
       glm::vec3 scale;
       for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? kBins * 0.999f / extent[a] : 0.0f;
-      auto binOf = [&](std::uint32_t ref, int a) {
-        return std::min(kBins - 1, static_cast<int>((centroids[ref][a] - cb.lo[a]) * scale[a]));
+      auto binOf = [&](const PrimRef& p, int a) {
+        return std::min(kBins - 1, static_cast<int>((p.centroid(a) - cb.lo[a]) * scale[a]));
       };
       auto fill = [&](std::uint32_t b, std::uint32_t e, Bins& bins) {
-        for (std::uint32_t i = b; i < e; ++i)
+        for (std::uint32_t i = b; i < e; ++i) {
+          const PrimRef& p = refs[i];
+          const Box box{p.lo, p.hi};
           for (int a = 0; a < 3; ++a) {
-            const int k = binOf(refs[i], a);
-            bins.box[a][k].extend(boxes[refs[i]]);
+            const int k = binOf(p, a);
+            bins.box[a][k].extend(box);
             bins.count[a][k]++;
           }
+        }
       };
       Bins bins;
-      if (end - begin > 4 * kParallelTriangles) {
+      if (r.end - r.begin > 4 * kParallelTriangles) {
         bins = tbb::parallel_reduce(
-            tbb::blocked_range<std::uint32_t>(begin, end, kParallelTriangles), Bins{},
-            [&](const tbb::blocked_range<std::uint32_t>& r, Bins acc) {
-              fill(r.begin(), r.end(), acc);
+            tbb::blocked_range<std::uint32_t>(r.begin, r.end, kParallelTriangles), Bins{},
+            [&](const tbb::blocked_range<std::uint32_t>& br, Bins acc) {
+              fill(br.begin(), br.end(), acc);
               return acc;
             },
             [](Bins x, const Bins& y) {
@@ -143,7 +159,7 @@ struct Builder {
               return x;
             });
       } else {
-        fill(begin, end, bins);
+        fill(r.begin, r.end, bins);
       }
       // Sweep: the cost of splitting after bin k is area(left) * blocks(left) + area(right) * blocks(right)
       float best_cost = INFINITY;
@@ -164,31 +180,56 @@ struct Builder {
           acc.extend(bins.box[a][k]);
           count += bins.count[a][k];
           const float cost = acc.halfArea() * blocks(count) + right_cost[k + 1];
-          if (count > 0 && count < end - begin && cost < best_cost) best_cost = cost, best_axis = a, best_bin = k;
+          if (count > 0 && count < r.end - r.begin && cost < best_cost) best_cost = cost, best_axis = a, best_bin = k;
         }
       }
       if (best_axis >= 0) {
-        const auto mid = std::partition(refs.begin() + begin, refs.begin() + end,
-                                        [&](std::uint32_t ref) { return binOf(ref, best_axis) <= best_bin; });
-        const auto m = static_cast<std::uint32_t>(mid - refs.begin());
-        if (m > begin && m < end) return m;
+        // Partition in place, gathering each side's bounds on the way
+        std::uint32_t i = r.begin, j = r.end;
+        Box lb, lc, rb, rc;
+        while (i < j) {
+          PrimRef& p = refs[i];
+          if (binOf(p, best_axis) <= best_bin) {
+            lb.extend(Box{p.lo, p.hi}), lc.extend(p.centroid());
+            ++i;
+          } else {
+            rb.extend(Box{p.lo, p.hi}), rc.extend(p.centroid());
+            std::swap(p, refs[--j]);
+          }
+        }
+        if (i > r.begin && i < r.end) {
+          *left = {r.begin, i, lb, lc};
+          *right = {i, r.end, rb, rc};
+          return;
+        }
       }
     }
-    // The median along the widest axis (ties by triangle number, so the tree is deterministic)
-    const std::uint32_t m = begin + (end - begin) / 2;
-    std::nth_element(refs.begin() + begin, refs.begin() + m, refs.begin() + end,
-                     [&](std::uint32_t x, std::uint32_t y) {
-                       return centroids[x][widest] < centroids[y][widest] ||
-                              (centroids[x][widest] == centroids[y][widest] && x < y);
-                     });
-    return m;
+    if (extent[widest] > 0.0f) {
+      // The median along the widest axis (ties by triangle number, so the tree is deterministic)
+      std::nth_element(refs.begin() + r.begin, refs.begin() + mid, refs.begin() + r.end,
+                       [&](const PrimRef& x, const PrimRef& y) {
+                         return x.centroid(widest) < y.centroid(widest) ||
+                                (x.centroid(widest) == y.centroid(widest) && x.triangle < y.triangle);
+                       });
+    }
+    *left = bounds(r.begin, mid);
+    *right = bounds(mid, r.end);
+  }
+
+  Range bounds(std::uint32_t begin, std::uint32_t end) const {
+    Range r{begin, end, {}, {}};
+    for (std::uint32_t i = begin; i < end; ++i) {
+      r.box.extend(Box{refs[i].lo, refs[i].hi});
+      r.centroids.extend(refs[i].centroid());
+    }
+    return r;
   }
 };
 
 // The binary tree collapsed to four children per node, depth first.
 struct Collapser {
   const std::vector<BinaryNode>& binary;
-  const std::vector<std::uint32_t>& refs;
+  const std::vector<PrimRef>& refs;
   std::span<const glm::vec3> a, b, c;
   Bvh& bvh;
   std::uint64_t depth = 0;
@@ -201,7 +242,7 @@ struct Collapser {
       for (int ax = 0; ax < 3; ++ax) t.a[ax][lane] = t.b[ax][lane] = t.c[ax][lane] = 0.0f;
     }
     for (std::uint32_t i = 0; i < n.count; ++i) {
-      const std::uint32_t tri = refs[n.first + i];
+      const std::uint32_t tri = refs[n.first + i].triangle;
       t.triangle[i] = tri;
       for (int ax = 0; ax < 3; ++ax) t.a[ax][i] = a[tri][ax], t.b[ax][i] = b[tri][ax], t.c[ax][i] = c[tri][ax];
     }
@@ -268,37 +309,31 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
   const auto t0 = std::chrono::steady_clock::now();
   HSR_CHECK(a.size() == b.size() && b.size() == c.size());
   Bvh bvh;
-  // Each finite triangle's box and centroid
-  std::vector<Box> boxes(a.size());
-  std::vector<glm::vec3> centroids(a.size());
-  std::vector<std::uint32_t> refs;
+  // Each finite triangle's box
+  std::vector<PrimRef> refs;
   refs.reserve(a.size());
-  Box all;
   for (std::size_t i = 0; i < a.size(); ++i) {
     Box box;
     box.extend(a[i]);
     box.extend(b[i]);
     box.extend(c[i]);
-    const glm::vec3 sum = a[i] + b[i] + c[i];
-    if (!std::isfinite(sum.x) || !std::isfinite(sum.y) || !std::isfinite(sum.z) ||
-        !std::isfinite(box.lo.x + box.lo.y + box.lo.z + box.hi.x + box.hi.y + box.hi.z))
-      continue;
-    boxes[i] = box;
-    centroids[i] = (box.lo + box.hi) * 0.5f;
-    all.extend(box);
-    refs.push_back(static_cast<std::uint32_t>(i));
+    const bool finite = std::isfinite(box.lo.x) && std::isfinite(box.lo.y) && std::isfinite(box.lo.z) &&
+                        std::isfinite(box.hi.x) && std::isfinite(box.hi.y) && std::isfinite(box.hi.z);
+    if (!finite) continue;
+    refs.push_back({box.lo, static_cast<std::uint32_t>(i), box.hi, 0});
   }
   bvh.stats.triangles = refs.size();
   if (refs.empty()) {
     bvh.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return bvh;
   }
-  bvh.lo = all.lo, bvh.hi = all.hi;
   // The binary tree: at most 2n - 1 nodes
   std::vector<BinaryNode> binary(2 * refs.size());
-  Builder builder{boxes, centroids, refs, binary};
+  Builder builder{refs, binary};
+  const Range all = builder.bounds(0, static_cast<std::uint32_t>(refs.size()));
+  bvh.lo = all.box.lo, bvh.hi = all.box.hi;
   const std::uint32_t root = builder.newNode();
-  builder.build(root, 0, static_cast<std::uint32_t>(refs.size()), 0);
+  builder.build(root, all, 0);
   // Collapsed, depth first
   Collapser collapser{binary, refs, a, b, c, bvh};
   bvh.nodes.reserve(builder.next_node.load() / 3 + 1);
