@@ -505,6 +505,10 @@ void traverseNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir,
     const BvhNode4& node = bvh.nodes[e.ref];
     float tnear[4];
     const unsigned mask = boxHits4(node, box_ray, tmin, limit, tnear);
+    if (counts && counts->entered)
+      for (int i = 0; i < 4; ++i)
+        if (mask & (1u << i))
+          counts->entered->push_back({{node.lo[0][i], node.lo[1][i], node.lo[2][i]}, {node.hi[0][i], node.hi[1][i], node.hi[2][i]}});
     pushChildren(node, mask, tnear, stack, sp);
   }
   if (counts) counts->nodes += visited, counts->triangles += tested;

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -74,6 +75,8 @@ struct BvhHit {
 struct BvhTraversalCounts {
   std::uint64_t nodes = 0;      // inner nodes visited
   std::uint64_t triangles = 0;  // ray/triangle tests
+  // When set (a teaching view), every box the ray enters, in the order entered (lo, hi)
+  std::vector<std::pair<glm::vec3, glm::vec3>>* entered = nullptr;
 };
 
 // The nearest hit with tmin < t < tmax on the allowed sides; of hits at the same t, the lowest

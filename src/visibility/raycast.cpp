@@ -42,6 +42,7 @@
 
 #include "core/check.hpp"
 #include "core/scene_digest.hpp"
+#include "core/trace.hpp"
 #include "raster/depth.hpp"
 #include "raster/fragment.hpp"
 #include "raster/lines.hpp"
@@ -115,6 +116,104 @@ struct TileCounts {
   std::uint64_t rays = 0, hits = 0, nodes = 0, triangles = 0, tie_sets = 0;
 };
 
+constexpr std::string_view kStepBuild = "build";
+constexpr std::string_view kStepCast = "cast";
+constexpr std::string_view kStepLevel = "boxes by level";
+constexpr std::string_view kStepRay = "one ray";
+constexpr std::string_view kStepDone = "done";
+
+// The twelve edges of a world box on the picture, where all its corners are in front of the eye.
+void outlineBox(const glm::dmat4& device_from_world, const glm::vec3& lo, const glm::vec3& hi,
+                std::vector<TraceOutline>& out) {
+  glm::vec2 c[8];
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec4 h = device_from_world * glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
+    if (!(h.w > 1e-9)) return;
+    c[i] = glm::vec2(static_cast<float>(h.x / h.w), static_cast<float>(h.y / h.w));
+  }
+  for (int i = 0; i < 8; ++i)
+    for (int a = 0; a < 3; ++a)
+      if (!(i & (1 << a))) out.push_back({c[i], c[i | (1 << a)]});
+}
+
+// The teaching view: the hierarchy's boxes over the picture level by level, then a few
+// pixels' rays with the boxes each entered and the triangle it kept.
+void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySceneData& data, HitSides sides) {
+  const Bvh& bvh = data.bvh;
+  const glm::dmat4 device_from_world = deviceFromWorld(in.camera);
+  // Boxes by level: the root's children are level 1
+  std::vector<std::uint32_t> level{bvh.root}, next;
+  constexpr int kLevels = 4;
+  constexpr std::size_t kMostBoxes = 256;  // a level with more is shown in part
+  for (int l = 1; l <= kLevels && !level.empty(); ++l) {
+    std::vector<TraceOutline> outlines;
+    std::size_t boxes = 0;
+    next.clear();
+    for (const std::uint32_t ref : level) {
+      if (ref & BvhNode4::kLeaf) continue;
+      const BvhNode4& node = bvh.nodes[ref];
+      for (int i = 0; i < 4; ++i) {
+        if (node.child[i] == BvhNode4::kEmpty) continue;
+        ++boxes;
+        if (boxes <= kMostBoxes)
+          outlineBox(device_from_world, {node.lo[0][i], node.lo[1][i], node.lo[2][i]},
+                     {node.hi[0][i], node.hi[1][i], node.hi[2][i]}, outlines);
+        next.push_back(node.child[i]);
+      }
+    }
+    if (in.trace->wants(kStepLevel, static_cast<std::uint64_t>(l - 1), kLevels))
+      in.trace->record({kStepLevel,
+                        "Level " + std::to_string(l) + " of the bounding volume hierarchy: " + std::to_string(boxes) +
+                            " boxes" + (boxes > kMostBoxes ? " (the first " + std::to_string(kMostBoxes) + " drawn)" : "") +
+                            ". Each box holds four smaller ones; a ray tests four at once and enters only those it meets.",
+                        &frame,
+                        std::move(outlines)});
+    level.swap(next);
+  }
+  // A few rays: three pixels that show a polygon (a quarter, half and three quarters through
+  // them in row order), or the centre when none does
+  const PixelRays pixel_rays(in.camera);
+  const Band band{in.camera.ortho, in.camera.near, in.camera.far};
+  std::vector<std::size_t> shown;
+  for (std::size_t i = 0; i < frame.ids.size(); ++i)
+    if (frame.ids[i] != kNoPolygon) shown.push_back(i);
+  int picks[3][2];
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t i = shown.empty() ? static_cast<std::size_t>(frame.height / 2) * frame.width + frame.width / 2
+                                        : shown[shown.size() * static_cast<std::size_t>(k + 1) / 4];
+    picks[k][0] = static_cast<int>(i % frame.width), picks[k][1] = static_cast<int>(i / frame.width);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const PixelRay ray = pixel_rays.at(picks[k][0], picks[k][1]);
+    std::vector<std::pair<glm::vec3, glm::vec3>> entered;
+    BvhTraversalCounts counts;
+    counts.entered = &entered;
+    BvhCandidates found;
+    intersectNearestBand(bvh, ray.org, ray.dir, ray.tmin, ray.tmax, sides, &bandLimit, &band, &found, &counts);
+    std::vector<TraceOutline> outlines;
+    for (const auto& [lo, hi] : entered) outlineBox(device_from_world, lo, hi, outlines);
+    std::string kept = "it meets nothing";
+    if (found.count > 0) {
+      const std::uint32_t t = found.hit[0].triangle;
+      TraceOutline tri;
+      for (const glm::vec3& v : {data.a[t], data.b[t], data.c[t]}) {
+        const glm::dvec4 h = device_from_world * glm::dvec4(glm::dvec3(v), 1.0);
+        if (h.w > 1e-9) tri.push_back(glm::vec2(static_cast<float>(h.x / h.w), static_cast<float>(h.y / h.w)));
+      }
+      if (tri.size() == 3) outlines.push_back(std::move(tri));
+      kept = "it keeps polygon " + std::to_string(data.polygon[t]) + " at t = " + std::to_string(found.hit[0].t);
+    }
+    if (in.trace->wants(kStepRay, static_cast<std::uint64_t>(k), 3))
+      in.trace->record({kStepRay,
+                        "The ray through pixel (" + std::to_string(picks[k][0]) + ", " + std::to_string(picks[k][1]) +
+                            ") enters " + std::to_string(entered.size()) + " boxes and tests " +
+                            std::to_string(counts.triangles) + " triangles of " + std::to_string(bvh.stats.triangles) +
+                            "; " + kept + ", the nearest.",
+                        &frame,
+                        std::move(outlines)});
+  }
+}
+
 }  // namespace
 
 void drawRaycast(const AlgorithmInput& in, Frame& frame) {
@@ -136,6 +235,19 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
     frame.stats.addStage("raycast build", s.rays->stats().build_ms);
   }
   const RaySceneData& data = s.rays->data();
+  if (in.trace && in.trace->wants(kStepBuild, 0, 1)) {
+    std::vector<TraceOutline> outlines;
+    if (data.bvh.root != BvhNode4::kEmpty && !(data.bvh.root & BvhNode4::kLeaf))
+      outlineBox(deviceFromWorld(in.camera), data.bvh.lo, data.bvh.hi, outlines);
+    in.trace->record({kStepBuild,
+                      "The bounding volume hierarchy, built once in world space for every view: " +
+                          std::to_string(data.bvh.stats.triangles) + " triangles in " +
+                          std::to_string(data.bvh.stats.leaves) + " leaves under " +
+                          std::to_string(data.bvh.stats.nodes) + " boxes of four, depth " +
+                          std::to_string(data.bvh.stats.depth) + " (binned surface-area heuristic).",
+                      &frame,
+                      std::move(outlines)});
+  }
   t0 = std::chrono::steady_clock::now();
 
   // Each polygon's colour and depth plane, as the pipeline made them
@@ -220,6 +332,13 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
     c.rays += t.rays, c.hits += t.hits, c.nodes += t.nodes, c.triangles += t.triangles;
     c.tie_sets += t.tie_sets;
   }
+  if (in.trace && in.trace->wants(kStepCast, 0, 1))
+    in.trace->record({kStepCast,
+                      "A ray from the eye through every pixel centre: " + std::to_string(c.rays) + " rays, " +
+                          std::to_string(c.hits) + " hit a polygon; each pixel shows the nearest hit.",
+                      &frame,
+                      {}});
+  if (in.trace) explainHierarchy(in, frame, data, sides);
   frame.stats.addStage("raycast cast", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 
   // See-through polygons over the finished picture, in submission order, as the z-buffer
@@ -230,6 +349,13 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
     if (t.transparent()) rasterTriangle<DepthFunc::Less>(t, viewport, fb, true, span, fragments);
   for (const ScreenLine& o : in.prepared.outline) drawOutlinePen(o, viewport, fb);
 
+  if (in.trace && in.trace->wants(kStepDone, 0, 1))
+    in.trace->record({kStepDone,
+                      "Done: " + std::to_string(c.hits) + " pixels show their ray's nearest polygon; " +
+                          std::to_string(c.nodes) + " boxes of four visited and " + std::to_string(c.triangles) +
+                          " ray/triangle tests in all.",
+                      &frame,
+                      {}});
   frame.stats.fragments_tested += c.hits + fragments.tested;
   frame.stats.fragments_written += c.hits + fragments.written;
   frame.stats.state_bytes += s.rays->stats().bytes;

@@ -72,7 +72,7 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .source = "Appel 1968; the notes' \"ray casting\"; BVH: Wald 2007, Woop et al. 2013",
         .precision = Precision::kImage,
         .input = InputKind::kWorldPolygons,
-        .capabilities = kOutline | kTransparency},
+        .capabilities = kOutline | kTransparency | kExplain},
        &drawRaycast},
   };
   return table;

@@ -108,5 +108,28 @@ TEST(Explain, ObjectOrderAlgorithmsShowTheirSteps) {
   }
 }
 
+// The ray caster shows its hierarchy's boxes level by level and a few rays with the boxes each
+// entered, and its pictures end on the frame render() gives.
+TEST(Explain, RayCasterShowsItsBoxesAndRays) {
+  const Scene scene = loadScene("spheres:3000");
+  const Camera cam = frameScene(scene, 200, 150);
+  const testing::ScratchDir scratch("hsr_explain_raycast");
+  RenderOptions o;
+  o.algorithm = "raycast";
+  const Explanation e = explain(scene, cam, o, scratch / "raycast");
+  std::map<std::string, int> count;
+  for (const ExplainedStep& s : e.steps) count[s.name]++;
+  EXPECT_EQ(e.steps.front().name, "build");
+  EXPECT_EQ(e.steps.back().name, "done");
+  EXPECT_EQ(count["cast"], 1);
+  EXPECT_GE(count["boxes by level"], 2);
+  EXPECT_EQ(count["one ray"], 3);
+  for (const ExplainedStep& s : e.steps)
+    if (s.name == "one ray") EXPECT_NE(s.caption.find("it keeps polygon"), std::string::npos) << s.caption;
+  const Frame f = render(scene, cam, o);
+  EXPECT_EQ(e.frame.ids, f.ids);
+  EXPECT_EQ(e.frame.color, f.color);
+}
+
 }  // namespace
 }  // namespace hsr
