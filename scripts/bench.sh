@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds Release and runs every registered algorithm vs llvmpipe (bench/bench_algorithms.cpp)
-# with HSR_BENCH_THREADS=1 and 2
+# and hsr's rays vs Embree (bench/bench_rays.cpp) with HSR_BENCH_THREADS=1 and 2
 # (plus any thread counts given as arguments, e.g. `scripts/bench.sh 4 8`), then prints the
 # ratio tables of all runs together. BUILD_DIR (default build) and JOBS (default 2)
 # may be set; extra Google Benchmark flags go in BENCH_ARGS.
@@ -9,13 +9,15 @@ cd "$(dirname "$0")/.."
 build_dir="${BUILD_DIR:-build}"
 jobs="${JOBS:-2}"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DHSR_BUILD_BENCH=ON >/dev/null
-cmake --build "$build_dir" --target hsr_bench -j "$jobs"
+cmake --build "$build_dir" --target hsr_bench hsr_bench_rays -j "$jobs"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 for t in 1 2 "$@"; do
   echo "=== HSR_BENCH_THREADS=$t ==="
   # shellcheck disable=SC2086
   HSR_BENCH_THREADS="$t" "$build_dir/hsr_bench" ${BENCH_ARGS:-} | tee "$out/threads-$t.txt"
+  # shellcheck disable=SC2086
+  HSR_BENCH_THREADS="$t" "$build_dir/hsr_bench_rays" ${BENCH_ARGS:-} | tee "$out/rays-$t.txt"
 done
 echo
 echo "=== speed ratios (llvmpipe time / algorithm time; > 1 means hsr is faster) ==="
@@ -26,5 +28,10 @@ done
 echo "=== object order (time as a multiple of the z-buffer's, tests and splits, growth) ==="
 for t in 1 2 "$@"; do
   sed -n '/^object order vs zbuffer/,/^(x zbuffer/p' "$out/threads-$t.txt"
+  echo
+done
+echo "=== rays vs Embree (Embree time / hsr time) and the builds ==="
+for t in 1 2 "$@"; do
+  sed -n '/^rays vs Embree/,$p' "$out/rays-$t.txt"
   echo
 done

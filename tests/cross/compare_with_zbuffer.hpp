@@ -73,12 +73,10 @@ inline std::string describe(const Comparison& c) {
 inline constexpr const char* kMesaTestModels[] = {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl",
                                                   "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"};
 
-// The real models of the Mesa test at 640x480, cull none and back: the frame `draw(scene,
-// camera, options)` gives against the z-buffer's: no pixel clearly wrong, ids agreeing on at
-// least 99.9% of the drawn pixels, equal depths wherever the ids agree. `more(frame)` adds to
-// the printed line.
-template <class Draw, class More>
-void expectRealModelsAgreeWithTheZBuffer(const std::string& algorithm, Draw&& draw, More&& more) {
+// Each real model of the Mesa test at 640x480, cull none and back (the default options
+// otherwise): f(label, scene, camera, options), the label naming model and cull mode.
+template <class F>
+void forEachMesaModelView(F&& f) {
   for (const char* model : kMesaTestModels) {
     SCOPED_TRACE(model);
     const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
@@ -86,16 +84,27 @@ void expectRealModelsAgreeWithTheZBuffer(const std::string& algorithm, Draw&& dr
     for (const CullMode cull : {CullMode::None, CullMode::Back}) {
       RenderOptions o;
       o.cull = cull;
-      const Frame z = render(scene, camera, o);
-      const Frame f = draw(scene, camera, o);
-      const Comparison c = compareFrames(z, f, algorithm);
-      printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") + ": " + algorithm +
-                   ": " + describe(c) + " (" + percent(c.drawn - c.ids_differ, c.drawn) + " agree)" + more(f));
-      EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
-      EXPECT_LE(c.ids_differ, c.drawn / 1000);
-      EXPECT_EQ(c.depth_differs_same_id, 0u);
+      f(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back"), scene, camera, o);
     }
   }
+}
+
+// The real models of the Mesa test at 640x480, cull none and back: the frame `draw(scene,
+// camera, options)` gives against the z-buffer's: no pixel clearly wrong, ids agreeing on at
+// least 99.9% of the drawn pixels, equal depths wherever the ids agree. `more(frame)` adds to
+// the printed line.
+template <class Draw, class More>
+void expectRealModelsAgreeWithTheZBuffer(const std::string& algorithm, Draw&& draw, More&& more) {
+  forEachMesaModelView([&](const std::string& label, const Scene& scene, const Camera& camera, const RenderOptions& o) {
+    const Frame z = render(scene, camera, o);
+    const Frame f = draw(scene, camera, o);
+    const Comparison c = compareFrames(z, f, algorithm);
+    printFigures(label + ": " + algorithm + ": " + describe(c) + " (" + percent(c.drawn - c.ids_differ, c.drawn) +
+                 " agree)" + more(f));
+    EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
+    EXPECT_LE(c.ids_differ, c.drawn / 1000);
+    EXPECT_EQ(c.depth_differs_same_id, 0u);
+  });
 }
 
 // The same for an algorithm of the registry, drawn by render().

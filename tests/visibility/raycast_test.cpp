@@ -99,24 +99,16 @@ std::string describe(const RayComparison& c) {
 }
 
 TEST(Raycast, RealModelsAgreeWithTheZBuffer) {
-  for (const char* model : testing::kMesaTestModels) {
-    SCOPED_TRACE(model);
-    const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
-    const Camera camera = frameScene(scene, 640, 480);
-    for (const CullMode cull : {CullMode::None, CullMode::Back}) {
-      RenderOptions o;
-      o.cull = cull;
-      const Frame z = render(scene, camera, o);
-      o.algorithm = "raycast";
-      const Frame r = render(scene, camera, o);
-      const RayComparison c = compareRays(scene, camera, o, z, r);
-      testing::printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") +
-                            ": raycast: " + describe(c));
-      EXPECT_LE(c.differ, c.drawn / 1000);
-      EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
-      EXPECT_EQ(c.depth_differs, 0u);
-    }
-  }
+  testing::forEachMesaModelView([](const std::string& label, const Scene& scene, const Camera& camera, RenderOptions o) {
+    const Frame z = render(scene, camera, o);
+    o.algorithm = "raycast";
+    const Frame r = render(scene, camera, o);
+    const RayComparison c = compareRays(scene, camera, o, z, r);
+    testing::printFigures(label + ": raycast: " + describe(c));
+    EXPECT_LE(c.differ, c.drawn / 1000);
+    EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
+    EXPECT_EQ(c.depth_differs, 0u);
+  });
 }
 
 }  // namespace
