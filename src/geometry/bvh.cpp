@@ -132,8 +132,11 @@ struct Builder {
       // Bin the centroids along each axis (in parallel for a large node)
       glm::vec3 scale;
       for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? kBins * 0.999f / extent[a] : 0.0f;
+      // The bin as a float clamped to [0, kBins - 1] before it becomes an int: a tiny extent
+      // makes the scale infinite, and 0 x infinity a NaN (max(0, NaN) is 0)
       auto binOf = [&](const PrimRef& p, int a) {
-        return std::min(kBins - 1, static_cast<int>((p.centroid(a) - cb.lo[a]) * scale[a]));
+        const float k = (p.centroid(a) - cb.lo[a]) * scale[a];
+        return static_cast<int>(std::min(static_cast<float>(kBins - 1), std::max(0.0f, k)));
       };
       auto fill = [&](std::uint32_t b, std::uint32_t e, Bins& bins) {
         for (std::uint32_t i = b; i < e; ++i) {

@@ -169,6 +169,24 @@ TEST(Bvh, NaNAndInfiniteRaysHitNothingAndHarmNoOther) {
   EXPECT_LE(bad_s, 2.5 * good_s);
 }
 
+// Centroids a few subnormal steps apart make the bins' scale infinite, and 0 x infinity a
+// NaN: each bin is clamped as a float before it becomes an int (UBSan's float-cast-overflow
+// watches this in CI), and the triangles are all found.
+TEST(Bvh, SubnormalExtentsBinWithoutOverflow) {
+  Scene s;
+  const std::uint32_t m = s.addMaterial({});
+  s.beginObject("tiny");
+  for (int k = 0; k < 40; ++k) {
+    const float x = static_cast<float>(k % 8) * std::numeric_limits<float>::denorm_min();
+    s.addPolygonVertices({glm::vec3(x, -1, -1), glm::vec3(x, 1, -1), glm::vec3(x, 0, 1 + 0.01f * k)}, m);
+  }
+  const RayScene rays(s);
+  EXPECT_EQ(rays.stats().triangles, 40u);
+  const RayHit h = rays.intersect(glm::vec3(5, 0, 0), glm::vec3(-1, 0, 0));
+  ASSERT_TRUE(h.hit());
+  EXPECT_LT(h.polygon, 40u);
+}
+
 // Every finite triangle sits in exactly one leaf, inside every box on its way from the root.
 TEST(Bvh, EveryTriangleInOneLeafInsideItsBoxes) {
   const Scene scene = makeBuiltinScene("spheres:3000");
