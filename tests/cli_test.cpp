@@ -226,8 +226,9 @@ TEST(Cli, CompareOrbitsTheTargetWithViews) {
     if (!row.not_run.empty()) continue;
     EXPECT_EQ(row.views, 3) << row.algorithm;
     EXPECT_GT(row.view_ms, 0.0) << row.algorithm;
-    if (row.algorithm == "zbuffer-textbook" || row.algorithm == "scanline" || row.algorithm == "warnock")
+    if (row.algorithm == "zbuffer-textbook" || row.algorithm == "scanline" || row.algorithm == "warnock") {
       EXPECT_EQ(row.differing_pixels, 0u) << row.algorithm;
+    }
   }
 }
 

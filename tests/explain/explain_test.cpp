@@ -124,8 +124,11 @@ TEST(Explain, RayCasterShowsItsBoxesAndRays) {
   EXPECT_EQ(count["cast"], 1);
   EXPECT_GE(count["boxes by level"], 2);
   EXPECT_EQ(count["one ray"], 3);
-  for (const ExplainedStep& s : e.steps)
-    if (s.name == "one ray") EXPECT_NE(s.caption.find("it keeps polygon"), std::string::npos) << s.caption;
+  for (const ExplainedStep& s : e.steps) {
+    if (s.name == "one ray") {
+      EXPECT_NE(s.caption.find("it keeps polygon"), std::string::npos) << s.caption;
+    }
+  }
   const Frame f = render(scene, cam, o);
   EXPECT_EQ(e.frame.ids, f.ids);
   EXPECT_EQ(e.frame.color, f.color);
