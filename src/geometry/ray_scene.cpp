@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/material.hpp"
 #include "geometry/bvh.hpp"
 #include "geometry/triangulate.hpp"
 #include "hsr/error.hpp"
@@ -56,10 +57,7 @@ RayScene::RayScene(const Scene& scene, bool opaque_only) : data_(std::make_uniqu
   std::vector<detail::Triangle> tris;
   for (PolygonId p = 0; p < scene.polygonCount(); ++p) {
     const std::uint32_t m = scene.material(p);
-    // Alpha as the pipeline rounds it to a byte: below 255, see-through
-    const float alpha = m < scene.materials.size() ? scene.materials[m].alpha : 1.0f;
-    const bool see_through = !(std::isfinite(alpha) && alpha * 255.0f + 0.5f >= 255.0f);
-    if (opaque_only && see_through) {
+    if (opaque_only && m < scene.materials.size() && detail::materialSeeThrough(scene.materials[m])) {
       d.stats.polygons_left_out++;
       continue;
     }

@@ -18,6 +18,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "core/material.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
@@ -75,11 +76,6 @@ inline PreparedScene prepare(const Scene& scene, const Camera& camera,
 // eye. Returns +1 (CCW seen from the eye), -1 (CW) or 0 (edge-on or degenerate).
 int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera);
 
-// A material's colour as the pipeline uses it (channels clamped to [0, 1], NaN as 0) and its
-// alpha as the top byte of an rgba (below 0xFF: see-through, blended in a second pass).
-glm::vec3 materialRgb(const Material& m);
-std::uint32_t materialAlphaBits(const Material& m);
-
 // The shaded colour prepare() gives polygon `id` (its material, lit by the headlight when
 // options.shade), for an algorithm that finds a polygon without the pipeline's triangles (the
 // ray caster, for a polygon hit between the snapped triangles' pixels).
@@ -101,7 +97,7 @@ struct PixelRay {
 class PixelRays {
  public:
   explicit PixelRays(const Camera& camera);
-  PixelRay at(int x, int y) const;
+  PixelRay at(double x, double y) const;  // x, y: device coordinates (a pixel's centre is an integer)
 
  private:
   glm::dmat4 world_from_device_;

@@ -17,7 +17,7 @@ PixelRays::PixelRays(const Camera& camera)
       ortho_(camera.ortho),
       tmin_(camera.ortho ? 0.0f : static_cast<float>(double(camera.near) / double(camera.far))) {}
 
-PixelRay PixelRays::at(int x, int y) const {
+PixelRay PixelRays::at(double x, double y) const {
   // Device coordinates have pixel centres at integers
   auto unproject = [&](double z) {
     const glm::dvec4 p = world_from_device_ * glm::dvec4(x, y, z, 1.0);

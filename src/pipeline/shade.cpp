@@ -35,17 +35,7 @@ float lambertOf(const RenderOptions& options, const glm::dvec3& n, double len2, 
   return 0.2f + 0.8f * lambert;
 }
 
-float unitChannel(float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; }
-
 }  // namespace
-
-std::uint32_t materialAlphaBits(const Material& m) {
-  return static_cast<std::uint32_t>(unitChannel(m.alpha) * 255.0f + 0.5f) << 24;
-}
-
-glm::vec3 materialRgb(const Material& m) {
-  return {unitChannel(m.color.r), unitChannel(m.color.g), unitChannel(m.color.b)};
-}
 
 std::uint32_t shadedColour(const Scene& scene, const Camera& camera, const RenderOptions& options, PolygonId id) {
   const std::span<const std::uint32_t> vi = scene.polygon(id);

@@ -224,7 +224,7 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   // kept while the scene and which materials are see-through stay the same
   const std::uint64_t fingerprint = sceneFingerprint(in.scene);
   std::vector<std::uint8_t> see_through;
-  for (const Material& m : in.scene.materials) see_through.push_back(materialAlphaBits(m) != 0xFF000000u);
+  for (const Material& m : in.scene.materials) see_through.push_back(materialSeeThrough(m));
   bool built = false;
   if (!s.rays || s.scene != &in.scene || s.fingerprint != fingerprint || s.see_through != see_through) {
     s.rays = std::make_shared<const RayScene>(in.scene, /*opaque_only=*/true);

@@ -13,8 +13,6 @@
 #include <utility>
 #include <vector>
 
-#include <glm/matrix.hpp>
-
 #include "cross/compare_with_zbuffer.hpp"
 #include "cross/figures.hpp"
 #include "hsr/io.hpp"
@@ -44,23 +42,16 @@ constexpr float kTie = 1e-5f;  // window depth: as the object-order tests' "clea
 constexpr std::pair<int, int> kJitter[] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
 
 // The polygon a ray through device point (x, y) meets first, as the ray caster's rays go.
-PolygonId polygonAt(const RayScene& rays, const Camera& cam, const glm::dmat4& world_from_device, double x,
-                    double y, RaySides sides) {
-  auto unproject = [&](double z) {
-    const glm::dvec4 p = world_from_device * glm::dvec4(x, y, z, 1.0);
-    return glm::dvec3(p) / p.w;
-  };
-  const glm::dvec3 at_far = unproject(1.0);
-  const glm::dvec3 org = cam.ortho ? unproject(0.0) : glm::dvec3(cam.eye);
-  const float tmin = cam.ortho ? 0.0f : static_cast<float>(double(cam.near) / cam.far);
-  return rays.intersect(glm::vec3(org), glm::vec3(at_far - org), 1.0f, tmin, sides).polygon;
+PolygonId polygonAt(const RayScene& rays, const detail::PixelRays& pixel_rays, double x, double y, RaySides sides) {
+  const detail::PixelRay r = pixel_rays.at(x, y);
+  return rays.intersect(r.org, r.dir, r.tmax, r.tmin, sides).polygon;
 }
 
 RayComparison compareRays(const Scene& scene, const Camera& cam, const RenderOptions& o, const Frame& z,
                           const Frame& r) {
   RayComparison c;
   const RayScene rays(scene);
-  const glm::dmat4 world_from_device = glm::inverse(detail::deviceFromWorld(cam));
+  const detail::PixelRays pixel_rays(cam);
   const RaySides sides = o.cull == CullMode::Back ? RaySides::kFrontOnly : RaySides::kBoth;
   for (std::size_t k = 0; k < z.ids.size(); ++k) {
     c.drawn += z.ids[k] != kNoPolygon;
@@ -74,10 +65,10 @@ RayComparison compareRays(const Scene& scene, const Camera& cam, const RenderOpt
       c.tie++;
       continue;
     }
-    const PolygonId centre = polygonAt(rays, cam, world_from_device, x, y, sides);
+    const PolygonId centre = polygonAt(rays, pixel_rays, x, y, sides);
     bool near_edge = false;
     for (const auto& [dx, dy] : kJitter) {
-      const PolygonId p = polygonAt(rays, cam, world_from_device, x + dx / 64.0, y + dy / 64.0, sides);
+      const PolygonId p = polygonAt(rays, pixel_rays, x + dx / 64.0, y + dy / 64.0, sides);
       near_edge = near_edge || p == z.ids[k] || p != centre;
     }
     if (near_edge) {
