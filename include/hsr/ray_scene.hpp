@@ -85,6 +85,11 @@ class RayScene {
   std::vector<RayHit> intersect(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions,
                                 float tmax = std::numeric_limits<float>::infinity(), float tmin = 0.0f,
                                 RaySides sides = RaySides::kBoth) const;
+  // The same into the caller's array (hits.size() == origins.size(), else hsr::Error): no
+  // allocation, for callers that cast batch after batch.
+  void intersect(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions, std::span<RayHit> hits,
+                 float tmax = std::numeric_limits<float>::infinity(), float tmin = 0.0f,
+                 RaySides sides = RaySides::kBoth) const;
   RayHit intersect(const glm::vec3& origin, const glm::vec3& direction,
                    float tmax = std::numeric_limits<float>::infinity(), float tmin = 0.0f,
                    RaySides sides = RaySides::kBoth) const;

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_invoke.h>
@@ -400,18 +402,42 @@ unsigned boxHits4Scalar(const BvhNode4& node, const BoxRay& r, float tmin, float
 }
 
 #ifdef HSR_BVH_SSE
-unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]) {
-  __m128 t0 = _mm_set1_ps(tmin), t1 = _mm_set1_ps(INFINITY);
+namespace {
+// A ray as the SSE node test wants it, prepared once: origin and reciprocal direction in every
+// lane, and where in a node each axis's near and far faces lie.
+struct BoxRaySse {
+  __m128 org[3], inv[3];
+  std::uint32_t near_at[3], far_at[3];  // byte offsets of the near and far rows in a BvhNode4
+};
+BoxRaySse boxRaySseOf(const BoxRay& r) {
+  BoxRaySse p;
   for (int a = 0; a < 3; ++a) {
-    const __m128 o = _mm_set1_ps(r.org[a]), inv = _mm_set1_ps(r.inv[a]);
-    const __m128 near_face = _mm_load_ps(r.near_is_hi[a] ? node.hi[a] : node.lo[a]);
-    const __m128 far_face = _mm_load_ps(r.near_is_hi[a] ? node.lo[a] : node.hi[a]);
-    t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(near_face, o), inv), t0);
-    t1 = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(far_face, o), inv), t1);
+    p.org[a] = _mm_set1_ps(r.org[a]);
+    p.inv[a] = _mm_set1_ps(r.inv[a]);
+    const std::uint32_t lo = static_cast<std::uint32_t>(offsetof(BvhNode4, lo) + sizeof(float[4]) * a);
+    const std::uint32_t hi = static_cast<std::uint32_t>(offsetof(BvhNode4, hi) + sizeof(float[4]) * a);
+    p.near_at[a] = r.near_is_hi[a] ? hi : lo;
+    p.far_at[a] = r.near_is_hi[a] ? lo : hi;
+  }
+  return p;
+}
+inline __m128 row(const BvhNode4& node, std::uint32_t at) {
+  return _mm_load_ps(reinterpret_cast<const float*>(reinterpret_cast<const char*>(&node) + at));
+}
+// The scalar test's operations, in its order, four boxes at once.
+inline unsigned boxHits4Prepared(const BvhNode4& node, const BoxRaySse& r, __m128 tmin, float tmax, float tnear[4]) {
+  __m128 t0 = tmin, t1 = _mm_set1_ps(INFINITY);
+  for (int a = 0; a < 3; ++a) {
+    t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(row(node, r.near_at[a]), r.org[a]), r.inv[a]), t0);
+    t1 = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(row(node, r.far_at[a]), r.org[a]), r.inv[a]), t1);
   }
   t1 = _mm_min_ps(_mm_mul_ps(t1, _mm_set1_ps(kWidenFar)), _mm_set1_ps(tmax));
   _mm_storeu_ps(tnear, t0);
   return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+}
+}  // namespace
+unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]) {
+  return boxHits4Prepared(node, boxRaySseOf(r), _mm_set1_ps(tmin), tmax, tnear);
 }
 bool boxHits4SseAvailable() { return true; }
 #else
@@ -419,6 +445,37 @@ unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tm
   return boxHits4Scalar(node, r, tmin, tmax, tnear);
 }
 bool boxHits4SseAvailable() { return false; }
+#endif
+
+// Which of a leaf's triangles the ray may hit: the lanes the scalar test must look at. The SSE
+// sibling computes the three edge functions for the four triangles at once, with the scalar
+// test's operations in its order (so the same floats), and leaves out a triangle only where the
+// scalar test would: all three non-zero and of mixed signs. The scalar build looks at them all.
+#ifdef HSR_BVH_SSE
+unsigned leafCandidates(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used) {
+  const __m128 ox = _mm_set1_ps(r.org[r.kx]), oy = _mm_set1_ps(r.org[r.ky]), oz = _mm_set1_ps(r.org[r.kz]);
+  const __m128 sx = _mm_set1_ps(r.sx), sy = _mm_set1_ps(r.sy);
+  auto project = [&](const float (&v)[3][4], __m128& x, __m128& y) {
+    const __m128 vz = _mm_sub_ps(_mm_load_ps(v[r.kz]), oz);
+    x = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(v[r.kx]), ox), _mm_mul_ps(sx, vz));
+    y = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(v[r.ky]), oy), _mm_mul_ps(sy, vz));
+  };
+  __m128 ax, ay, bx, by, cx, cy;
+  project(leaf.a, ax, ay);
+  project(leaf.b, bx, by);
+  project(leaf.c, cx, cy);
+  const __m128 U = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
+  const __m128 V = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
+  const __m128 W = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
+  const __m128 zero = _mm_setzero_ps();
+  const __m128 some_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
+  const __m128 some_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_cmpgt_ps(V, zero)), _mm_cmpgt_ps(W, zero));
+  const __m128 some_zero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(U, zero), _mm_cmpeq_ps(V, zero)), _mm_cmpeq_ps(W, zero));
+  const __m128 outside = _mm_andnot_ps(some_zero, _mm_and_ps(some_neg, some_pos));
+  return used & ~static_cast<unsigned>(_mm_movemask_ps(outside));
+}
+#else
+unsigned leafCandidates(const BvhTriangles4&, const ShearedRay&, unsigned used) { return used; }
 #endif
 
 namespace {
@@ -437,18 +494,6 @@ struct StackEntry {
   float tnear;
 };
 
-// Pushes a node's hit children so that the nearest is popped first.
-inline void pushChildren(const BvhNode4& node, unsigned mask, const float tnear[4], StackEntry* stack, int& sp) {
-  StackEntry hit[4];
-  int n = 0;
-  for (int i = 0; i < 4; ++i)
-    if (mask & (1u << i)) hit[n++] = {node.child[i], tnear[i]};
-  // Farthest first onto the stack (an insertion sort of at most four)
-  for (int i = 1; i < n; ++i)
-    for (int j = i; j > 0 && hit[j - 1].tnear < hit[j].tnear; --j) std::swap(hit[j - 1], hit[j]);
-  for (int i = 0; i < n; ++i) stack[sp++] = hit[i];
-}
-
 }  // namespace
 
 namespace {
@@ -456,66 +501,149 @@ namespace {
 // Hits sorted by t, then by triangle number.
 bool before(const BvhHit& x, const BvhHit& y) { return x.t < y.t || (x.t == y.t && x.triangle < y.triangle); }
 
-// The nearest-hit traversal; with kBand, the hits within limit(nearest) are kept too.
+// The lanes of a leaf that hold a triangle (they are filled from lane 0).
+inline unsigned usedLanes(const BvhTriangles4& leaf) {
+  unsigned used = 0;
+  for (int lane = 0; lane < 4; ++lane)
+    if (leaf.triangle[lane] != kBvhNoTriangle) used |= 1u << lane;
+  return used;
+}
+
+// One ray's nearest-hit search; with kBand, the hits within limit(nearest) are kept too. Depth
+// first, the nearest child next and the others on a stack (farthest deepest); a box is entered
+// only while its entry distance is within the limit.
+template <bool kBand>
+struct NearestSearch {
+  const Bvh& bvh;
+  ShearedRay sheared;
+  BoxRay box_ray;
+#ifdef HSR_BVH_SSE
+  BoxRaySse box_sse;
+#endif
+  float tmin;
+  float tmax;
+  HitSides sides;
+  BvhBandLimit limit_of;
+  const void* context;
+  BvhCandidates* out;
+  // Hits are looked for up to `limit`: tmax until something is hit, then the nearest hit's t
+  // (or its band's end)
+  float limit;
+  bool found = false;
+  std::uint64_t visited = 0, tested = 0;
+  std::vector<std::pair<glm::vec3, glm::vec3>>* entered = nullptr;
+
+  NearestSearch(const Bvh& b, const glm::vec3& org, const glm::vec3& dir, float t0, float t1, HitSides s,
+                BvhBandLimit l, const void* c, BvhCandidates* o)
+      : bvh(b), sheared(shearRay(org, dir)), box_ray(boxRayOf(org, dir)), tmin(t0), tmax(t1), sides(s),
+        limit_of(l), context(c), out(o), limit(t1) {
+#ifdef HSR_BVH_SSE
+    box_sse = boxRaySseOf(box_ray);
+#endif
+    out->count = 0;
+  }
+
+  unsigned boxes(const BvhNode4& node, float tnear[4]) const {
+#ifdef HSR_BVH_SSE
+    return boxHits4Prepared(node, box_sse, _mm_set1_ps(tmin), limit, tnear);
+#else
+    return boxHits4Scalar(node, box_ray, tmin, limit, tnear);
+#endif
+  }
+
+  // A leaf: its triangles, each kept when nearer than what was kept (a tie: the lower number)
+  void leaf(std::uint32_t ref) {
+    const BvhTriangles4& leaf = bvh.leaves[ref & ~BvhNode4::kLeaf];
+    const unsigned used = usedLanes(leaf);
+    tested += static_cast<unsigned>(std::popcount(used));
+    for (unsigned lanes = leafCandidates(leaf, sheared, used); lanes != 0; lanes &= lanes - 1) {
+      const int lane = std::countr_zero(lanes);
+      TriangleHit h;
+      const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
+      const glm::vec3 b(leaf.b[0][lane], leaf.b[1][lane], leaf.b[2][lane]);
+      const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
+      // Up to the limit itself once something is hit (a tie), short of tmax before
+      const float upto = found ? std::nextafter(limit, INFINITY) : tmax;
+      if (!intersectTriangle(sheared, a, b, c, tmin, upto, sides, &h)) continue;
+      const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise};
+      // Insert in order, the farthest falling off the end
+      int i = out->count < kBvhCandidates ? out->count++ : kBvhCandidates;
+      if (i == kBvhCandidates && !before(hit, out->hit[kBvhCandidates - 1])) continue;
+      if (i == kBvhCandidates) --i;
+      for (; i > 0 && before(hit, out->hit[i - 1]); --i) out->hit[i] = out->hit[i - 1];
+      out->hit[i] = hit;
+      if (i == 0) {  // a new nearest: the limit moves in, and hits beyond it go
+        found = true;
+        limit = kBand ? limit_of(context, hit.t) : hit.t;
+        while (out->count > 1 && out->hit[out->count - 1].t > limit) --out->count;
+      }
+    }
+  }
+
+  // Everything below `ref` (a node or a leaf) the ray may reach.
+  void from(std::uint32_t ref) {
+    // The stack as two arrays: an entry is read back as it was written, a word at a time
+    std::uint32_t stack_ref[kStackSize];
+    float stack_tnear[kStackSize];
+    int sp = 0;
+    for (;;) {
+      // Down through inner nodes: test the four boxes, go on into the nearest one hit
+      while (!(ref & BvhNode4::kLeaf)) {
+        ++visited;
+        const BvhNode4& node = bvh.nodes[ref];
+        float tnear[4];
+        unsigned mask = boxes(node, tnear);
+        if (entered)
+          for (int i = 0; i < 4; ++i)
+            if (mask & (1u << i))
+              entered->push_back({{node.lo[0][i], node.lo[1][i], node.lo[2][i]}, {node.hi[0][i], node.hi[1][i], node.hi[2][i]}});
+        if (mask == 0) goto pop;
+        int first = std::countr_zero(mask);
+        mask &= mask - 1;
+        if (mask == 0) {  // one box: straight in
+          ref = node.child[first];
+          continue;
+        }
+        // Several: the nearest next, the others onto the stack, farthest deepest
+        const int base = sp;
+        do {
+          int i = std::countr_zero(mask);
+          mask &= mask - 1;
+          if (tnear[i] < tnear[first]) std::swap(i, first);
+          int j = sp++;  // child i among the pushed ones, kept farthest first
+          for (; j > base && stack_tnear[j - 1] < tnear[i]; --j) stack_ref[j] = stack_ref[j - 1], stack_tnear[j] = stack_tnear[j - 1];
+          stack_ref[j] = node.child[i], stack_tnear[j] = tnear[i];
+        } while (mask != 0);
+        ref = node.child[first];
+      }
+      leaf(ref);
+    pop:
+      // The next box on the stack still within the limit (a nearer hit may have been found since)
+      do {
+        if (sp == 0) return;
+        --sp;
+      } while (stack_tnear[sp] > limit);
+      ref = stack_ref[sp];
+    }
+  }
+
+  void report(BvhTraversalCounts* counts) const {
+    if (counts) counts->nodes += visited, counts->triangles += tested;
+  }
+};
+
 template <bool kBand>
 void traverseNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
                      HitSides sides, BvhBandLimit limit_of, const void* context, BvhCandidates* out,
                      BvhTraversalCounts* counts) {
   out->count = 0;
   if (bvh.root == BvhNode4::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return;
-  const ShearedRay sheared = shearRay(org, dir);
-  const BoxRay box_ray = boxRayOf(org, dir);
-  StackEntry stack[kStackSize];
-  int sp = 0;
-  stack[sp++] = {bvh.root, tmin};
-  // Hits are looked for up to `limit`: tmax until something is hit, then the nearest hit's t
-  // (or its band's end)
-  float limit = tmax;
-  bool found = false;
-  std::uint64_t visited = 0, tested = 0;
-  while (sp > 0) {
-    const StackEntry e = stack[--sp];
-    if (e.tnear > limit) continue;  // a nearer hit was found since it was pushed
-    if (e.ref & BvhNode4::kLeaf) {
-      // A leaf: its triangles, each kept when nearer than what was kept (a tie: the lower number)
-      const BvhTriangles4& leaf = bvh.leaves[e.ref & ~BvhNode4::kLeaf];
-      for (int lane = 0; lane < 4 && leaf.triangle[lane] != kBvhNoTriangle; ++lane) {
-        ++tested;
-        TriangleHit h;
-        const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
-        const glm::vec3 b(leaf.b[0][lane], leaf.b[1][lane], leaf.b[2][lane]);
-        const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
-        // Up to the limit itself once something is hit (a tie), short of tmax before
-        const float upto = found ? std::nextafter(limit, INFINITY) : tmax;
-        if (!intersectTriangle(sheared, a, b, c, tmin, upto, sides, &h)) continue;
-        const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise};
-        // Insert in order, the farthest falling off the end
-        int i = out->count < kBvhCandidates ? out->count++ : kBvhCandidates;
-        if (i == kBvhCandidates && !before(hit, out->hit[kBvhCandidates - 1])) continue;
-        if (i == kBvhCandidates) --i;
-        for (; i > 0 && before(hit, out->hit[i - 1]); --i) out->hit[i] = out->hit[i - 1];
-        out->hit[i] = hit;
-        if (i == 0) {  // a new nearest: the limit moves in, and hits beyond it go
-          found = true;
-          limit = kBand ? limit_of(context, hit.t) : hit.t;
-          while (out->count > 1 && out->hit[out->count - 1].t > limit) --out->count;
-        }
-      }
-      continue;
-    }
-    // An inner node: test its four boxes, go on with the nearest
-    ++visited;
-    const BvhNode4& node = bvh.nodes[e.ref];
-    float tnear[4];
-    const unsigned mask = boxHits4(node, box_ray, tmin, limit, tnear);
-    if (counts && counts->entered)
-      for (int i = 0; i < 4; ++i)
-        if (mask & (1u << i))
-          counts->entered->push_back({{node.lo[0][i], node.lo[1][i], node.lo[2][i]}, {node.hi[0][i], node.hi[1][i], node.hi[2][i]}});
-    pushChildren(node, mask, tnear, stack, sp);
-  }
-  if (counts) counts->nodes += visited, counts->triangles += tested;
+  NearestSearch<kBand> search(bvh, org, dir, tmin, tmax, sides, limit_of, context, out);
+  if (counts) search.entered = counts->entered;
+  search.from(bvh.root);
+  search.report(counts);
 }
+
 
 }  // namespace
 

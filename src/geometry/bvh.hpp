@@ -116,4 +116,10 @@ unsigned boxHits4Scalar(const BvhNode4& node, const BoxRay& r, float tmin, float
 unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]);
 bool boxHits4SseAvailable();
 
+// Which of a leaf's triangles (the lanes in `used`) the ray may hit: a lane is left out only
+// where the watertight test would reject it for its edge functions' signs, computed as that
+// test computes them (the SSE build: four at once; the scalar build: all of `used`). The
+// traversal runs the full test on the rest. Open to the tests, which pin it to the full test.
+unsigned leafCandidates(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used);
+
 }  // namespace hsr::detail

@@ -114,12 +114,23 @@ std::vector<RayHit> RayScene::intersect(std::span<const glm::vec3> origins, std:
                                         float tmax, float tmin, RaySides sides) const {
   checkSizes(origins, directions);
   std::vector<RayHit> hits(origins.size());
+  intersect(origins, directions, hits, tmax, tmin, sides);
+  return hits;
+}
+
+void RayScene::intersect(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions,
+                         std::span<RayHit> hits, float tmax, float tmin, RaySides sides) const {
+  checkSizes(origins, directions);
+  if (hits.size() != origins.size())
+    throw Error("ray query: " + std::to_string(origins.size()) + " rays but room for " + std::to_string(hits.size()) +
+                " answers");
+  const detail::HitSides hit_sides = detail::hitSidesOf(sides);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), kRaysPerTask),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i)
-                        hits[i] = intersect(origins[i], directions[i], tmax, tmin, sides);
+                        hits[i] = detail::hitOf(*data_, detail::intersectNearest(data_->bvh, origins[i], directions[i],
+                                                                                 tmin, tmax, hit_sides));
                     });
-  return hits;
 }
 
 bool RayScene::occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax, float tmin) const {

@@ -281,6 +281,46 @@ TEST(Bvh, NodeTestIsConservativeAndSseEqualsScalar) {
   EXPECT_LE(hits - exact_hits, cases / 1000) << "conservative, but only just";
 }
 
+// The leaf's quick rejection (SSE: the edge functions of four triangles at once) never leaves
+// out a triangle the watertight test hits, whatever the ray: random triangles, and triangles
+// through the ray's origin line (edge functions exactly 0), from both sides.
+TEST(Bvh, LeafCandidatesKeepEveryTriangleTheFullTestHits) {
+  detail::SplitMix64 rng(8);
+  std::uint64_t hits = 0, dropped = 0, lanes = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const glm::vec3 o(uniform(rng) * 4 - 2, uniform(rng) * 4 - 2, uniform(rng) * 4 - 2);
+    glm::vec3 d(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+    if (i % 9 == 0) d[i % 3] = 0.0f;
+    const detail::ShearedRay r = detail::shearRay(o, d);
+    detail::BvhTriangles4 leaf{};
+    const int count = 1 + i % 4;
+    for (int lane = 0; lane < 4; ++lane) leaf.triangle[lane] = lane < count ? static_cast<std::uint32_t>(lane) : detail::kBvhNoTriangle;
+    for (int lane = 0; lane < count; ++lane) {
+      glm::vec3 v[3];
+      for (glm::vec3& p : v) p = o + d * (uniform(rng) * 4) + glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+      if (i % 13 == lane) v[1] = o + d * 2.0f;  // a vertex on the ray: edge functions of 0
+      if (i % 17 == lane) v[2] = v[1];         // degenerate
+      for (int a = 0; a < 3; ++a) leaf.a[a][lane] = v[0][a], leaf.b[a][lane] = v[1][a], leaf.c[a][lane] = v[2][a];
+    }
+    const unsigned used = (1u << count) - 1;
+    const unsigned kept = detail::leafCandidates(leaf, r, used);
+    ASSERT_EQ(kept & ~used, 0u) << "case " << i << ": an empty lane kept";
+    for (int lane = 0; lane < count; ++lane) {
+      ++lanes;
+      detail::TriangleHit h;
+      const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
+      const glm::vec3 b(leaf.b[0][lane], leaf.b[1][lane], leaf.b[2][lane]);
+      const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
+      const bool hit = detail::intersectTriangle(r, a, b, c, -INFINITY, INFINITY, detail::HitSides::kBoth, &h);
+      hits += hit;
+      if (hit) ASSERT_TRUE(kept & (1u << lane)) << "case " << i << " lane " << lane << ": a hit left out";
+      dropped += !(kept & (1u << lane));
+    }
+  }
+  EXPECT_GT(hits, lanes / 20);  // hits happen often enough to mean something
+  if (detail::boxHits4SseAvailable()) EXPECT_GT(dropped, lanes / 4) << "the quick rejection rejects";
+}
+
 // The same answers from one ray at a time, a batch, and any thread count.
 TEST(Bvh, BatchAndSingleQueriesAgreeAtAnyThreadCount) {
   const Scene scene = makeBuiltinScene("spheres:500");
@@ -307,6 +347,14 @@ TEST(Bvh, BatchAndSingleQueriesAgreeAtAnyThreadCount) {
   }
   EXPECT_GT(hit, batch.size() / 20);
   EXPECT_THROW(rays.intersect(std::span(cam.origins).first(3), std::span(cam.directions).first(2)), Error);
+  // Into the caller's array: the same answers; an array of the wrong size is refused
+  std::vector<RayHit> into(batch.size());
+  rays.intersect(cam.origins, cam.directions, into, cam.tmax, cam.tmin);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    ASSERT_EQ(into[i].polygon, batch[i].polygon);
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(into[i].t), std::bit_cast<std::uint32_t>(batch[i].t));
+  }
+  EXPECT_THROW(rays.intersect(cam.origins, cam.directions, std::span(into).first(5)), Error);
 }
 
 }  // namespace
