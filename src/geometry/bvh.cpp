@@ -1,4 +1,4 @@
-// The bounding volume hierarchy (bvh.hpp): binned SAH build, collapse to four children per
+// The bounding volume hierarchy (bvh.hpp): binned SAH build, collapse to eight children per
 // node, nearest-hit and any-hit traversal.
 
 #include "geometry/bvh.hpp"
@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_invoke.h>
@@ -231,7 +232,7 @@ struct Builder {
   }
 };
 
-// The binary tree collapsed to four children per node, depth first.
+// The binary tree collapsed to eight children per node, depth first.
 struct Collapser {
   const std::vector<BinaryNode>& binary;
   const std::vector<PrimRef>& refs;
@@ -266,17 +267,17 @@ struct Collapser {
     sah += n.box.halfArea() * blocks(n.count);
     bvh.leaves.push_back(sorted);
     bvh.stats.leaves++;
-    return BvhNode4::kLeaf | static_cast<std::uint32_t>(bvh.leaves.size() - 1);
+    return BvhNode::kLeaf | static_cast<std::uint32_t>(bvh.leaves.size() - 1);
   }
 
   std::uint32_t collapse(std::uint32_t index, std::uint64_t level) {
     const BinaryNode& n = binary[index];
     if (n.leaf) return leaf(n);
     depth = std::max(depth, level);
-    // The children: the two halves, then, while fewer than four, the largest inner child opened
-    std::uint32_t kids[4] = {n.left, n.right, 0, 0};
+    // The children: the two halves, then, while fewer than kBvhWidth, the largest inner child opened
+    std::uint32_t kids[kBvhWidth] = {n.left, n.right};
     int count = 2;
-    while (count < 4) {
+    while (count < kBvhWidth) {
       int open = -1;
       float area = -1.0f;
       for (int i = 0; i < count; ++i)
@@ -289,14 +290,14 @@ struct Collapser {
     sah += n.box.halfArea();
     const auto me = static_cast<std::uint32_t>(bvh.nodes.size());
     bvh.nodes.emplace_back();
-    for (int i = 0; i < 4; ++i) {
-      BvhNode4 node = bvh.nodes[me];
+    for (int i = 0; i < kBvhWidth; ++i) {
+      BvhNode node = bvh.nodes[me];
       if (i < count) {
         const Box& box = binary[kids[i]].box;
         for (int ax = 0; ax < 3; ++ax) node.lo[ax][i] = box.lo[ax], node.hi[ax][i] = box.hi[ax];
       } else {
         for (int ax = 0; ax < 3; ++ax) node.lo[ax][i] = INFINITY, node.hi[ax][i] = -INFINITY;
-        node.child[i] = BvhNode4::kEmpty;
+        node.child[i] = BvhNode::kEmpty;
       }
       bvh.nodes[me] = node;
     }
@@ -348,7 +349,7 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
   bvh.stats.depth = std::max<std::uint64_t>(collapser.depth, 1);
   const float root_area = binary[root].box.halfArea();
   bvh.stats.sah_cost = root_area > 0.0f ? collapser.sah / root_area : 0.0;
-  bvh.stats.bytes = bvh.nodes.capacity() * sizeof(BvhNode4) + bvh.leaves.capacity() * sizeof(BvhTriangles4);
+  bvh.stats.bytes = bvh.nodes.capacity() * sizeof(BvhNode) + bvh.leaves.capacity() * sizeof(BvhTriangles4);
   bvh.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return bvh;
 }
@@ -382,11 +383,11 @@ BoxRay boxRayOf(const glm::vec3& org, const glm::vec3& dir) {
   return r;
 }
 
-// The slab test (Kay & Kajiya 1986) for four boxes. A NaN, from a ray lying in a box's face,
+// The slab test (Kay & Kajiya 1986) for a node's boxes. A NaN, from a ray lying in a box's face,
 // never narrows the interval, so the test stays conservative.
-unsigned boxHits4Scalar(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]) {
+unsigned boxHitsScalar(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]) {
   unsigned mask = 0;
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < kBvhWidth; ++i) {
     float t0 = tmin, t1 = INFINITY;
     for (int a = 0; a < 3; ++a) {
       const float near_face = r.near_is_hi[a] ? node.hi[a][i] : node.lo[a][i];
@@ -407,44 +408,53 @@ namespace {
 // lane, and where in a node each axis's near and far faces lie.
 struct BoxRaySse {
   __m128 org[3], inv[3];
-  std::uint32_t near_at[3], far_at[3];  // byte offsets of the near and far rows in a BvhNode4
+  std::uint32_t near_at[3], far_at[3];  // byte offsets of the near and far rows in a BvhNode
 };
-BoxRaySse boxRaySseOf(const BoxRay& r) {
-  BoxRaySse p;
+// Filled in place, a word at a time: a copy of the whole would read back as one 16-byte load
+// what was just written in 4-byte stores, a stall on every ray.
+inline void prepareBoxRaySse(const BoxRay& r, BoxRaySse& p) {
   for (int a = 0; a < 3; ++a) {
     p.org[a] = _mm_set1_ps(r.org[a]);
     p.inv[a] = _mm_set1_ps(r.inv[a]);
-    const std::uint32_t lo = static_cast<std::uint32_t>(offsetof(BvhNode4, lo) + sizeof(float[4]) * a);
-    const std::uint32_t hi = static_cast<std::uint32_t>(offsetof(BvhNode4, hi) + sizeof(float[4]) * a);
+    const std::uint32_t lo = static_cast<std::uint32_t>(offsetof(BvhNode, lo) + sizeof(float[kBvhWidth]) * a);
+    const std::uint32_t hi = static_cast<std::uint32_t>(offsetof(BvhNode, hi) + sizeof(float[kBvhWidth]) * a);
     p.near_at[a] = r.near_is_hi[a] ? hi : lo;
     p.far_at[a] = r.near_is_hi[a] ? lo : hi;
   }
-  return p;
 }
-inline __m128 row(const BvhNode4& node, std::uint32_t at) {
-  return _mm_load_ps(reinterpret_cast<const float*>(reinterpret_cast<const char*>(&node) + at));
+inline __m128 row(const BvhNode& node, std::uint32_t at, int quad) {
+  return _mm_load_ps(reinterpret_cast<const float*>(reinterpret_cast<const char*>(&node) + at) + 4 * quad);
 }
-// The scalar test's operations, in its order, four boxes at once.
-inline unsigned boxHits4Prepared(const BvhNode4& node, const BoxRaySse& r, __m128 tmin, float tmax, float tnear[4]) {
-  __m128 t0 = tmin, t1 = _mm_set1_ps(INFINITY);
-  for (int a = 0; a < 3; ++a) {
-    t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(row(node, r.near_at[a]), r.org[a]), r.inv[a]), t0);
-    t1 = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(row(node, r.far_at[a]), r.org[a]), r.inv[a]), t1);
+// The scalar test's operations, in its order, four boxes at once (the quads of a node are
+// independent: the processor overlaps them).
+inline unsigned boxHitsPrepared(const BvhNode& node, const BoxRaySse& r, __m128 tmin, float tmax,
+                                float tnear[kBvhWidth]) {
+  unsigned mask = 0;
+  const __m128 widen = _mm_set1_ps(kWidenFar), limit = _mm_set1_ps(tmax);
+  for (int q = 0; q < kBvhWidth / 4; ++q) {
+    __m128 t0 = tmin, t1 = _mm_set1_ps(INFINITY);
+    for (int a = 0; a < 3; ++a) {
+      t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(row(node, r.near_at[a], q), r.org[a]), r.inv[a]), t0);
+      t1 = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(row(node, r.far_at[a], q), r.org[a]), r.inv[a]), t1);
+    }
+    t1 = _mm_min_ps(_mm_mul_ps(t1, widen), limit);
+    _mm_storeu_ps(tnear + 4 * q, t0);
+    mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t0, t1))) << (4 * q);
   }
-  t1 = _mm_min_ps(_mm_mul_ps(t1, _mm_set1_ps(kWidenFar)), _mm_set1_ps(tmax));
-  _mm_storeu_ps(tnear, t0);
-  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+  return mask;
 }
 }  // namespace
-unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]) {
-  return boxHits4Prepared(node, boxRaySseOf(r), _mm_set1_ps(tmin), tmax, tnear);
+unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]) {
+  BoxRaySse p;
+  prepareBoxRaySse(r, p);
+  return boxHitsPrepared(node, p, _mm_set1_ps(tmin), tmax, tnear);
 }
-bool boxHits4SseAvailable() { return true; }
+bool boxHitsSseAvailable() { return true; }
 #else
-unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]) {
-  return boxHits4Scalar(node, r, tmin, tmax, tnear);
+unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]) {
+  return boxHitsScalar(node, r, tmin, tmax, tnear);
 }
-bool boxHits4SseAvailable() { return false; }
+bool boxHitsSseAvailable() { return false; }
 #endif
 
 // Which of a leaf's triangles the ray may hit: the lanes the scalar test must look at. The SSE
@@ -482,12 +492,12 @@ namespace {
 
 // The node test this build uses, chosen once.
 #ifdef HSR_BVH_SSE
-constexpr auto boxHits4 = boxHits4Sse;
+constexpr auto boxHits = boxHitsSse;
 #else
-constexpr auto boxHits4 = boxHits4Scalar;
+constexpr auto boxHits = boxHitsScalar;
 #endif
 
-constexpr int kStackSize = 3 * (kMedianDepth + 32) + 8;  // three pushed per level at most
+constexpr int kStackSize = kBvhWidth * (kMedianDepth + 32) + 8;  // at most a node's children pushed per level
 
 struct StackEntry {
   std::uint32_t ref;
@@ -514,8 +524,12 @@ inline unsigned usedLanes(const BvhTriangles4& leaf) {
 // only while its entry distance is within the limit.
 template <bool kBand>
 struct NearestSearch {
+  // What is kept: the nearest hit, or with kBand the nearest and its band
+  using Out = std::conditional_t<kBand, BvhCandidates, BvhHit>;
   const Bvh& bvh;
-  ShearedRay sheared;
+  glm::vec3 org, dir;
+  ShearedRay sheared;  // made when the first leaf is reached (most rays that miss reach none)
+  bool sheared_ready = false;
   BoxRay box_ray;
 #ifdef HSR_BVH_SSE
   BoxRaySse box_sse;
@@ -525,7 +539,7 @@ struct NearestSearch {
   HitSides sides;
   BvhBandLimit limit_of;
   const void* context;
-  BvhCandidates* out;
+  Out* out;
   // Hits are looked for up to `limit`: tmax until something is hit, then the nearest hit's t
   // (or its band's end)
   float limit;
@@ -533,27 +547,28 @@ struct NearestSearch {
   std::uint64_t visited = 0, tested = 0;
   std::vector<std::pair<glm::vec3, glm::vec3>>* entered = nullptr;
 
-  NearestSearch(const Bvh& b, const glm::vec3& org, const glm::vec3& dir, float t0, float t1, HitSides s,
-                BvhBandLimit l, const void* c, BvhCandidates* o)
-      : bvh(b), sheared(shearRay(org, dir)), box_ray(boxRayOf(org, dir)), tmin(t0), tmax(t1), sides(s),
-        limit_of(l), context(c), out(o), limit(t1) {
+  NearestSearch(const Bvh& b, const glm::vec3& o_, const glm::vec3& d_, float t0, float t1, HitSides s,
+                BvhBandLimit l, const void* c, Out* o)
+      : bvh(b), org(o_), dir(d_), box_ray(boxRayOf(o_, d_)), tmin(t0), tmax(t1), sides(s), limit_of(l), context(c),
+        out(o), limit(t1) {
 #ifdef HSR_BVH_SSE
-    box_sse = boxRaySseOf(box_ray);
+    prepareBoxRaySse(box_ray, box_sse);
 #endif
-    out->count = 0;
+    if constexpr (kBand) out->count = 0;
   }
 
-  unsigned boxes(const BvhNode4& node, float tnear[4]) const {
+  unsigned boxes(const BvhNode& node, float tnear[kBvhWidth]) const {
 #ifdef HSR_BVH_SSE
-    return boxHits4Prepared(node, box_sse, _mm_set1_ps(tmin), limit, tnear);
+    return boxHitsPrepared(node, box_sse, _mm_set1_ps(tmin), limit, tnear);
 #else
-    return boxHits4Scalar(node, box_ray, tmin, limit, tnear);
+    return boxHitsScalar(node, box_ray, tmin, limit, tnear);
 #endif
   }
 
   // A leaf: its triangles, each kept when nearer than what was kept (a tie: the lower number)
   void leaf(std::uint32_t ref) {
-    const BvhTriangles4& leaf = bvh.leaves[ref & ~BvhNode4::kLeaf];
+    const BvhTriangles4& leaf = bvh.leaves[ref & ~BvhNode::kLeaf];
+    if (!sheared_ready) sheared = shearRay(org, dir), sheared_ready = true;
     const unsigned used = usedLanes(leaf);
     tested += static_cast<unsigned>(std::popcount(used));
     for (unsigned lanes = leafCandidates(leaf, sheared, used); lanes != 0; lanes &= lanes - 1) {
@@ -566,6 +581,13 @@ struct NearestSearch {
       const float upto = found ? std::nextafter(limit, INFINITY) : tmax;
       if (!intersectTriangle(sheared, a, b, c, tmin, upto, sides, &h)) continue;
       const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise};
+      if constexpr (!kBand) {
+        if (found && !before(hit, *out)) continue;  // as near, a higher number
+        *out = hit;
+        found = true;
+        limit = hit.t;
+        continue;
+      } else {
       // Insert in order, the farthest falling off the end
       int i = out->count < kBvhCandidates ? out->count++ : kBvhCandidates;
       if (i == kBvhCandidates && !before(hit, out->hit[kBvhCandidates - 1])) continue;
@@ -577,6 +599,7 @@ struct NearestSearch {
         limit = kBand ? limit_of(context, hit.t) : hit.t;
         while (out->count > 1 && out->hit[out->count - 1].t > limit) --out->count;
       }
+      }
     }
   }
 
@@ -587,14 +610,14 @@ struct NearestSearch {
     float stack_tnear[kStackSize];
     int sp = 0;
     for (;;) {
-      // Down through inner nodes: test the four boxes, go on into the nearest one hit
-      while (!(ref & BvhNode4::kLeaf)) {
+      // Down through inner nodes: test the node's boxes, go on into the nearest one hit
+      while (!(ref & BvhNode::kLeaf)) {
         ++visited;
-        const BvhNode4& node = bvh.nodes[ref];
-        float tnear[4];
+        const BvhNode& node = bvh.nodes[ref];
+        float tnear[kBvhWidth];
         unsigned mask = boxes(node, tnear);
         if (entered)
-          for (int i = 0; i < 4; ++i)
+          for (int i = 0; i < kBvhWidth; ++i)
             if (mask & (1u << i))
               entered->push_back({{node.lo[0][i], node.lo[1][i], node.lo[2][i]}, {node.hi[0][i], node.hi[1][i], node.hi[2][i]}});
         if (mask == 0) goto pop;
@@ -634,10 +657,10 @@ struct NearestSearch {
 
 template <bool kBand>
 void traverseNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
-                     HitSides sides, BvhBandLimit limit_of, const void* context, BvhCandidates* out,
-                     BvhTraversalCounts* counts) {
-  out->count = 0;
-  if (bvh.root == BvhNode4::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return;
+                     HitSides sides, BvhBandLimit limit_of, const void* context,
+                     typename NearestSearch<kBand>::Out* out, BvhTraversalCounts* counts) {
+  if constexpr (kBand) out->count = 0;
+  if (bvh.root == BvhNode::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return;
   NearestSearch<kBand> search(bvh, org, dir, tmin, tmax, sides, limit_of, context, out);
   if (counts) search.entered = counts->entered;
   search.from(bvh.root);
@@ -649,9 +672,9 @@ void traverseNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir,
 
 BvhHit intersectNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
                         HitSides sides, BvhTraversalCounts* counts) {
-  BvhCandidates found;
-  traverseNearest<false>(bvh, org, dir, tmin, tmax, sides, nullptr, nullptr, &found, counts);
-  return found.count > 0 ? found.hit[0] : BvhHit{};
+  BvhHit nearest;
+  traverseNearest<false>(bvh, org, dir, tmin, tmax, sides, nullptr, nullptr, &nearest, counts);
+  return nearest;
 }
 
 void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
@@ -661,7 +684,7 @@ void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3&
 }
 
 bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax) {
-  if (bvh.root == BvhNode4::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return false;
+  if (bvh.root == BvhNode::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return false;
   const ShearedRay sheared = shearRay(org, dir);
   const BoxRay box_ray = boxRayOf(org, dir);
   StackEntry stack[kStackSize];
@@ -669,8 +692,8 @@ bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, fl
   stack[sp++] = {bvh.root, tmin};
   while (sp > 0) {
     const StackEntry e = stack[--sp];
-    if (e.ref & BvhNode4::kLeaf) {
-      const BvhTriangles4& leaf = bvh.leaves[e.ref & ~BvhNode4::kLeaf];
+    if (e.ref & BvhNode::kLeaf) {
+      const BvhTriangles4& leaf = bvh.leaves[e.ref & ~BvhNode::kLeaf];
       for (int lane = 0; lane < 4 && leaf.triangle[lane] != kBvhNoTriangle; ++lane) {
         TriangleHit h;
         const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
@@ -680,10 +703,10 @@ bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, fl
       }
       continue;
     }
-    const BvhNode4& node = bvh.nodes[e.ref];
-    float tnear[4];
-    const unsigned mask = boxHits4(node, box_ray, tmin, tmax, tnear);
-    for (int i = 0; i < 4; ++i)
+    const BvhNode& node = bvh.nodes[e.ref];
+    float tnear[kBvhWidth];
+    const unsigned mask = boxHits(node, box_ray, tmin, tmax, tnear);
+    for (int i = 0; i < kBvhWidth; ++i)
       if (mask & (1u << i)) stack[sp++] = {node.child[i], tnear[i]};
   }
   return false;

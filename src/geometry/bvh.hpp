@@ -2,8 +2,8 @@
 // A bounding volume hierarchy over triangles, for casting rays (the ray caster and
 // hsr::RayScene). Built top down with the surface-area heuristic over binned centroids
 // (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"), then collapsed
-// to four children per node so that one ray tests four boxes at once (Dammertz, Hanika &
-// Keller 2008; Embree's BVH4). Leaves hold up to four triangles side by side.
+// to eight children per node so that one ray tests eight boxes at each step (Dammertz, Hanika &
+// Keller 2008; Embree's BVH8). Leaves hold up to four triangles side by side.
 //
 // Guarantees: every triangle with finite vertices is in exactly one leaf; a ray that hits a
 // triangle reaches its leaf (the box test is conservative: its far distance is widened by
@@ -28,16 +28,20 @@ namespace hsr::detail {
 
 inline constexpr std::uint32_t kBvhNoTriangle = 0xFFFFFFFFu;
 
-// Four boxes side by side (structure of arrays, one SSE register per row) and what is in them.
-struct alignas(64) BvhNode4 {
-  float lo[3][4], hi[3][4];  // [axis][child]
-  std::uint32_t child[4];    // an inner node's index; kLeaf | a leaf's block; or kEmpty
-  std::uint32_t pad[4];
+// Children per node: eight boxes a node halves the steps from the root to a leaf against a
+// binary tree's three (Embree's BVH8); a step tests them side by side, four at a time with SSE.
+inline constexpr int kBvhWidth = 8;
+
+// kBvhWidth boxes side by side (structure of arrays, one SSE register per four) and what is in them.
+struct alignas(64) BvhNode {
+  float lo[3][kBvhWidth], hi[3][kBvhWidth];  // [axis][child]; an empty child's box is inside out
+  std::uint32_t child[kBvhWidth];            // an inner node's index; kLeaf | a leaf's block; or kEmpty
+  std::uint32_t pad[8];
 
   static constexpr std::uint32_t kLeaf = 0x80000000u;
   static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
 };
-static_assert(sizeof(BvhNode4) == 128, "two cache lines a node");
+static_assert(sizeof(BvhNode) == 256, "four cache lines a node");
 
 // Up to four triangles side by side, for a leaf.
 struct alignas(16) BvhTriangles4 {
@@ -54,10 +58,10 @@ struct BvhStats {
 };
 
 struct Bvh {
-  std::vector<BvhNode4> nodes;  // nodes[0] is the root (an empty tree has no nodes)
+  std::vector<BvhNode> nodes;  // nodes[0] is the root (an empty tree has no nodes)
   std::vector<BvhTriangles4> leaves;
   glm::vec3 lo{0.0f}, hi{0.0f};  // bounds of everything
-  std::uint32_t root = BvhNode4::kEmpty;  // nodes[0], or a leaf when there are at most 4
+  std::uint32_t root = BvhNode::kEmpty;  // nodes[0], or a leaf when there are at most 4
   BvhStats stats;
 };
 
@@ -104,7 +108,7 @@ bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, fl
 // Whether the ray is one the queries answer (finite origin, finite non-zero direction).
 bool rayIsValid(const glm::vec3& org, const glm::vec3& dir);
 
-// The four box tests of a node for one ray, as a bit per child hit and each child's entry
+// The box tests of a node for one ray, as a bit per child hit and each child's entry
 // distance: the SSE sibling and the scalar one (the same bits; which runs is chosen at build
 // time, HSR_NO_SIMD picks the scalar). Open to the tests, which pin the two together.
 struct BoxRay {
@@ -112,9 +116,9 @@ struct BoxRay {
   int near_is_hi[3];     // per axis: the near face is `hi` (the direction is negative)
 };
 BoxRay boxRayOf(const glm::vec3& org, const glm::vec3& dir);
-unsigned boxHits4Scalar(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]);
-unsigned boxHits4Sse(const BvhNode4& node, const BoxRay& r, float tmin, float tmax, float tnear[4]);
-bool boxHits4SseAvailable();
+unsigned boxHitsScalar(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]);
+unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]);
+bool boxHitsSseAvailable();
 
 // Which of a leaf's triangles (the lanes in `used`) the ray may hit: a lane is left out only
 // where the watertight test would reject it for its edge functions' signs, computed as that

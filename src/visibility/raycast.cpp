@@ -10,7 +10,7 @@
 // `--front-face` decide which side of a triangle a ray may hit (the notes' N . V test, as seen
 // from the eye).
 //
-// The hits: a bounding volume hierarchy (geometry/bvh.hpp: binned SAH, four boxes a node, the
+// The hits: a bounding volume hierarchy (geometry/bvh.hpp: binned SAH, eight boxes a node, the
 // watertight ray/triangle test of Woop, Benthin & Wald 2013), built once per scene and kept
 // while the scene is unchanged, the same one hsr::RayScene answers queries with.
 //
@@ -150,10 +150,10 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
     std::size_t boxes = 0;
     next.clear();
     for (const std::uint32_t ref : level) {
-      if (ref & BvhNode4::kLeaf) continue;
-      const BvhNode4& node = bvh.nodes[ref];
-      for (int i = 0; i < 4; ++i) {
-        if (node.child[i] == BvhNode4::kEmpty) continue;
+      if (ref & BvhNode::kLeaf) continue;
+      const BvhNode& node = bvh.nodes[ref];
+      for (int i = 0; i < kBvhWidth; ++i) {
+        if (node.child[i] == BvhNode::kEmpty) continue;
         ++boxes;
         if (boxes <= kMostBoxes)
           outlineBox(device_from_world, {node.lo[0][i], node.lo[1][i], node.lo[2][i]},
@@ -165,7 +165,7 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
       in.trace->record({kStepLevel,
                         "Level " + std::to_string(l) + " of the bounding volume hierarchy: " + std::to_string(boxes) +
                             " boxes" + (boxes > kMostBoxes ? " (the first " + std::to_string(kMostBoxes) + " drawn)" : "") +
-                            ". Each box holds four smaller ones; a ray tests four at once and enters only those it meets.",
+                            ". Each box holds up to " + std::to_string(kBvhWidth) + " smaller ones; a ray tests them side by side and enters only those it meets.",
                         &frame,
                         std::move(outlines)});
     level.swap(next);
@@ -237,13 +237,13 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   const RaySceneData& data = s.rays->data();
   if (in.trace && in.trace->wants(kStepBuild, 0, 1)) {
     std::vector<TraceOutline> outlines;
-    if (data.bvh.root != BvhNode4::kEmpty && !(data.bvh.root & BvhNode4::kLeaf))
+    if (data.bvh.root != BvhNode::kEmpty && !(data.bvh.root & BvhNode::kLeaf))
       outlineBox(deviceFromWorld(in.camera), data.bvh.lo, data.bvh.hi, outlines);
     in.trace->record({kStepBuild,
                       "The bounding volume hierarchy, built once in world space for every view: " +
                           std::to_string(data.bvh.stats.triangles) + " triangles in " +
                           std::to_string(data.bvh.stats.leaves) + " leaves under " +
-                          std::to_string(data.bvh.stats.nodes) + " boxes of four, depth " +
+                          std::to_string(data.bvh.stats.nodes) + " boxes of up to " + std::to_string(kBvhWidth) + ", depth " +
                           std::to_string(data.bvh.stats.depth) + " (binned surface-area heuristic).",
                       &frame,
                       std::move(outlines)});
@@ -352,7 +352,7 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
                       "Done: " + std::to_string(c.hits) + " pixels show their ray's nearest polygon; " +
-                          std::to_string(c.nodes) + " boxes of four visited and " + std::to_string(c.triangles) +
+                          std::to_string(c.nodes) + " nodes of up to " + std::to_string(kBvhWidth) + " boxes visited and " + std::to_string(c.triangles) +
                           " ray/triangle tests in all.",
                       &frame,
                       {}});
