@@ -61,13 +61,28 @@ struct BinaryNode {
   bool leaf = false;
 };
 
-// Per bin: the triangles whose centroid falls in it, and their boxes.
+// Per bin: the triangles whose centroid falls in it, and their boxes. A node of n triangles
+// uses min(n, kBins) bins (more bins than triangles find no better split), and only those
+// are cleared: a million-triangle build makes half a million small nodes.
 struct Bins {
-  Box box[3][kBins];
-  std::uint32_t count[3][kBins] = {};
+  // A bin's box, left uninitialised until the bin is used
+  struct alignas(16) BinBox {
+    float lo[4], hi[4];  // x, y, z and a lane kept at 0
+    Box box() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
+    void extend(const float* l, const float* h) {
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], l[a]), hi[a] = std::max(hi[a], h[a]);
+    }
+  };
+  int used = kBins;
+  BinBox box[3][kBins];
+  std::uint32_t count[3][kBins];
+  explicit Bins(int n = kBins) : used(n) {
+    for (int a = 0; a < 3; ++a)
+      for (int i = 0; i < used; ++i) box[a][i] = {{INFINITY, INFINITY, INFINITY, 0.0f}, {-INFINITY, -INFINITY, -INFINITY, 0.0f}}, count[a][i] = 0;
+  }
   void add(const Bins& o) {
     for (int a = 0; a < 3; ++a)
-      for (int i = 0; i < kBins; ++i) box[a][i].extend(o.box[a][i]), count[a][i] += o.count[a][i];
+      for (int i = 0; i < used; ++i) box[a][i].extend(o.box[a][i].lo, o.box[a][i].hi), count[a][i] += o.count[a][i];
   }
 };
 
@@ -133,29 +148,54 @@ struct Builder {
     std::uint32_t mid = r.begin + (r.end - r.begin) / 2;  // all centroids at one point: halve the range
     if (extent[widest] > 0.0f && depth < kMedianDepth) {
       // Bin the centroids along each axis (in parallel for a large node)
+      const int bin_count = static_cast<int>(std::min<std::uint32_t>(kBins, r.end - r.begin));
       glm::vec3 scale;
-      for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? kBins * 0.999f / extent[a] : 0.0f;
+      for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? static_cast<float>(bin_count) * 0.999f / extent[a] : 0.0f;
       // The bin as a float clamped to [0, kBins - 1] before it becomes an int: a tiny extent
       // makes the scale infinite, and 0 x infinity a NaN (max(0, NaN) is 0)
       auto binOf = [&](const PrimRef& p, int a) {
         const float k = (p.centroid(a) - cb.lo[a]) * scale[a];
-        return static_cast<int>(std::min(static_cast<float>(kBins - 1), std::max(0.0f, k)));
+        return static_cast<int>(std::min(static_cast<float>(bin_count - 1), std::max(0.0f, k)));
       };
       auto fill = [&](std::uint32_t b, std::uint32_t e, Bins& bins) {
+#ifdef HSR_BVH_SSE
+        // binOf's operations on the three axes at once (the same bins), and each bin's box
+        // grown in one step
+        const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
+        const __m128 lo = _mm_setr_ps(cb.lo.x, cb.lo.y, cb.lo.z, 0.0f);
+        const __m128 sc = _mm_setr_ps(scale.x, scale.y, scale.z, 0.0f);
+        const __m128 top = _mm_set1_ps(static_cast<float>(bin_count - 1));
         for (std::uint32_t i = b; i < e; ++i) {
           const PrimRef& p = refs[i];
-          const Box box{p.lo, p.hi};
+          // lane 3 (the triangle number and the padding) cleared: never a denormal to slow us
+          const __m128 plo = _mm_blend_ps(_mm_loadu_ps(&p.lo.x), zero, 8);
+          const __m128 phi = _mm_blend_ps(_mm_loadu_ps(&p.hi.x), zero, 8);
+          const __m128 c = _mm_add_ps(_mm_mul_ps(half, plo), _mm_mul_ps(half, phi));
+          const __m128 k = _mm_min_ps(_mm_max_ps(_mm_mul_ps(_mm_sub_ps(c, lo), sc), zero), top);
+          alignas(16) std::int32_t bin[4];
+          _mm_store_si128(reinterpret_cast<__m128i*>(bin), _mm_cvttps_epi32(k));
+          for (int a = 0; a < 3; ++a) {
+            Bins::BinBox& box = bins.box[a][bin[a]];
+            _mm_store_ps(box.lo, _mm_min_ps(_mm_load_ps(box.lo), plo));
+            _mm_store_ps(box.hi, _mm_max_ps(_mm_load_ps(box.hi), phi));
+            bins.count[a][bin[a]]++;
+          }
+        }
+#else
+        for (std::uint32_t i = b; i < e; ++i) {
+          const PrimRef& p = refs[i];
           for (int a = 0; a < 3; ++a) {
             const int k = binOf(p, a);
-            bins.box[a][k].extend(box);
+            bins.box[a][k].extend(&p.lo.x, &p.hi.x);
             bins.count[a][k]++;
           }
         }
+#endif
       };
-      Bins bins;
+      Bins bins(bin_count);
       if (r.end - r.begin > 4 * kParallelTriangles) {
         bins = tbb::parallel_reduce(
-            tbb::blocked_range<std::uint32_t>(r.begin, r.end, kParallelTriangles), Bins{},
+            tbb::blocked_range<std::uint32_t>(r.begin, r.end, kParallelTriangles), Bins(bin_count),
             [&](const tbb::blocked_range<std::uint32_t>& br, Bins acc) {
               fill(br.begin(), br.end(), acc);
               return acc;
@@ -175,15 +215,15 @@ struct Builder {
         float right_cost[kBins];
         Box acc;
         std::uint32_t count = 0;
-        for (int k = kBins - 1; k > 0; --k) {
-          acc.extend(bins.box[a][k]);
+        for (int k = bin_count - 1; k > 0; --k) {
+          acc.extend(bins.box[a][k].box());
           count += bins.count[a][k];
           right_cost[k] = acc.halfArea() * blocks(count);
         }
         acc = Box{};
         count = 0;
-        for (int k = 0; k < kBins - 1; ++k) {
-          acc.extend(bins.box[a][k]);
+        for (int k = 0; k < bin_count - 1; ++k) {
+          acc.extend(bins.box[a][k].box());
           count += bins.count[a][k];
           const float cost = acc.halfArea() * blocks(count) + right_cost[k + 1];
           if (count > 0 && count < r.end - r.begin && cost < best_cost) best_cost = cost, best_axis = a, best_bin = k;
