@@ -620,7 +620,8 @@ struct NearestSearch {
       // Up to the limit itself once something is hit (a tie), short of tmax before
       const float upto = found ? std::nextafter(limit, INFINITY) : tmax;
       if (!intersectTriangle(sheared, a, b, c, tmin, upto, sides, &h)) continue;
-      const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise};
+      const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise, static_cast<std::uint8_t>(lane),
+                       ref & ~BvhNode::kLeaf};
       if constexpr (!kBand) {
         if (found && !before(hit, *out)) continue;  // as near, a higher number
         *out = hit;

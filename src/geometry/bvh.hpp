@@ -74,7 +74,17 @@ struct BvhHit {
   float u = 0, v = 0;
   std::uint32_t triangle = kBvhNoTriangle;
   bool counter_clockwise = false;
+  std::uint8_t lane = 0;   // where the triangle sits in the tree: bvh.leaves[leaf], this lane
+  std::uint32_t leaf = 0;  // (its vertices there are still in the cache when the hit is reported)
 };
+
+// The vertices of a hit's triangle, as the tree holds them (the caller's a, b, c exactly).
+inline void bvhTriangleOf(const Bvh& bvh, const BvhHit& h, glm::vec3* a, glm::vec3* b, glm::vec3* c) {
+  const BvhTriangles4& l = bvh.leaves[h.leaf];
+  *a = {l.a[0][h.lane], l.a[1][h.lane], l.a[2][h.lane]};
+  *b = {l.b[0][h.lane], l.b[1][h.lane], l.b[2][h.lane]};
+  *c = {l.c[0][h.lane], l.c[1][h.lane], l.c[2][h.lane]};
+}
 
 struct BvhTraversalCounts {
   std::uint64_t nodes = 0;      // inner nodes visited

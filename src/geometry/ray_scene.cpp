@@ -41,7 +41,9 @@ RayHit hitOf(const RaySceneData& d, const BvhHit& h) {
   out.polygon = d.polygon[h.triangle];
   out.object = d.object[h.triangle];
   out.front = h.counter_clockwise;
-  const glm::dvec3 a(d.a[h.triangle]), b(d.b[h.triangle]), c(d.c[h.triangle]);
+  glm::vec3 fa, fb, fc;  // from the leaf just tested, not the triangle arrays: no cache misses
+  detail::bvhTriangleOf(d.bvh, h, &fa, &fb, &fc);
+  const glm::dvec3 a(fa), b(fb), c(fc);
   const glm::dvec3 n = glm::cross(b - a, c - a);
   const double len = glm::length(n);
   // A hit triangle has area; a length that overflowed double still has a direction

@@ -343,6 +343,10 @@ TEST(Bvh, BatchAndSingleQueriesAgreeAtAnyThreadCount) {
       const glm::vec3 p = (1 - one.u - one.v) * v0 + one.u * v1 + one.v * v2;
       const glm::vec3 q = cam.origins[i] + one.t * cam.directions[i];
       EXPECT_LT(glm::length(p - q), 1e-4f * (1 + glm::length(q)));
+      // The normal (read from the tree's copy of the triangle) is the scene triangle's, bit for bit
+      const glm::dvec3 n = glm::cross(glm::dvec3(v1) - glm::dvec3(v0), glm::dvec3(v2) - glm::dvec3(v0));
+      const glm::vec3 expected(n / glm::length(n));
+      for (int a = 0; a < 3; ++a) ASSERT_EQ(std::bit_cast<std::uint32_t>(one.normal[a]), std::bit_cast<std::uint32_t>(expected[a]));
       EXPECT_EQ(rays.occluded(cam.origins[i], cam.directions[i], cam.tmax, cam.tmin), true);
     }
   }
