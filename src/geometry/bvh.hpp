@@ -28,8 +28,8 @@ namespace hsr::detail {
 
 inline constexpr std::uint32_t kBvhNoTriangle = 0xFFFFFFFFu;
 
-// Children per node: eight boxes a node halves the steps from the root to a leaf against a
-// binary tree's three (Embree's BVH8); a step tests them side by side, four at a time with SSE.
+// Children per node: with eight, a ray takes a third of a binary tree's steps from the root to
+// a leaf (Embree's BVH8); a step tests the eight boxes side by side, four at a time with SSE.
 inline constexpr int kBvhWidth = 8;
 
 // kBvhWidth boxes side by side (structure of arrays, one SSE register per four) and what is in them.
