@@ -161,6 +161,7 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
         next.push_back(node.child[i]);
       }
     }
+    if (boxes == 0) break;  // only leaves below: the tree ends here
     if (in.trace->wants(kStepLevel, static_cast<std::uint64_t>(l - 1), kLevels))
       in.trace->record({kStepLevel,
                         "Level " + std::to_string(l) + " of the bounding volume hierarchy: " + std::to_string(boxes) +
@@ -206,7 +207,7 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
     if (in.trace->wants(kStepRay, static_cast<std::uint64_t>(k), 3))
       in.trace->record({kStepRay,
                         "The ray through pixel (" + std::to_string(picks[k][0]) + ", " + std::to_string(picks[k][1]) +
-                            ") enters " + std::to_string(entered.size()) + " boxes and tests " +
+                            ") enters " + std::to_string(entered.size()) + (entered.size() == 1 ? " box" : " boxes") + " and tests " +
                             std::to_string(counts.triangles) + " triangles of " + std::to_string(bvh.stats.triangles) +
                             "; " + kept + ", the nearest.",
                         &frame,
