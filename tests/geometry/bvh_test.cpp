@@ -239,20 +239,22 @@ TEST(Bvh, NodeTestIsConservativeAndSseEqualsScalar) {
   for (int i = 0; i < 200000; ++i) {
     detail::BvhNode node{};
     constexpr int W = detail::kBvhWidth;
+    const int used = i % 3 == 0 ? 2 + i % 4 : W;  // some nodes with empty children
     for (int c = 0; c < W; ++c)
       for (int a = 0; a < 3; ++a) {
         const float x = uniform(rng) * 4 - 2, y = uniform(rng) * 4 - 2;
         node.lo[a][c] = std::min(x, y), node.hi[a][c] = i % 7 == 0 ? std::min(x, y) : std::max(x, y);
+        if (c >= used) node.lo[a][c] = INFINITY, node.hi[a][c] = -INFINITY, node.child[c] = detail::BvhNode::kEmpty;
       }
     glm::vec3 o(uniform(rng) * 6 - 3, uniform(rng) * 6 - 3, uniform(rng) * 6 - 3);
     glm::vec3 d(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
     if (i % 5 == 0) d[i % 3] = 0.0f;                  // parallel to a slab
-    if (i % 11 == 0) o[i % 3] = node.lo[i % 3][i % W];  // starting on a face
+    if (i % 11 == 0) o[i % 3] = node.lo[i % 3][i % used];  // starting on a face
     const detail::BoxRay r = detail::boxRayOf(o, d);
     float a[W], b[W];
     const unsigned ma = detail::boxHitsScalar(node, r, 0.0f, 10.0f, a);
     // The reference: the slab test in double, closed boxes
-    for (int c = 0; c < W; ++c) {
+    for (int c = 0; c < used; ++c) {
       double t0 = 0.0, t1 = 10.0;
       for (int ax = 0; ax < 3; ++ax) {
         const double lo = node.lo[ax][c], hi = node.hi[ax][c], oa = o[ax], da = d[ax];
