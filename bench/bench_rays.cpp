@@ -1,6 +1,7 @@
 // hsr's rays raced against Embree's in the same run (Debian's libembree-dev): the hierarchy's
 // build against rtcCommitScene (Embree's default quality and its high quality), and rays per
-// second against rtcIntersect1, 8-wide packets (rtcIntersect8) and rtcIntersect1M streams,
+// second against rtcIntersect1 (default and robust mode: watertight, as hsr is), 8-wide packets
+// (rtcIntersect8) and rtcIntersect1M streams,
 // for 1920x1080 primary rays (the camera framing the scene) and 10^6 incoherent rays (random
 // origins inside the bounds, random directions); then the whole ray-cast frame against the
 // z-buffer's. Scenes: spheres:10000/100000/1000000, 2CylinderEngine and Wuson.
@@ -50,6 +51,7 @@ struct Race {
   std::unique_ptr<hsr::Scene> scene;
   std::unique_ptr<hsr::RayScene> ours;
   std::unique_ptr<hsr::testing::EmbreeScene> embree;
+  std::unique_ptr<hsr::testing::EmbreeScene> embree_robust;  // RTC_SCENE_FLAG_ROBUST: watertight, as hsr is
   hsr::Camera camera;
   RayBatch primary, incoherent;
   double our_bvh_ms = 0;  // the hierarchy alone, of the last build
@@ -59,6 +61,7 @@ struct Race {
     scene = std::make_unique<hsr::Scene>(make());
     ours = std::make_unique<hsr::RayScene>(*scene);
     embree = std::make_unique<hsr::testing::EmbreeScene>(*ours, g_threads);
+    embree_robust = std::make_unique<hsr::testing::EmbreeScene>(*ours, g_threads, /*robust=*/true);
     camera = hsr::frameScene(*scene, kWidth, kHeight);
     const hsr::CameraRays c = hsr::cameraRays(camera);
     primary = {c.origins, c.directions, c.tmin, c.tmax};
@@ -110,7 +113,7 @@ void parallelRays(std::size_t n, F&& f) {
   });
 }
 
-enum class Way { kHsr, kEmbree1, kEmbree8, kEmbree1M };
+enum class Way { kHsr, kEmbree1, kEmbree1Robust, kEmbree8, kEmbree1M };
 
 void runRays(benchmark::State& state, Race* race, bool primary, Way way) {
   race->ensure();
@@ -127,6 +130,9 @@ void runRays(benchmark::State& state, Race* race, bool primary, Way way) {
       parallelRays(b.org.size(), [&](std::size_t begin, std::size_t end) {
         if (way == Way::kEmbree1) {
           for (std::size_t i = begin; i < end; ++i) out[i] = race->embree->intersect1(b.org[i], b.dir[i], b.tmin, b.tmax);
+        } else if (way == Way::kEmbree1Robust) {
+          for (std::size_t i = begin; i < end; ++i)
+            out[i] = race->embree_robust->intersect1(b.org[i], b.dir[i], b.tmin, b.tmax);
         } else if (way == Way::kEmbree8) {
           for (std::size_t i = begin; i < end; i += 8)
             race->embree->intersect8(&b.org[i], &b.dir[i], static_cast<int>(std::min<std::size_t>(8, end - i)), b.tmin,
@@ -198,7 +204,8 @@ int main(int argc, char** argv) {
     for (const bool primary : {true, false}) {
       const std::string rays = primary ? "primary" : "incoherent";
       const std::pair<const char*, Way> ways[] = {
-          {"hsr", Way::kHsr}, {"embree1", Way::kEmbree1}, {"embree8", Way::kEmbree8}, {"embree1M", Way::kEmbree1M}};
+          {"hsr", Way::kHsr},           {"embree1", Way::kEmbree1},   {"embree1robust", Way::kEmbree1Robust},
+          {"embree8", Way::kEmbree8}, {"embree1M", Way::kEmbree1M}};
       for (const auto& [name, way] : ways)
         configure(benchmark::RegisterBenchmark(("BM_" + rays + "_" + name + "/" + race->label).c_str(), runRays, race,
                                                primary, way));
@@ -219,16 +226,17 @@ int main(int argc, char** argv) {
     return p > 0 && o > 0 ? p / o : 0.0;
   };
   std::printf("\nrays vs Embree, threads=%d (Embree time / hsr time: > 1 means hsr is faster)\n", g_threads);
-  std::printf("%-18s %-10s %9s %9s %9s %9s %11s  %s\n", "scene", "rays", "hsr Mr/s", "x 1", "x 8", "x 1M",
-              "frame ms", "frame: raycast / zbuffer time");
+  std::printf("%-18s %-10s %9s %9s %9s %9s %9s %11s  %s\n", "scene", "rays", "hsr Mr/s", "x 1", "x 1 wt", "x 8",
+              "x 1M", "frame ms", "frame: raycast / zbuffer time");
   for (const auto& r : races()) {
     const std::string& l = r->label;
     for (const std::string rays : {"primary", "incoherent"}) {
       const double ours = reporter.time("BM_" + rays + "_hsr/" + l);
       const std::size_t n = rays == "primary" ? std::size_t(kWidth) * kHeight : kIncoherentRays;
       const double frame = reporter.time("BM_frame_raycast/" + l), z = reporter.time("BM_frame_zbuffer/" + l);
-      std::printf("%-18s %-10s %9.2f %9.2f %9.2f %9.2f %11.1f  %s\n", l.c_str(), rays.c_str(),
+      std::printf("%-18s %-10s %9.2f %9.2f %9.2f %9.2f %9.2f %11.1f  %s\n", l.c_str(), rays.c_str(),
                   ours > 0 ? n / (ours * 1e3) : 0.0, ratio("BM_" + rays + "_embree1/" + l, "BM_" + rays + "_hsr/" + l),
+                  ratio("BM_" + rays + "_embree1robust/" + l, "BM_" + rays + "_hsr/" + l),
                   ratio("BM_" + rays + "_embree8/" + l, "BM_" + rays + "_hsr/" + l),
                   ratio("BM_" + rays + "_embree1M/" + l, "BM_" + rays + "_hsr/" + l), rays == "primary" ? frame : 0.0,
                   rays == "primary" && frame > 0 && z > 0 ? (std::to_string(frame / z) + "x").c_str() : "");
@@ -244,6 +252,7 @@ int main(int argc, char** argv) {
                 g_threads, l.c_str(), ours, e, e > 0 ? ours / e : 0.0, hq, hq > 0 ? ours / hq : 0.0, r->our_bvh_ms);
   }
   std::printf("(bars: primary rays at least 1.0x Embree's rtcIntersect1 on spheres/1000000; build within 2x Embree's default)\n");
+  std::printf("(x 1 wt: against rtcIntersect1 in Embree's robust mode, watertight as hsr's test is)\n");
   benchmark::Shutdown();
   return 0;
 }
