@@ -530,12 +530,26 @@ unsigned leafCandidates(const BvhTriangles4&, const ShearedRay&, unsigned used) 
 
 namespace {
 
-// The node test this build uses, chosen once.
+// A ray made ready once for the node test this build uses (the SSE sibling's lanes and face
+// offsets, or the scalar test's BoxRay), then tested against node after node.
+struct NodeTestRay {
+  BoxRay box;
 #ifdef HSR_BVH_SSE
-constexpr auto boxHits = boxHitsSse;
-#else
-constexpr auto boxHits = boxHitsScalar;
+  BoxRaySse sse;
 #endif
+  NodeTestRay(const glm::vec3& org, const glm::vec3& dir) : box(boxRayOf(org, dir)) {
+#ifdef HSR_BVH_SSE
+    prepareBoxRaySse(box, sse);
+#endif
+  }
+  unsigned test(const BvhNode& node, float tmin, float tmax, float tnear[kBvhWidth]) const {
+#ifdef HSR_BVH_SSE
+    return boxHitsPrepared(node, sse, _mm_set1_ps(tmin), tmax, tnear);
+#else
+    return boxHitsScalar(node, box, tmin, tmax, tnear);
+#endif
+  }
+};
 
 constexpr int kStackSize = kBvhWidth * (kMedianDepth + 32) + 8;  // at most a node's children pushed per level
 
@@ -543,10 +557,6 @@ struct StackEntry {
   std::uint32_t ref;
   float tnear;
 };
-
-}  // namespace
-
-namespace {
 
 // Hits sorted by t, then by triangle number.
 bool before(const BvhHit& x, const BvhHit& y) { return x.t < y.t || (x.t == y.t && x.triangle < y.triangle); }
@@ -570,10 +580,7 @@ struct NearestSearch {
   glm::vec3 org, dir;
   ShearedRay sheared;  // made when the first leaf is reached (most rays that miss reach none)
   bool sheared_ready = false;
-  BoxRay box_ray;
-#ifdef HSR_BVH_SSE
-  BoxRaySse box_sse;
-#endif
+  NodeTestRay box_ray;
   float tmin;
   float tmax;
   HitSides sides;
@@ -589,20 +596,9 @@ struct NearestSearch {
 
   NearestSearch(const Bvh& b, const glm::vec3& o_, const glm::vec3& d_, float t0, float t1, HitSides s,
                 BvhBandLimit l, const void* c, Out* o)
-      : bvh(b), org(o_), dir(d_), box_ray(boxRayOf(o_, d_)), tmin(t0), tmax(t1), sides(s), limit_of(l), context(c),
-        out(o), limit(t1) {
-#ifdef HSR_BVH_SSE
-    prepareBoxRaySse(box_ray, box_sse);
-#endif
+      : bvh(b), org(o_), dir(d_), box_ray(o_, d_), tmin(t0), tmax(t1), sides(s), limit_of(l), context(c), out(o),
+        limit(t1) {
     if constexpr (kBand) out->count = 0;
-  }
-
-  unsigned boxes(const BvhNode& node, float tnear[kBvhWidth]) const {
-#ifdef HSR_BVH_SSE
-    return boxHitsPrepared(node, box_sse, _mm_set1_ps(tmin), limit, tnear);
-#else
-    return boxHitsScalar(node, box_ray, tmin, limit, tnear);
-#endif
   }
 
   // A leaf: its triangles, each kept when nearer than what was kept (a tie: the lower number)
@@ -656,7 +652,7 @@ struct NearestSearch {
         ++visited;
         const BvhNode& node = bvh.nodes[ref];
         float tnear[kBvhWidth];
-        unsigned mask = boxes(node, tnear);
+        unsigned mask = box_ray.test(node, tmin, limit, tnear);
         if (entered)
           for (int i = 0; i < kBvhWidth; ++i)
             if (mask & (1u << i))
@@ -727,7 +723,7 @@ void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3&
 bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax) {
   if (bvh.root == BvhNode::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return false;
   const ShearedRay sheared = shearRay(org, dir);
-  const BoxRay box_ray = boxRayOf(org, dir);
+  const NodeTestRay box_ray(org, dir);
   StackEntry stack[kStackSize];
   int sp = 0;
   stack[sp++] = {bvh.root, tmin};
@@ -746,7 +742,7 @@ bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, fl
     }
     const BvhNode& node = bvh.nodes[e.ref];
     float tnear[kBvhWidth];
-    const unsigned mask = boxHits(node, box_ray, tmin, tmax, tnear);
+    const unsigned mask = box_ray.test(node, tmin, tmax, tnear);
     for (int i = 0; i < kBvhWidth; ++i)
       if (mask & (1u << i)) stack[sp++] = {node.child[i], tnear[i]};
   }

@@ -126,12 +126,10 @@ void RayScene::intersect(std::span<const glm::vec3> origins, std::span<const glm
   if (hits.size() != origins.size())
     throw Error("ray query: " + std::to_string(origins.size()) + " rays but room for " + std::to_string(hits.size()) +
                 " answers");
-  const detail::HitSides hit_sides = detail::hitSidesOf(sides);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), kRaysPerTask),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i)
-                        hits[i] = detail::hitOf(*data_, detail::intersectNearest(data_->bvh, origins[i], directions[i],
-                                                                                 tmin, tmax, hit_sides));
+                        hits[i] = intersect(origins[i], directions[i], tmax, tmin, sides);
                     });
 }
 
