@@ -73,6 +73,7 @@ std::string capabilityList(std::uint32_t caps) {
       {kExplain, "explain"},
       {kDrawOver, "draw-over"},
       {kBackToFront, "back-to-front"},
+      {kAntialiasing, "antialiasing"},
   };
   std::vector<std::string_view> names;
   for (const auto& [cap, name] : kNames)

@@ -15,6 +15,7 @@
 #include "core/frame.hpp"
 #include "hsr/bsp.hpp"
 #include "hsr/error.hpp"
+#include "raster/samples.hpp"
 #include "visibility/algorithm.hpp"
 
 namespace hsr {
@@ -61,7 +62,9 @@ void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& o
   arena.execute([&] {
     PreparedScene& prepared = cache.prepared;
     prepare(scene, camera, options,
-            {.window_polygons = entry.info.input == InputKind::kWindowPolygons}, prepared);
+            {.window_polygons = entry.info.input == InputKind::kWindowPolygons,
+             .samples = entry.info.has(kAntialiasing)},
+            prepared);
     Stats stats = prepared.stats;
     if (mode == DrawMode::kClear) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -89,6 +92,9 @@ std::string unsupported(const AlgorithmInfo& info, const Camera& camera, const R
   if ((o.depth_func != DepthFunc::Less || !o.depth_test) && !info.has(kDepthFuncs))
     return lacks + "depth functions other than less";
   if (!o.depth_mask && !info.has(kDepthMask)) return lacks + "a disabled depth mask";
+  if (o.samples != 0 && !info.has(kAntialiasing)) return lacks + "--samples (sub-pixel samples)";
+  if (o.samples != 0 && !detail::validSampleCount(o.samples))
+    return "--samples must be 1, 4, 8, 16, 32 or 64 (got " + std::to_string(o.samples) + ")";
   const std::uint64_t pixels = static_cast<std::uint64_t>(camera.width) * camera.height;
   if (info.max_pixels != 0 && pixels > info.max_pixels)
     return "algorithm '" + std::string(info.name) + "' is limited to " + std::to_string(info.max_pixels) +

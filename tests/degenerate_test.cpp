@@ -180,6 +180,7 @@ void forEachAlgorithm(const Scene& scene, const Camera& camera, RenderOptions op
     if (!unsupported(*ap, camera, options).empty()) continue;  // a line mode or outline case
     SCOPED_TRACE("algorithm " + std::string(ap->name) + " (LESS, against the z-buffer)");
     options.algorithm = std::string(ap->name);
+    testing::sampleAtCentres(options);
     const Frame f = render(scene, camera, options);
     EXPECT_EQ(f.stats.degenerate_dropped, reference.stats.degenerate_dropped);
     std::size_t differ = 0, first = f.ids.size();

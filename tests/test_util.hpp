@@ -173,10 +173,19 @@ inline std::vector<std::string> algorithmNamesWith(std::string_view suite, std::
 // Every algorithm a property of all of them applies to (the demonstrations left out).
 inline std::vector<std::string> algorithmNames() { return algorithmNamesWith("every algorithm", 0); }
 
+// The property suites judge what is drawn at pixel centres (coverage by colour and overdraw,
+// ids, depth). An antialiasing algorithm is judged there with its one sample at the centre;
+// its ids and depth, which hold at any sample count, and its sub-pixel coverage have suites of
+// their own (tests/visibility/abuffer_test.cpp).
+inline void sampleAtCentres(RenderOptions& o) {
+  o.samples = findAlgorithm(o.algorithm).has(kAntialiasing) ? 1 : 0;
+}
+
 // Default render state with the algorithm under test.
 inline RenderOptions optionsFor(const std::string& algorithm) {
   RenderOptions o;
   o.algorithm = algorithm;
+  sampleAtCentres(o);
   return o;
 }
 

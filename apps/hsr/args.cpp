@@ -122,6 +122,10 @@ hsr::RenderOptions makeOptions(const Args& a) {
   else throw hsr::Error(fmt::format("unknown facing test '{}' (window, eye)", a.facing));
   if (a.threads < 0) throw hsr::Error("--threads must be >= 0");
   o.threads = a.threads;
+  o.samples = a.samples;
+  if (!(a.fragment_memory_mib > 0) || a.fragment_memory_mib > 1048576)
+    throw hsr::Error("--fragment-memory must be between 0 and 1048576 MiB");
+  o.fragment_memory = static_cast<std::uint64_t>(a.fragment_memory_mib * 1048576.0);
   o.bsp.splitter = a.bsp_splitter;
   o.bsp.seed = a.bsp_seed;
   o.bsp.candidates = a.bsp_candidates;
@@ -166,6 +170,11 @@ void addViewOptions(CLI::App* app, Args& a) {
   app->add_flag("--allow-outside-refs", a.allow_outside_refs,
                 "let a model read files it references outside its own folder (mtllib, buffers)");
   app->add_option("--threads", a.threads, "worker threads (0 = all); output is identical for any")
+      ->capture_default_str();
+  app->add_option("--samples", a.samples,
+                  "sub-pixel samples per pixel for --algorithm abuffer: 1|4|8|16|32|64 (default 4)");
+  app->add_option("--fragment-memory", a.fragment_memory_mib,
+                  "most MiB the A-buffer's fragment lists may take; a frame needing more is refused")
       ->capture_default_str();
   addBspBuildOptions(app, a);
 }

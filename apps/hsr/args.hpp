@@ -31,6 +31,8 @@ struct Args {
   std::string output_file;
   std::string raw_dir, stats_file, sheet_file;
   int threads = 0;
+  int samples = 0;                 // 0: the algorithm's default
+  double fragment_memory_mib = 2048;
   int views = 1;  // hsr compare --views
   std::string bsp_splitter = "balanced";
   std::uint64_t bsp_seed = 1;

@@ -69,7 +69,7 @@ int runRender(const Args& a, const Given& given) {
   }
   OutputPlan plan(a.scene);
   for (const auto& [kind, p] : pngs) plan.file("-o", p.string());
-  if (given.raw) plan.directory("--raw", a.raw_dir, {"depth.npy", "ids.npy", "overdraw.npy"});
+  if (given.raw) plan.directory("--raw", a.raw_dir, {"depth.npy", "ids.npy", "overdraw.npy", "coverage.npy"});
   if (given.stats) plan.file("--stats", a.stats_file);
 
   const hsr::Scene scene = hsr::loadScene(a.scene, hsr::cli::importLimits(a));
@@ -88,7 +88,9 @@ int runRender(const Args& a, const Given& given) {
   }
   if (given.raw) {
     hsr::writeRawFrame(a.raw_dir, frame, a.scene, opt.algorithm);
-    written.push_back((fs::path(a.raw_dir) / "{depth,ids,overdraw}.npy").string());
+    written.push_back((fs::path(a.raw_dir) / (frame.coverage.empty() ? "{depth,ids,overdraw}.npy"
+                                                                      : "{depth,ids,overdraw,coverage}.npy"))
+                          .string());
   }
   if (given.stats) {
     hsr::writeFileAtomically(a.stats_file, {hsr::statsJson(frame, a.scene, opt.algorithm)});
@@ -202,7 +204,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   render->add_option("-o", a.output_file, "output PNG (default out/SCENE.png; with several "
                                           "outputs, FILE-KIND.png)");
-  render->add_option("--raw", a.raw_dir, "write depth.npy, ids.npy, overdraw.npy into DIR");
+  render->add_option("--raw", a.raw_dir,
+                     "write depth.npy, ids.npy, overdraw.npy (and coverage.npy from abuffer) into DIR");
   render->add_option("--stats", a.stats_file, "write counts and stage times as JSON");
   render->add_flag("-q,--quiet", a.quiet, "no summary");
   CLI::App* compare = app.add_subcommand("compare", "run every algorithm on SCENE and compare");

@@ -35,6 +35,8 @@ enum Capability : std::uint32_t {
   kBackToFront = 1u << 9,          // blends transparent polygons in depth order, farthest
                                    // first (without it: in submission order, after the
                                    // opaque ones, as the z-buffer)
+  kAntialiasing = 1u << 10,        // covers sub-pixel samples (--samples): antialiased colour
+                                   // and a coverage buffer; ids and depth at pixel centres
 };
 
 struct AlgorithmInfo {

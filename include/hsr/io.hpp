@@ -55,7 +55,8 @@ void writeNpy(const std::filesystem::path& path, int width, int height,
 std::string encodePng(int width, int height, int channels, const std::uint8_t* pixels);
 void checkPngSize(const std::filesystem::path& path, long long width, long long height,
                   int channels);
-// A frame's raw buffers as one set: DIR/depth.npy, ids.npy, overdraw.npy and manifest.json,
+// A frame's raw buffers as one set: DIR/depth.npy, ids.npy, overdraw.npy (coverage.npy too when
+// the frame has a coverage buffer) and manifest.json,
 // put in place together (a reader never sees the buffers of two frames mixed).
 void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
                    const std::string& algorithm);

@@ -50,6 +50,12 @@ struct RenderOptions {
   float clear_depth = 1.0f;
   int threads = 0;  // 0 = all hardware threads (more are clamped); results are identical for any
   BspOptions bsp;   // algorithm "bsp" only
+  // Algorithms that antialias ("abuffer"): sub-pixel samples per pixel, 1, 4, 8, 16, 32 or 64
+  // (0: the algorithm's default, 4); any other algorithm refuses a value other than 0.
+  int samples = 0;
+  // "abuffer": the most its frame's fragment lists may take, in bytes; a frame that would need
+  // more is refused with hsr::Error (the depth complexity it would take is in the message).
+  std::uint64_t fragment_memory = std::uint64_t(2) << 30;
 };
 
 // Memory an algorithm keeps between renders into the same Frame (so that repeated frames
@@ -72,6 +78,8 @@ struct Frame {
   std::vector<float> depth;            // window z in [0,1]; clear depth where nothing drawn
   std::vector<PolygonId> ids;          // kNoPolygon where nothing drawn
   std::vector<std::uint32_t> overdraw; // fragments written per pixel
+  std::vector<float> coverage;         // antialiasing algorithms only (else empty): the fraction
+                                       // of each pixel's samples covered by opaque polygons
   Stats stats;
   FrameScratch scratch;
 };

@@ -31,6 +31,7 @@ void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
   f.depth.resize(n);
   f.ids.resize(n);
   f.overdraw.resize(n);
+  f.coverage.clear();  // made by the algorithms that antialias
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
     std::fill(f.color.begin() + r.begin(), f.color.begin() + r.end(), clear);
     std::fill(f.depth.begin() + r.begin(), f.depth.begin() + r.end(), clear_depth);
@@ -40,7 +41,8 @@ void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
 }
 
 std::uint64_t frameBufferBytes(const Frame& f) {
-  return f.color.size() * 4 + f.depth.size() * 4 + f.ids.size() * 4 + f.overdraw.size() * 4;
+  return f.color.size() * 4 + f.depth.size() * 4 + f.ids.size() * 4 + f.overdraw.size() * 4 +
+         f.coverage.size() * 4;
 }
 
 }  // namespace hsr::detail

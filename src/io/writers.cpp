@@ -187,10 +187,13 @@ void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const s
   const std::size_t n = pixelCount(w, h, dir);
   if (frame.depth.size() != n || frame.ids.size() != n || frame.overdraw.size() != n)
     throw Error(dir.string() + ": the frame has no depth, id or overdraw buffer to write");
-  OutputDirectory out(dir, {"depth.npy", "ids.npy", "overdraw.npy"});
+  OutputDirectory out(dir, {"depth.npy", "ids.npy", "overdraw.npy", "coverage.npy"});
   out.write("depth.npy", {npyHeader(w, h, "<f4"), npyData(w, h, frame.depth.data(), dir)});
   out.write("ids.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.ids.data(), dir)});
   out.write("overdraw.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.overdraw.data(), dir)});
+  const bool coverage = frame.coverage.size() == n;
+  if (coverage)
+    out.write("coverage.npy", {npyHeader(w, h, "<f4"), npyData(w, h, frame.coverage.data(), dir)});
   nlohmann::ordered_json about;
   about["scene"] = scene;
   about["algorithm"] = algorithm;
@@ -199,7 +202,9 @@ void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const s
   about["rows"] = "top row first";
   about["depth.npy"] = "float32 window z in [0, 1], 1.0 where nothing was drawn";
   about["ids.npy"] = "uint32 polygon id, 4294967295 where nothing was drawn";
-  about["overdraw.npy"] = "uint32 fragments written at the pixel (passed the depth test)";
+  about["overdraw.npy"] = coverage ? "uint32 fragments in the pixel's list (polygons reaching its samples)"
+                                   : "uint32 fragments written at the pixel (passed the depth test)";
+  if (coverage) about["coverage.npy"] = "float32 fraction of the pixel's samples covered by opaque polygons";
   out.commit(about.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
 }
 

@@ -59,6 +59,8 @@ struct PreparedScene {
 
 struct PrepareRequest {
   bool window_polygons = false;  // also fill PreparedScene::polygons
+  bool samples = false;          // screen triangles' boxes reach every sub-pixel sample, and
+                                 // triangles between pixel centres are kept (the A-buffer)
 };
 
 // Fills `out`, reusing the memory it holds from an earlier call.

@@ -214,6 +214,7 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
               scratch.object_state,
               {},
               {}};
+  ctx.box_margin = request.samples ? kSampleMargin : 0;
   for (const Material& m : scene.materials) {
     ctx.material_rgb.push_back(materialRgb(m));
     ctx.material_alpha.push_back(materialAlphaBits(m));

@@ -49,7 +49,7 @@ void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id, P
   }
   ScreenTriangle t;
   const TriangleFate fate = makeScreenTriangle(fx, fy, orientation, ctx.camera.width,
-                                               ctx.camera.height, DepthPlane{}, &t);
+                                               ctx.camera.height, DepthPlane{}, &t, ctx.box_margin);
   if (fate == TriangleFate::kMissesPixelCentres) {
     out.counts.missed_pixel_centres++;
     return;

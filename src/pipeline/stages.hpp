@@ -66,6 +66,7 @@ struct Context {
   const std::vector<std::uint8_t>& object_state;  // ObjectState per object
   std::vector<glm::vec3> material_rgb;            // per material: rgb clamped to [0,1], NaN 0
   std::vector<std::uint32_t> material_alpha;      // per material: alpha byte << 24
+  int box_margin = 0;                             // makeScreenTriangle's margin (PrepareRequest::samples)
 };
 
 // ---- shade: facing, colour and depth plane of a polygon

@@ -44,6 +44,15 @@ inline float fragmentDepth(const DepthPlane& p, int x, int y) {
   return depthInRow(depthRowStart(p, y), p, x);
 }
 
+// The depth at a sub-pixel sample (ox, oy) sub-pixel units (1/256) from pixel (x, y)'s centre
+// (the A-buffer's samples): the same plane, order of operations and clamp, at the sample's
+// position. At offset (0, 0) it is fragmentDepth, bit for bit (y + 0.0 is y exactly).
+inline float sampleDepth(const DepthPlane& p, int x, int y, int ox, int oy) {
+  const double row = p.z0 + p.dzdy * (static_cast<double>(y) + static_cast<double>(oy) / 256.0);
+  const float z = static_cast<float>(row + p.dzdx * (static_cast<double>(x) + static_cast<double>(ox) / 256.0));
+  return z > 1.0f ? 1.0f : (0.0f > z ? 0.0f : z);
+}
+
 // Comparing two planes over a box of pixels (a scan-line span, a Warnock area) instead of
 // pixel by pixel. The plane's depth in double at pixel (x, y), before fragmentDepth rounds it:
 inline double planeDepth(const DepthPlane& p, int x, int y) {

@@ -19,7 +19,7 @@ int windowOrientation(const std::int64_t x[3], const std::int64_t y_down[3]) {
 
 TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3], int orientation,
                                 int width, int height, const DepthPlane& depth,
-                                ScreenTriangle* out) {
+                                ScreenTriangle* out, int margin) {
   if (orientation == 0) return TriangleFate::kZeroArea;
   // Order the vertices so the y-down area is positive (every edge function > 0 inside):
   // counter-clockwise in y-up is negative area in y-down.
@@ -27,12 +27,12 @@ TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[
   if (orientation > 0) std::swap(o[1], o[2]);
   // Pixel bounding box (pixel centres are at multiples of 256), clamped to the viewport.
   auto ceilPixel = [](std::int64_t a) { return -((-a) >> kSubpixelBits); };
-  const std::int64_t bx0 = std::max<std::int64_t>(0, ceilPixel(std::min({fx[0], fx[1], fx[2]})));
-  const std::int64_t by0 = std::max<std::int64_t>(0, ceilPixel(std::min({fy[0], fy[1], fy[2]})));
+  const std::int64_t bx0 = std::max<std::int64_t>(0, ceilPixel(std::min({fx[0], fx[1], fx[2]}) - margin));
+  const std::int64_t by0 = std::max<std::int64_t>(0, ceilPixel(std::min({fy[0], fy[1], fy[2]}) - margin));
   const std::int64_t bx1 =
-      std::min<std::int64_t>(width - 1, std::max({fx[0], fx[1], fx[2]}) >> kSubpixelBits);
+      std::min<std::int64_t>(width - 1, (std::max({fx[0], fx[1], fx[2]}) + margin) >> kSubpixelBits);
   const std::int64_t by1 =
-      std::min<std::int64_t>(height - 1, std::max({fy[0], fy[1], fy[2]}) >> kSubpixelBits);
+      std::min<std::int64_t>(height - 1, (std::max({fy[0], fy[1], fy[2]}) + margin) >> kSubpixelBits);
   if (bx0 > bx1 || by0 > by1) return TriangleFate::kMissesPixelCentres;
   ScreenTriangle& t = *out;
   // The box lies in the viewport and the vertices within the 2^30 the int32 fields hold.

@@ -85,9 +85,13 @@ enum class TriangleFate {
 // above, |x|, |y| < 2^30) in a width x height viewport, with the given depth plane.
 // `orientation` is windowOrientation() of the vertices as given (+1 counter-clockwise in
 // GL's y-up window, -1 clockwise); the vertices are reordered to positive y-down area.
+// With a `margin` (sub-pixel units), the box holds every pixel whose centre lies within that
+// distance of the triangle's bounds along x and y: kSampleMargin, half a pixel, reaches every
+// sub-pixel sample (raster/samples.hpp), and a triangle between pixel centres is then made too.
+inline constexpr int kSampleMargin = kSubpixelOne / 2;
 TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3], int orientation,
                                 int width, int height, const DepthPlane& depth,
-                                ScreenTriangle* out);
+                                ScreenTriangle* out, int margin = 0);
 
 // OpenGL's facing rule: the sign of a snapped triangle's area in window coordinates (y up).
 // +1 counter-clockwise, -1 clockwise, 0 zero area.

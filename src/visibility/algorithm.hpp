@@ -54,5 +54,6 @@ void drawScanline(const AlgorithmInput& input, Frame& frame);         // scanlin
 void drawWarnock(const AlgorithmInput& input, Frame& frame);          // warnock.cpp
 void drawOctree(const AlgorithmInput& input, Frame& frame);           // octree.cpp
 void drawRaycast(const AlgorithmInput& input, Frame& frame);          // raycast.cpp
+void drawABuffer(const AlgorithmInput& input, Frame& frame);          // abuffer.cpp
 
 }  // namespace hsr::detail

@@ -74,6 +74,13 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .input = InputKind::kWorldPolygons,
         .capabilities = kOutline | kTransparency | kExplain},
        &drawRaycast},
+      {{.name = "abuffer",
+        .summary = "A-buffer: per pixel a list of fragments with sub-pixel coverage masks, resolved by depth",
+        .source = "Carpenter 1984; the notes' \"A-buffer\"; samples: Direct3D's standard patterns",
+        .precision = Precision::kImage,
+        .input = InputKind::kScreenTriangles,
+        .capabilities = kExactSharedCoverage | kTransparency | kBackToFront | kAntialiasing},
+       &drawABuffer},
   };
   return table;
 }

@@ -188,7 +188,8 @@ inline std::string describe(const Identity& c) {
 // The agreement scene set (row 4's seeds and cameras, culling off, 1 and 2 threads) and the
 // real models of the Mesa test (culling off and back): `algorithm` must give the z-buffer's
 // frame on every unambiguous pixel; returns the tally so the caller can print the rest.
-inline Identity expectBitForBitWithZBuffer(const std::string& algorithm) {
+// `samples`: RenderOptions::samples for an antialiasing algorithm.
+inline Identity expectBitForBitWithZBuffer(const std::string& algorithm, int samples = 0) {
   Identity total;
   const int scenes = 200 * countScale();
   for (int i = 0; i < scenes; ++i) {
@@ -202,6 +203,7 @@ inline Identity expectBitForBitWithZBuffer(const std::string& algorithm) {
     o.algorithm = "zbuffer";
     const Frame z = render(scene, camera, o);
     o.algorithm = algorithm;
+    o.samples = samples;
     const Identity c = compareBitForBit(z, render(scene, camera, o), ref.valid ? &ref.ambiguous : nullptr,
                                         algorithm + ", seed " + std::to_string(seed));
     EXPECT_EQ(c.unambiguous_differ, 0u) << c.first;
@@ -210,7 +212,8 @@ inline Identity expectBitForBitWithZBuffer(const std::string& algorithm) {
   return total;
 }
 
-inline Identity expectBitForBitOnRealModels(const std::string& algorithm, int width = 640, int height = 480) {
+inline Identity expectBitForBitOnRealModels(const std::string& algorithm, int width = 640, int height = 480,
+                                           int samples = 0) {
   Identity total;
   for (const char* model : kMesaTestModels) {
     const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
@@ -220,6 +223,7 @@ inline Identity expectBitForBitOnRealModels(const std::string& algorithm, int wi
       o.cull = cull;
       const Frame z = render(scene, camera, o);
       o.algorithm = algorithm;
+      o.samples = samples;
       const Identity c = compareBitForBit(z, render(scene, camera, o), nullptr, algorithm + " on " + model);
       printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") + ": " + algorithm +
                    ": " + describe(c));

@@ -1,0 +1,291 @@
+// The A-buffer (Carpenter 1984, "The A-buffer, an antialiased hidden surface method"; the
+// notes' "A-buffer").
+//
+// The z-buffer keeps one surface per pixel, so its edges are jagged (a pixel is all one polygon
+// or all another) and a see-through polygon must be drawn after everything behind it. The
+// A-buffer keeps, per pixel, a list of fragments: for each polygon that reaches the pixel,
+// which of the pixel's sub-pixel samples it covers (a bit mask), its depth, its colour and
+// opacity. Nothing is decided while polygons are drawn; when all are in, each pixel's list is
+// resolved:
+//
+//     for all polygons P, in any order:
+//       for all pixels (i, j) P reaches:
+//         add to list[i, j]: (P's id, mask of the samples P covers, depth, colour, alpha)
+//     for all pixels (i, j):
+//       for each sample s:  the fragments covering s, nearest first; an opaque one hides
+//                           everything behind it; the see-through ones in front of it are
+//                           laid over it, farthest first
+//       Image[i, j] = the mean of its samples' colours
+//
+// So edges are antialiased (a pixel half covered by a red polygon over white comes out pink)
+// and transparency is right whatever order the polygons come in. hsr's fragments:
+//   - coverage: the shared exact edge setup and fill rule evaluated at each sample
+//     (raster/samples.hpp: Direct3D's 4x pattern and its kin), so polygons that share an edge
+//     cover each of its samples exactly once;
+//   - depth: THE depth definition (raster/depth.hpp) at the pixel centre, and at each sample
+//     where the resolve compares two fragments there;
+//   - one fragment per polygon and pixel: the triangles the pipeline cut a polygon into add
+//     their masks to the polygon's fragment.
+// Ids and depth are the nearest opaque fragment covering the pixel centre (ties to the
+// polygon drawn first, as the z-buffer's LESS), so they equal the z-buffer's whatever the
+// samples; with one sample (the centre) and opaque polygons the colour does too.
+//
+// The screen is cut into 64x64 tiles done one after another per core (bin the triangles, fill
+// the tile's lists, resolve them), so fragment memory is one tile's lists per core. Cost:
+// O(triangles + pixels reached + fragments x samples); memory 24 bytes a fragment. A frame
+// whose fragments would exceed RenderOptions::fragment_memory is refused.
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <chrono>
+#include <string>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "core/frame.hpp"
+#include "hsr/error.hpp"
+#include "raster/bins.hpp"
+#include "raster/edge.hpp"
+#include "raster/fragment.hpp"
+#include "raster/samples.hpp"
+#include "visibility/algorithm.hpp"
+
+namespace hsr::detail {
+namespace {
+
+inline constexpr int kDefaultSamples = 4;
+inline constexpr std::uint32_t kEndOfList = 0xFFFFFFFFu;
+
+// One polygon's share of one pixel.
+struct Fragment {
+  std::uint64_t mask;     // the samples it covers
+  float depth;            // at the pixel centre (THE depth definition)
+  std::uint32_t polygon;  // its first triangle: plane, colour, alpha and id
+  std::uint32_t next;     // the next fragment of the pixel's list, or kEndOfList
+  bool centre;            // covers the pixel centre (by the fill rule, as the z-buffer)
+};
+static_assert(sizeof(Fragment) == 24, "24 bytes a fragment");
+
+// One core's lists for the tile it is on.
+struct TileLists {
+  std::vector<std::uint32_t> head;  // per pixel of the tile, its list's first fragment
+  std::vector<Fragment> pool;
+};
+
+struct Scratch {
+  Bins bins;
+  std::vector<std::size_t> counts;
+  std::vector<std::uint32_t> polygon_of;
+  tbb::enumerable_thread_specific<TileLists> lists;
+};
+
+// What the whole frame shares while its tiles are drawn.
+struct FrameJob {
+  const ScreenTriangles& tris;
+  const std::vector<std::uint32_t>& polygon_of;
+  const Bins& bins;
+  const SamplePattern& pattern;
+  const FrameView& fb;
+  float* coverage;
+  std::uint64_t fragment_limit;         // fragments the memory budget allows
+  std::atomic<std::uint64_t>& fragments;  // fragments made so far, all tiles
+};
+
+// Counts fragments against the budget every so often (the total, and so the verdict, does not
+// depend on how tiles were shared between cores).
+constexpr std::uint64_t kCountEvery = 4096;
+
+void countFragments(const FrameJob& job, std::uint64_t n) {
+  const std::uint64_t total = job.fragments.fetch_add(n) + n;
+  if (total > job.fragment_limit)
+    throw Error("abuffer: the frame needs more than " + std::to_string(job.fragment_limit) +
+                " fragments (" + std::to_string(job.fragment_limit * sizeof(Fragment) >> 20) +
+                " MiB of fragment memory at 24 bytes each); raise the fragment memory limit "
+                "(--fragment-memory MIB) or draw fewer overlapping polygons");
+}
+
+// Step 1, for one tile: every polygon's fragments, pixel by pixel.
+void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileLists& l,
+               FragmentCounts& counts) {
+  const int tile_w = box.x1 - box.x0 + 1;
+  l.head.assign(static_cast<std::size_t>(tile_w) * (box.y1 - box.y0 + 1), kEndOfList);
+  l.pool.clear();
+  std::uint64_t uncounted = 0;
+  SampleEdges samples;
+  for (std::size_t k = job.bins.start[tile]; k < job.bins.start[tile + 1]; ++k) {
+    const std::uint32_t i = job.bins.items[k];
+    const ScreenTriangle& t = job.tris[i];
+    const std::uint32_t polygon = job.polygon_of[i];
+    const int y0 = std::max(box.y0, static_cast<int>(t.y0)), y1 = std::min(box.y1, static_cast<int>(t.y1));
+    const int x0 = std::max(box.x0, static_cast<int>(t.x0)), x1 = std::min(box.x1, static_cast<int>(t.x1));
+    if (y0 > y1 || x0 > x1) continue;
+    TriangleSetup s = setupTriangle(t, y0);
+    setupSampleEdges(s, job.pattern, &samples);
+    for (int y = y0; y <= y1; ++y, nextRow(s)) {
+      for (int x = x0; x <= x1; ++x) {
+        // The edge functions at the pixel centre; the mask from them at each sample
+        const std::int64_t e[3] = {s.edge[0].row + s.edge[0].step_x * x, s.edge[1].row + s.edge[1].step_x * x,
+                                   s.edge[2].row + s.edge[2].step_x * x};
+        const bool centre = e[0] >= 0 && e[1] >= 0 && e[2] >= 0;
+        const std::uint64_t mask = sampleMask(samples, e);
+        counts.tested++;
+        if (mask == 0 && !centre) continue;
+        std::uint32_t& head = l.head[static_cast<std::size_t>(y - box.y0) * tile_w + (x - box.x0)];
+        // Another triangle of the polygon already here (its triangles come one after another):
+        // its fragment takes these samples too
+        if (head != kEndOfList && l.pool[head].polygon == polygon) {
+          l.pool[head].mask |= mask;
+          l.pool[head].centre = l.pool[head].centre || centre;
+          continue;
+        }
+        l.pool.push_back({mask, fragmentDepth(t.depth, x, y), polygon, head, centre});
+        head = static_cast<std::uint32_t>(l.pool.size() - 1);
+        counts.written++;
+        if (++uncounted == kCountEvery) countFragments(job, uncounted), uncounted = 0;
+      }
+    }
+  }
+  countFragments(job, uncounted);
+}
+
+// A fragment's depth at sample s of pixel (x, y).
+float depthAtSample(const FrameJob& job, const Fragment& f, int x, int y, int s) {
+  return sampleDepth(job.tris[f.polygon].depth, x, y, job.pattern.x[s], job.pattern.y[s]);
+}
+
+// Whether opaque fragment a hides b at a sample where they lie at depths za and zb: nearer, or
+// as near and drawn first (the z-buffer's LESS keeps the first of equals).
+bool inFront(float za, const Fragment& a, float zb, const Fragment& b) {
+  return za < zb || (za == zb && a.polygon < b.polygon);
+}
+
+// Step 2, for one pixel: its list resolved into colour (the mean of its samples), and the
+// nearest opaque fragment at the centre into id and depth.
+void resolvePixel(const FrameJob& job, const TileLists& l, std::uint32_t head, int x, int y) {
+  const std::size_t idx = job.fb.index(x, y);
+  const SamplePattern& p = job.pattern;
+  // Gather the list (it is short: the polygons that reach this pixel)
+  thread_local std::vector<const Fragment*> list;
+  list.clear();
+  for (std::uint32_t f = head; f != kEndOfList; f = l.pool[f].next) list.push_back(&l.pool[f]);
+  job.fb.overdraw[idx] = static_cast<std::uint32_t>(list.size());
+  if (list.empty()) return;
+  auto opaque = [&](const Fragment* f) { return !job.tris[f->polygon].transparent(); };
+  auto colour = [&](const Fragment* f) { return job.tris[f->polygon].rgba; };
+
+  // Id and depth: the nearest opaque fragment covering the centre
+  const Fragment* at_centre = nullptr;
+  std::uint64_t opaque_mask = 0;
+  for (const Fragment* f : list) {
+    if (!opaque(f)) continue;
+    opaque_mask |= f->mask;
+    if (f->centre && (!at_centre || inFront(f->depth, *f, at_centre->depth, *at_centre))) at_centre = f;
+  }
+  if (at_centre) {
+    job.fb.depth[idx] = at_centre->depth;
+    job.fb.ids[idx] = job.tris[at_centre->polygon].id;
+  }
+  if (job.coverage) job.coverage[idx] = static_cast<float>(std::popcount(opaque_mask)) / static_cast<float>(p.count);
+
+  // Colour, sample by sample
+  const std::uint32_t background = job.fb.rgba[idx];
+  const std::uint64_t all = p.count == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << p.count) - 1;
+  if (list.size() == 1 && opaque(list[0]) && list[0]->mask == all) {  // one polygon over all samples
+    job.fb.rgba[idx] = colour(list[0]);
+    return;
+  }
+  thread_local std::vector<std::pair<float, const Fragment*>> in_front;
+  std::uint32_t sum[3] = {0, 0, 0};
+  for (int s = 0; s < p.count; ++s) {
+    const std::uint64_t bit = std::uint64_t(1) << s;
+    // The nearest opaque fragment covering the sample hides everything behind it
+    const Fragment* nearest = nullptr;
+    float nearest_z = 0;
+    for (const Fragment* f : list) {
+      if (!(f->mask & bit) || !opaque(f)) continue;
+      const float z = depthAtSample(job, *f, x, y, s);
+      if (!nearest || inFront(z, *f, nearest_z, *nearest)) nearest = f, nearest_z = z;
+    }
+    std::uint32_t c = nearest ? colour(nearest) : background;
+    // The see-through ones nearer than it, laid over it farthest first (of equals, the one
+    // drawn first goes under, as the z-buffer blends them)
+    in_front.clear();
+    for (const Fragment* f : list) {
+      if (!(f->mask & bit) || opaque(f)) continue;
+      const float z = depthAtSample(job, *f, x, y, s);
+      if (!nearest || z < nearest_z) in_front.push_back({z, f});
+    }
+    std::sort(in_front.begin(), in_front.end(), [](const auto& a, const auto& b) {
+      return a.first > b.first || (a.first == b.first && a.second->polygon < b.second->polygon);
+    });
+    for (const auto& [z, f] : in_front) c = blendOver(colour(f), c);
+    for (int ch = 0; ch < 3; ++ch) sum[ch] += (c >> (8 * ch)) & 0xFFu;
+  }
+  // The mean of the samples, rounded to nearest
+  std::uint32_t out = 0xFF000000u;
+  for (int ch = 0; ch < 3; ++ch)
+    out |= ((sum[ch] + static_cast<std::uint32_t>(p.count) / 2) / static_cast<std::uint32_t>(p.count)) << (8 * ch);
+  job.fb.rgba[idx] = out;
+}
+
+void resolveTile(const FrameJob& job, const PixelBox& box, const TileLists& l) {
+  const int tile_w = box.x1 - box.x0 + 1;
+  for (int y = box.y0; y <= box.y1; ++y)
+    for (int x = box.x0; x <= box.x1; ++x)
+      resolvePixel(job, l, l.head[static_cast<std::size_t>(y - box.y0) * tile_w + (x - box.x0)], x, y);
+}
+
+}  // namespace
+
+void drawABuffer(const AlgorithmInput& in, Frame& frame) {
+  auto t0 = std::chrono::steady_clock::now();
+  auto lap = [&](const char* stage) {
+    const auto t1 = std::chrono::steady_clock::now();
+    frame.stats.addStage(stage, std::chrono::duration<double, std::milli>(t1 - t0).count());
+    t0 = t1;
+  };
+  std::unique_ptr<Scratch> own;
+  Scratch& scratch = algorithmScratch(in, own);
+  const ScreenTriangles& tris = in.prepared.triangles;
+  const SamplePattern& pattern = samplePattern(in.options.samples == 0 ? kDefaultSamples : in.options.samples);
+
+  // Bin: each triangle listed in every tile it reaches (its box reaches every sample)
+  numberPolygons(tris, scratch.polygon_of);
+  binPrimitives(std::span<const ScreenTriangle>(tris.data(), tris.size()), frame.width, frame.height, scratch.bins,
+                scratch.counts);
+  lap("bin");
+
+  // Fill and resolve each tile's lists, tiles in parallel
+  frame.coverage.assign(frame.color.size(), 0.0f);
+  const FrameView fb(frame);
+  std::atomic<std::uint64_t> fragments{0};
+  const FrameJob job{tris,
+                     scratch.polygon_of,
+                     scratch.bins,
+                     pattern,
+                     fb,
+                     frame.coverage.data(),
+                     in.options.fragment_memory / sizeof(Fragment),
+                     fragments};
+  tbb::enumerable_thread_specific<FragmentCounts> counts;
+  tbb::parallel_for(std::size_t(0), scratch.bins.tiles(), [&](std::size_t tile) {
+    const PixelBox box = scratch.bins.tileBox(tile, frame.width, frame.height);
+    TileLists& lists = scratch.lists.local();
+    fillLists(job, tile, box, lists, counts.local());
+    resolveTile(job, box, lists);
+  });
+  lap("fill and resolve");
+
+  FragmentCounts total;
+  for (const FragmentCounts& c : counts) total += c;
+  frame.stats.fragments_tested += total.tested;
+  frame.stats.fragments_written += total.written;
+  std::uint64_t pools = 0;
+  for (const TileLists& l : scratch.lists) pools += l.pool.capacity() * sizeof(Fragment) + l.head.capacity() * 4;
+  frame.stats.state_bytes += frameBufferBytes(frame) + tris.capacity() * sizeof(ScreenTriangle) +
+                             scratch.bins.bytes() + scratch.polygon_of.capacity() * 4 + pools;
+}
+
+}  // namespace hsr::detail
