@@ -44,6 +44,7 @@ struct BenchScene {
   std::unique_ptr<hsr::Scene> scene;
   hsr::Camera camera;
   std::unique_ptr<hsr::testing::MesaScene> mesa;
+  std::unique_ptr<hsr::testing::MesaScene> mesa_msaa;  // 4x multisampled, resolved by a blit
   std::size_t triangles = 0;
   std::map<std::string, std::uint64_t> state_bytes;  // per algorithm: memory of one frame
   std::map<std::string, hsr::Stats> stats;           // per algorithm: one frame's stats
@@ -53,6 +54,7 @@ struct BenchScene {
 struct AlgorithmRun {
   std::string algorithm;
   BenchScene* scene;
+  int samples = 0;  // RenderOptions::samples (the A-buffer's sample counts)
 };
 
 // Ten quads far larger than the view, stacked along z, listed back to front.
@@ -123,6 +125,7 @@ void runAlgorithm(benchmark::State& state, AlgorithmRun* run) {
   hsr::RenderOptions options;
   options.algorithm = run->algorithm;
   options.threads = g_threads;
+  options.samples = run->samples;
   hsr::Frame frame;
   hsr::render(*b->scene, b->camera, options, frame);  // warm: allocate the frame's buffers
   for (auto _ : state) {
@@ -130,8 +133,9 @@ void runAlgorithm(benchmark::State& state, AlgorithmRun* run) {
     benchmark::DoNotOptimize(frame.ids.data());
     benchmark::ClobberMemory();
   }
-  b->state_bytes[run->algorithm] = frame.stats.state_bytes;
-  b->stats[run->algorithm] = frame.stats;
+  const std::string key = run->samples ? run->algorithm + "@" + std::to_string(run->samples) : run->algorithm;
+  b->state_bytes[key] = frame.stats.state_bytes;
+  b->stats[key] = frame.stats;
   setCounters(state, *b);
   // The frame's stats: every count of the one table and the algorithm's own counters.
   for (const hsr::Stats::Field& f : hsr::Stats::fields())
@@ -151,6 +155,65 @@ void runLlvmpipe(benchmark::State& state, BenchScene* b) {
     benchmark::DoNotOptimize(b->mesa->renderFrameMs());
   }
   setCounters(state, *b);
+}
+
+// llvmpipe drawing into a 4x multisampled framebuffer, resolved with a blit: the A-buffer's peer.
+void runLlvmpipeMsaa(benchmark::State& state, BenchScene* b) {
+  ensureScene(*b);
+  if (!b->mesa_msaa) {
+    b->mesa_msaa = std::make_unique<hsr::testing::MesaScene>(*b->scene, b->camera, hsr::RenderOptions{}, 4);
+    b->mesa_msaa->renderFrameMs();  // warm
+  }
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(b->mesa_msaa->renderFrameMs());
+  }
+  setCounters(state, *b);
+}
+
+// The A-buffer (4 samples) against llvmpipe's 4x MSAA on the same scene and thread count: time
+// ratio, the resolved pictures' mean absolute difference (both flat colour on white), depth
+// complexity (fragments per pixel) and memory; then time and memory against the sample count.
+void printABufferTable(const MedianCollector& reporter) {
+  std::printf("\nA-buffer (4 samples) vs llvmpipe 4x MSAA, threads=%d\n%-16s %10s %12s %7s %12s %10s %9s %10s\n",
+              g_threads, "scene", "abuffer ms", "msaa4 ms", "ratio", "no-AA ms", "frags/px", "state B/px",
+              "picture MAD");
+  for (BenchScene& b : benchScenes()) {
+    const double ours = reporter.time("BM_abuffer/" + b.label);
+    const double msaa = reporter.time("BM_llvmpipe_msaa4/" + b.label);
+    const auto st = b.stats.find("abuffer");
+    if (ours <= 0 || msaa <= 0 || st == b.stats.end() || !b.mesa_msaa) continue;
+    // The two resolved pictures, flat colour on white as llvmpipe draws them
+    hsr::RenderOptions o;
+    o.algorithm = "abuffer";
+    o.threads = g_threads;
+    o.shade = false;
+    o.clear_color = {1.0f, 1.0f, 1.0f};
+    const hsr::Frame f = hsr::render(*b.scene, b.camera, o);
+    b.mesa_msaa->renderFrameMs();
+    const std::vector<std::uint32_t> mesa = b.mesa_msaa->colour();
+    double diff = 0;
+    for (std::size_t k = 0; k < mesa.size(); ++k)
+      for (int c = 0; c < 3; ++c)
+        diff += std::abs(static_cast<int>((f.color[k] >> (8 * c)) & 0xFF) - static_cast<int>((mesa[k] >> (8 * c)) & 0xFF));
+    const double px = double(kWidth) * kHeight;
+    std::printf("%-16s %10.2f %12.2f %7.2f %12.2f %10.2f %9.1f %10.3f\n", b.label.c_str(), ours, msaa, msaa / ours,
+                reporter.time("BM_llvmpipe/" + b.label), static_cast<double>(st->second.fragments_written) / px,
+                static_cast<double>(st->second.state_bytes) / px, diff / (3.0 * px));
+  }
+  std::printf("(ratio = llvmpipe 4x MSAA time / A-buffer time: >= 1 means as fast; MAD: mean |difference| per "
+              "channel, 0-255)\n");
+  for (BenchScene& b : benchScenes()) {
+    bool any = false;
+    for (const int n : {1, 4, 8, 16, 32, 64}) {
+      const std::string name = n == 4 ? "BM_abuffer/" + b.label : "BM_abuffer@" + std::to_string(n) + "/" + b.label;
+      const double t = reporter.time(name);
+      const auto st = b.stats.find(n == 4 ? std::string("abuffer") : "abuffer@" + std::to_string(n));
+      if (t <= 0 || st == b.stats.end()) continue;
+      if (!any) std::printf("A-buffer on %s against the sample count:\n", b.label.c_str());
+      any = true;
+      std::printf("  %2d samples %10.2f ms %9.1f MiB\n", n, t, static_cast<double>(st->second.state_bytes) / 1048576.0);
+    }
+  }
 }
 
 // The BSP tree built once (timed: the build alone, not the copy of the scene it keeps) and
@@ -371,6 +434,15 @@ int main(int argc, char** argv) {
       if (huge && a.name == "bsp") bm->Iterations(1)->Repetitions(1);
     }
     configure(benchmark::RegisterBenchmark(("BM_llvmpipe/" + b.label).c_str(), runLlvmpipe, &b));
+    // The A-buffer's peer, on the scenes its issue names; its sample counts on one scene
+    if (b.label == "spheres/100000" || b.label == "spheres/1000000" || b.fill_rate)
+      configure(benchmark::RegisterBenchmark(("BM_llvmpipe_msaa4/" + b.label).c_str(), runLlvmpipeMsaa, &b));
+    if (b.label == "spheres/100000")
+      for (const int n : {1, 8, 16, 32, 64}) {
+        runs.push_back(std::make_unique<AlgorithmRun>(AlgorithmRun{"abuffer", &b, n}));
+        configure(benchmark::RegisterBenchmark(("BM_abuffer@" + std::to_string(n) + "/" + b.label).c_str(),
+                                               runAlgorithm, runs.back().get()));
+      }
     if (b.fill_rate) continue;
     runs.push_back(std::make_unique<AlgorithmRun>(AlgorithmRun{"octree", &b}));
     benchmark::RegisterBenchmark(("BM_octree_fresh/" + b.label).c_str(), runFreshFrame, runs.back().get())
@@ -420,6 +492,7 @@ int main(int argc, char** argv) {
   printObjectOrderTable(reporter);
   printImageOrderTable(reporter);
   printBspTable(reporter, bsp_runs);
+  printABufferTable(reporter);
   std::printf(
       "(ratio = llvmpipe time / algorithm time, median of repetitions: > 1 means hsr is faster)\n");
   benchmark::Shutdown();

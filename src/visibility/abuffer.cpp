@@ -39,6 +39,7 @@
 #include <atomic>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <string>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -58,10 +59,11 @@ namespace {
 inline constexpr int kDefaultSamples = 4;
 inline constexpr std::uint32_t kEndOfList = 0xFFFFFFFFu;
 
-// One polygon's share of one pixel.
+// One polygon's share of one pixel. Its depth at the centre and at each sample comes from its
+// polygon's plane (THE depth definition) when the list is resolved.
 struct Fragment {
   std::uint64_t mask;     // the samples it covers
-  float depth;            // at the pixel centre (THE depth definition)
+  float nearest;          // no nearer than this anywhere in the pixel (-infinity: not known)
   std::uint32_t polygon;  // its first triangle: plane, colour, alpha and id
   std::uint32_t next;     // the next fragment of the pixel's list, or kEndOfList
   bool centre;            // covers the pixel centre (by the fill rule, as the z-buffer)
@@ -71,8 +73,32 @@ static_assert(sizeof(Fragment) == 24, "24 bytes a fragment");
 // One core's lists for the tile it is on.
 struct TileLists {
   std::vector<std::uint32_t> head;  // per pixel of the tile, its list's first fragment
+  // Per pixel: the far end of the depth range of the nearest opaque fragment that covers the
+  // whole pixel (every sample and the centre), +infinity while there is none: whatever lies
+  // wholly behind it never shows
+  std::vector<double> covered_to;
   std::vector<Fragment> pool;
+  std::vector<std::uint32_t> free;  // pool entries dropped from their lists, to be reused
 };
+
+// A polygon's depth over a pixel square, as doubles (empty, lo > hi, where not known).
+struct DepthRange {
+  double lo, hi;
+};
+// Whether a fragment that lies no nearer than `nearest` anywhere in a pixel is wholly behind
+// the opaque polygon that covers the pixel up to `covered_to`: at every sample and at the
+// centre that the fragment covers, the polygon's float depth is smaller. (Where the fragment
+// covers a sample its depth is at most 1, as the pipeline clips at the far plane; so the
+// covering polygon's is below 1 there by the gap, and clamping cannot make them tie.)
+bool behind(double nearest, double covered_to) { return covered_to + kSafeDepthGap < nearest; }
+// A range's near end as a float no larger (-infinity for an empty range: never behind).
+float nearestOf(const DepthRange& r) {
+  if (!(r.lo <= r.hi)) return -INFINITY;
+  // Within [-1, 1] a float is within 2^-25 of the double, so 2^-22 less is surely no larger
+  if (std::abs(r.lo) < 1.0) return static_cast<float>(r.lo - 0x1p-22);
+  const float f = static_cast<float>(r.lo);
+  return static_cast<double>(f) > r.lo ? std::nextafter(f, -INFINITY) : f;
+}
 
 struct Scratch {
   Bins bins;
@@ -106,48 +132,124 @@ void countFragments(const FrameJob& job, std::uint64_t n) {
                 "(--fragment-memory MIB) or draw fewer overlapping polygons");
 }
 
+// Takes out of the list that starts at `link` every fragment wholly behind depth `covered_to` at
+// pixel (x, y); returns one of them for the caller to reuse (the others go to the free list),
+// or kEndOfList.
+std::uint32_t dropBehind(TileLists& l, std::uint32_t& link, double covered_to) {
+  std::uint32_t kept = kEndOfList;
+  for (std::uint32_t* next = &link; *next != kEndOfList;) {
+    const std::uint32_t g = *next;
+    if (!behind(l.pool[g].nearest, covered_to)) {
+      next = &l.pool[g].next;
+      continue;
+    }
+    *next = l.pool[g].next;
+    if (kept == kEndOfList) kept = g;
+    else l.free.push_back(g);
+  }
+  return kept;
+}
+
+// A triangle's depth over the pixel squares of a box: its plane's value at each centre, less and
+// plus half its change across a pixel. Empty (lo > hi) where the plane is too steep or too far
+// for planeDepth to be trusted to the gap (raster/depth.hpp); the terms are largest at the box's
+// corners, so those are checked once.
+struct DepthRanges {
+  const DepthPlane& plane;
+  double half;
+  bool safe;
+  DepthRanges(const DepthPlane& p, int x0, int y0, int x1, int y1)
+      : plane(p),
+        half(0.5 * (std::abs(p.dzdx) + std::abs(p.dzdy))),
+        safe(planeDepthIsSafe(p, x0, y0) && planeDepthIsSafe(p, x1, y0) && planeDepthIsSafe(p, x0, y1) &&
+             planeDepthIsSafe(p, x1, y1)) {}
+  DepthRange at(double row_start, int x) const {
+    if (!safe) return {1.0, 0.0};
+    const double centre = row_start + plane.dzdx * static_cast<double>(x);
+    return {centre - half, centre + half};
+  }
+};
+
 // Step 1, for one tile: every polygon's fragments, pixel by pixel.
 void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileLists& l,
                FragmentCounts& counts) {
   const int tile_w = box.x1 - box.x0 + 1;
-  l.head.assign(static_cast<std::size_t>(tile_w) * (box.y1 - box.y0 + 1), kEndOfList);
+  const std::size_t tile_pixels = static_cast<std::size_t>(tile_w) * (box.y1 - box.y0 + 1);
+  l.head.assign(tile_pixels, kEndOfList);
+  l.covered_to.assign(tile_pixels, INFINITY);
   l.pool.clear();
-  std::uint64_t uncounted = 0;
+  l.free.clear();
+  const std::uint64_t all = job.pattern.count == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << job.pattern.count) - 1;
+  std::uint64_t uncounted = 0, tested = 0, written = 0;
   SampleEdges samples;
   for (std::size_t k = job.bins.start[tile]; k < job.bins.start[tile + 1]; ++k) {
     const std::uint32_t i = job.bins.items[k];
     const ScreenTriangle& t = job.tris[i];
     const std::uint32_t polygon = job.polygon_of[i];
+    const bool opaque = !t.transparent();
     const int y0 = std::max(box.y0, static_cast<int>(t.y0)), y1 = std::min(box.y1, static_cast<int>(t.y1));
     const int x0 = std::max(box.x0, static_cast<int>(t.x0)), x1 = std::min(box.x1, static_cast<int>(t.x1));
     if (y0 > y1 || x0 > x1) continue;
     TriangleSetup s = setupTriangle(t, y0);
     setupSampleEdges(s, job.pattern, &samples);
+    const DepthRanges ranges(t.depth, x0, y0, x1, y1);
     for (int y = y0; y <= y1; ++y, nextRow(s)) {
-      for (int x = x0; x <= x1; ++x) {
-        // The edge functions at the pixel centre; the mask from them at each sample
-        const std::int64_t e[3] = {s.edge[0].row + s.edge[0].step_x * x, s.edge[1].row + s.edge[1].step_x * x,
-                                   s.edge[2].row + s.edge[2].step_x * x};
-        const bool centre = e[0] >= 0 && e[1] >= 0 && e[2] >= 0;
+      const double row_start = depthRowStart(t.depth, y);
+      // The edge functions at the row's first pixel centre, stepped by additions
+      std::int64_t e[3] = {s.edge[0].row + s.edge[0].step_x * x0, s.edge[1].row + s.edge[1].step_x * x0,
+                           s.edge[2].row + s.edge[2].step_x * x0};
+      for (int x = x0; x <= x1;
+           ++x, e[0] += s.edge[0].step_x, e[1] += s.edge[1].step_x, e[2] += s.edge[2].step_x) {
+        // The samples it covers, and whether it covers the centre
+        const bool centre = (e[0] | e[1] | e[2]) >= 0;
         const std::uint64_t mask = sampleMask(samples, e);
-        counts.tested++;
+        ++tested;
         if (mask == 0 && !centre) continue;
-        std::uint32_t& head = l.head[static_cast<std::size_t>(y - box.y0) * tile_w + (x - box.x0)];
+        const std::size_t at = static_cast<std::size_t>(y - box.y0) * tile_w + (x - box.x0);
+        std::uint32_t& head = l.head[at];
         // Another triangle of the polygon already here (its triangles come one after another):
-        // its fragment takes these samples too
+        // its fragment takes these samples too, and may now cover the whole pixel
         if (head != kEndOfList && l.pool[head].polygon == polygon) {
-          l.pool[head].mask |= mask;
-          l.pool[head].centre = l.pool[head].centre || centre;
+          Fragment& h = l.pool[head];
+          h.mask |= mask;
+          h.centre = h.centre || centre;
+          if (opaque && h.mask == all && h.centre) {
+            const DepthRange r = ranges.at(row_start, x);
+            if (r.lo <= r.hi && r.hi < l.covered_to[at]) {
+              l.covered_to[at] = r.hi;
+              const std::uint32_t dropped = dropBehind(l, h.next, r.hi);
+              if (dropped != kEndOfList) l.free.push_back(dropped);
+            }
+          }
           continue;
         }
-        l.pool.push_back({mask, fragmentDepth(t.depth, x, y), polygon, head, centre});
-        head = static_cast<std::uint32_t>(l.pool.size() - 1);
-        counts.written++;
-        if (++uncounted == kCountEvery) countFragments(job, uncounted), uncounted = 0;
+        // Hidden wherever it lies: behind a polygon drawn before that covers the whole pixel
+        const DepthRange r = ranges.at(row_start, x);
+        if (r.lo <= r.hi && behind(r.lo, l.covered_to[at])) continue;
+        // Opaque over the whole pixel: what lies wholly behind it leaves the list first (and the
+        // new fragment takes the place of one of those)
+        std::uint32_t f = kEndOfList;
+        if (opaque && mask == all && centre && r.lo <= r.hi && r.hi < l.covered_to[at]) {
+          l.covered_to[at] = r.hi;
+          f = dropBehind(l, head, r.hi);
+        }
+        if (f == kEndOfList && !l.free.empty()) {
+          f = l.free.back();
+          l.free.pop_back();
+        } else if (f == kEndOfList) {
+          f = static_cast<std::uint32_t>(l.pool.size());
+          l.pool.emplace_back();
+          if (++uncounted == kCountEvery) countFragments(job, uncounted), uncounted = 0;
+        }
+        l.pool[f] = {mask, nearestOf(r), polygon, head, centre};
+        head = f;
+        ++written;
       }
     }
   }
   countFragments(job, uncounted);
+  counts.tested += tested;
+  counts.written += written;
 }
 
 // A fragment's depth at sample s of pixel (x, y).
@@ -177,14 +279,17 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::uint32_t head, i
 
   // Id and depth: the nearest opaque fragment covering the centre
   const Fragment* at_centre = nullptr;
+  float centre_z = 0;
   std::uint64_t opaque_mask = 0;
   for (const Fragment* f : list) {
     if (!opaque(f)) continue;
     opaque_mask |= f->mask;
-    if (f->centre && (!at_centre || inFront(f->depth, *f, at_centre->depth, *at_centre))) at_centre = f;
+    if (!f->centre) continue;
+    const float z = fragmentDepth(job.tris[f->polygon].depth, x, y);
+    if (!at_centre || inFront(z, *f, centre_z, *at_centre)) at_centre = f, centre_z = z;
   }
   if (at_centre) {
-    job.fb.depth[idx] = at_centre->depth;
+    job.fb.depth[idx] = centre_z;
     job.fb.ids[idx] = job.tris[at_centre->polygon].id;
   }
   if (job.coverage) job.coverage[idx] = static_cast<float>(std::popcount(opaque_mask)) / static_cast<float>(p.count);
@@ -282,6 +387,9 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
   for (const FragmentCounts& c : counts) total += c;
   frame.stats.fragments_tested += total.tested;
   frame.stats.fragments_written += total.written;
+  // What the memory budget counts: fragments stored (a dropped fragment's place is reused)
+  frame.stats.addCounter("abuffer: fragments stored", fragments.load());
+  frame.stats.addCounter("abuffer: samples", static_cast<std::uint64_t>(pattern.count));
   std::uint64_t pools = 0;
   for (const TileLists& l : scratch.lists) pools += l.pool.capacity() * sizeof(Fragment) + l.head.capacity() * 4;
   frame.stats.state_bytes += frameBufferBytes(frame) + tris.capacity() * sizeof(ScreenTriangle) +

@@ -332,8 +332,8 @@ std::string mesaRenderer() {
   return r ? reinterpret_cast<const char*>(r) : "unknown";
 }
 
-MesaScene::MesaScene(const Scene& scene, const Camera& camera, const RenderOptions& options)
-    : camera_(camera), options_(options) {
+MesaScene::MesaScene(const Scene& scene, const Camera& camera, const RenderOptions& options, int msaa_samples)
+    : camera_(camera), options_(options), msaa_samples_(msaa_samples) {
   camera_.validate();
   options_.polygon_mode = PolygonMode::Fill;
   const std::vector<GlVertex> verts =
@@ -359,16 +359,58 @@ MesaScene::MesaScene(const Scene& scene, const Camera& camera, const RenderOptio
     std::memcpy(client_.data(), verts.data(), vertex_bytes_);
   }
   checkGlError("MesaScene upload");
+  if (msaa_samples_ > 0) {
+    // A multisampled colour and depth buffer to draw into
+    glGenFramebuffers(1, &fbo_);
+    glGenRenderbuffers(1, &colour_rb_);
+    glGenRenderbuffers(1, &depth_rb_);
+    glBindRenderbuffer(GL_RENDERBUFFER, colour_rb_);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, msaa_samples_, GL_RGBA8, camera_.width, camera_.height);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, msaa_samples_, GL_DEPTH_COMPONENT24, camera_.width,
+                                     camera_.height);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_rb_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb_);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    GLint samples = 0;
+    glGetIntegerv(GL_SAMPLES, &samples);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    checkGlError("MesaScene multisampled framebuffer");
+    if (status != GL_FRAMEBUFFER_COMPLETE || samples < msaa_samples_)
+      throw std::runtime_error("OSMesa: no " + std::to_string(msaa_samples_) + "x multisampled framebuffer (status " +
+                               std::to_string(status) + ", " + std::to_string(samples) + " samples)");
+  }
 }
 
 MesaScene::~MesaScene() {
-  if (vbo_ != 0 && OSMesaGetCurrentContext() == sharedContext().ctx) glDeleteBuffers(1, &vbo_);
+  if (OSMesaGetCurrentContext() != sharedContext().ctx) return;
+  if (vbo_ != 0) glDeleteBuffers(1, &vbo_);
+  if (fbo_ != 0) glDeleteFramebuffers(1, &fbo_);
+  if (colour_rb_ != 0) glDeleteRenderbuffers(1, &colour_rb_);
+  if (depth_rb_ != 0) glDeleteRenderbuffers(1, &depth_rb_);
+}
+
+std::vector<std::uint32_t> MesaScene::colour() const {
+  makeCurrent(camera_.width, camera_.height);
+  const int w = camera_.width, h = camera_.height;
+  std::vector<std::uint32_t> gl(static_cast<std::size_t>(w) * h), out(gl.size());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, gl.data());
+  checkGlError("MesaScene colour");
+  for (int y = 0; y < h; ++y)
+    std::copy_n(gl.begin() + static_cast<std::ptrdiff_t>(y) * w, w,
+                out.begin() + static_cast<std::ptrdiff_t>(h - 1 - y) * w);
+  return out;
 }
 
 double MesaScene::renderFrameMs() {
   const auto t0 = std::chrono::steady_clock::now();
   makeCurrent(camera_.width, camera_.height);
+  if (fbo_ != 0) glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   applyState(camera_, options_);  // includes glClear(COLOR | DEPTH)
+  if (fbo_ != 0) glEnable(GL_MULTISAMPLE);
   // Pointers are offsets into the bound VBO, or addresses in the client copy.
   std::uintptr_t base = 0;
   if (vbo_ != 0) {
@@ -387,6 +429,14 @@ double MesaScene::renderFrameMs() {
   glDisableClientState(GL_COLOR_ARRAY);
   glDisableClientState(GL_VERTEX_ARRAY);
   glBindBuffer(GL_ARRAY_BUFFER, 0);
+  if (fbo_ != 0) {  // resolve: the samples' mean into the window buffer
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    glBlitFramebuffer(0, 0, camera_.width, camera_.height, 0, 0, camera_.width, camera_.height, GL_COLOR_BUFFER_BIT,
+                      GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDisable(GL_MULTISAMPLE);
+  }
   glFinish();
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

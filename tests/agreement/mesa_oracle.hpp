@@ -49,10 +49,13 @@ std::string mesaRenderer();
 
 // A scene uploaded once into a vertex buffer object, drawn as many frames as wanted: the
 // llvmpipe side of the benchmark. Flat colour per triangle (its material colour), depth
-// test LESS, no culling, camera as for renderWithMesa.
+// test LESS, no culling, camera as for renderWithMesa. With `msaa_samples`, frames are drawn
+// into a multisampled framebuffer object (colour RGBA8, depth 24 bits) with GL_MULTISAMPLE on,
+// and resolved into the window buffer by glBlitFramebuffer: the antialiased peer of the
+// A-buffer. Throws std::runtime_error when Mesa cannot make that framebuffer.
 class MesaScene {
  public:
-  MesaScene(const Scene& scene, const Camera& camera, const RenderOptions& options = {});
+  MesaScene(const Scene& scene, const Camera& camera, const RenderOptions& options = {}, int msaa_samples = 0);
   ~MesaScene();
   MesaScene(const MesaScene&) = delete;
   MesaScene& operator=(const MesaScene&) = delete;
@@ -60,6 +63,10 @@ class MesaScene {
   // Draws one frame: glClear(COLOR | DEPTH) + glDrawArrays + glFinish (which, in OSMesa,
   // also copies the colour buffer into the client buffer). Returns its wall time in ms.
   double renderFrameMs();
+  // The last frame's colour (resolved, for MSAA), RGBA8 packed with R in the low byte, top
+  // row first (hsr::Frame::color's layout).
+  std::vector<std::uint32_t> colour() const;
+  int msaaSamples() const { return msaa_samples_; }
   std::size_t triangleCount() const { return triangle_count_; }
   // Bytes of vertex data uploaded (the GL-side copy of the scene).
   std::size_t vertexBytes() const { return vertex_bytes_; }
@@ -70,6 +77,8 @@ class MesaScene {
   std::size_t triangle_count_ = 0;
   std::size_t vertex_bytes_ = 0;
   unsigned vbo_ = 0;
+  int msaa_samples_ = 0;
+  unsigned fbo_ = 0, colour_rb_ = 0, depth_rb_ = 0;
   std::vector<std::uint8_t> client_;  // vertex data when VBOs are unavailable
 };
 
