@@ -139,6 +139,30 @@ TEST(Cli, RendersDemoWithEveryOutput) {
   EXPECT_NE(r.out.find("fragments tested"), std::string::npos) << r.out;
 }
 
+// The A-buffer: its sample counts and fragment memory refused with one line, and its
+// coverage.npy beside the other raw buffers (not written by the z-buffer).
+TEST(Cli, ABufferSamplesMemoryAndCoverage) {
+  const ScratchDir scratch("hsr_cli_test");
+  const std::string out = "-o " + (scratch.path() / "x.png").string();
+  expectCleanError("render demo --algorithm abuffer --samples 3 " + out, "samples");
+  expectCleanError("render demo --algorithm abuffer --samples 128 " + out, "samples");
+  expectCleanError("render demo --samples 4 " + out, "samples");  // the z-buffer has one, at the centre
+  expectCleanError("render demo --algorithm abuffer --fragment-memory 0 " + out, "fragment-memory");
+  expectCleanError("render spheres:20000 --size 400x300 --algorithm abuffer --fragment-memory 0.5 " + out,
+                   "fragment memory");
+  const fs::path raw = scratch.path() / "raw";
+  const CliRun r = runCli("render demo --size 160x120 --algorithm abuffer --samples 16 " + out + " --raw " +
+                          raw.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GE(fs::file_size(raw / "coverage.npy"), 160u * 120u * 4u);
+  std::ifstream manifest(raw / "manifest.json");
+  const std::string text((std::istreambuf_iterator<char>(manifest)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("coverage.npy"), std::string::npos) << text;
+  // The z-buffer's raw output into the same directory has no coverage buffer
+  ASSERT_EQ(runCli("render demo --size 160x120 " + out + " --raw " + raw.string()).code, 0);
+  EXPECT_FALSE(fs::exists(raw / "coverage.npy"));
+}
+
 // hsr bsp: build once, print, render one view with the camera flags of hsr render (the same
 // picture hsr render --algorithm bsp draws), render an orbit, refuse what it cannot do.
 TEST(Cli, BspBuildInfoRenderAndOrbit) {
