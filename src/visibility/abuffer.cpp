@@ -40,7 +40,10 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <string_view>
+#include <utility>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -55,6 +58,12 @@
 
 namespace hsr::detail {
 namespace {
+
+// Step names: what `hsr explain abuffer` shows.
+constexpr std::string_view kStepBin = "bin";
+constexpr std::string_view kStepTile = "fill and resolve tile";
+constexpr std::string_view kStepPixel = "one pixel's list";
+constexpr std::string_view kStepDone = "done";
 
 inline constexpr int kDefaultSamples = 4;
 inline constexpr std::uint32_t kEndOfList = 0xFFFFFFFFu;
@@ -335,6 +344,50 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::uint32_t head, i
   job.fb.rgba[idx] = out;
 }
 
+// ---- the teaching view
+
+TraceOutline boxOutline(int x0, int y0, int x1, int y1) {
+  const float a = static_cast<float>(x0) - 0.5f, b = static_cast<float>(y0) - 0.5f;
+  const float c = static_cast<float>(x1) + 0.5f, d = static_cast<float>(y1) + 0.5f;
+  return {{a, b}, {c, b}, {c, d}, {a, d}};
+}
+
+// The pixel of a tile with the longest list, and its length.
+std::pair<std::size_t, int> longestList(const TileLists& l) {
+  std::pair<std::size_t, int> best{0, 0};
+  for (std::size_t at = 0; at < l.head.size(); ++at) {
+    int n = 0;
+    for (std::uint32_t f = l.head[at]; f != kEndOfList; f = l.pool[f].next) ++n;
+    if (n > best.second) best = {at, n};
+  }
+  return best;
+}
+
+// A pixel's list in words, before it is resolved: each fragment's polygon, opacity, samples
+// covered (sample 0 first) and depth at the centre, nearest first.
+std::string describeList(const FrameJob& job, const TileLists& l, std::uint32_t head, int x, int y) {
+  std::vector<std::pair<float, const Fragment*>> list;
+  for (std::uint32_t f = head; f != kEndOfList; f = l.pool[f].next)
+    list.push_back({fragmentDepth(job.tris[l.pool[f].polygon].depth, x, y), &l.pool[f]});
+  std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::string s = "Pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") holds " + std::to_string(list.size()) +
+                  " fragments, one per polygon that reaches it, nearest first:";
+  for (const auto& [z, f] : list) {
+    const ScreenTriangle& t = job.tris[f->polygon];
+    std::string bits;
+    for (int i = 0; i < job.pattern.count; ++i) bits += (f->mask >> i) & 1 ? '1' : '0';
+    char depth[32];
+    std::snprintf(depth, sizeof depth, "%.6f", static_cast<double>(z));
+    s += " polygon " + std::to_string(t.id) + " (" +
+         (t.transparent() ? "alpha " + std::to_string(t.rgba >> 24) + "/255" : std::string("opaque")) + "), samples " +
+         bits + (f->centre ? " and the centre" : "") + ", depth " + depth + " at the centre;";
+  }
+  s += " Resolve: each sample takes the nearest opaque fragment covering it (or the background) with the "
+       "see-through ones in front of it laid over it, farthest first; the pixel is the mean of its " +
+       std::to_string(job.pattern.count) + " samples, its id and depth the nearest opaque fragment at the centre.";
+  return s;
+}
+
 void resolveTile(const FrameJob& job, const PixelBox& box, const TileLists& l) {
   const int tile_w = box.x1 - box.x0 + 1;
   for (int y = box.y0; y <= box.y1; ++y)
@@ -375,12 +428,61 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
                      in.options.fragment_memory / sizeof(Fragment),
                      fragments};
   tbb::enumerable_thread_specific<FragmentCounts> counts;
-  tbb::parallel_for(std::size_t(0), scratch.bins.tiles(), [&](std::size_t tile) {
-    const PixelBox box = scratch.bins.tileBox(tile, frame.width, frame.height);
-    TileLists& lists = scratch.lists.local();
-    fillLists(job, tile, box, lists, counts.local());
-    resolveTile(job, box, lists);
-  });
+  const std::size_t tiles = scratch.bins.tiles();
+  if (!in.trace) {
+    tbb::parallel_for(std::size_t(0), tiles, [&](std::size_t tile) {
+      const PixelBox box = scratch.bins.tileBox(tile, frame.width, frame.height);
+      TileLists& lists = scratch.lists.local();
+      fillLists(job, tile, box, lists, counts.local());
+      resolveTile(job, box, lists);
+    });
+  } else {
+    // Explained: the tiles one after another, and the longest list of all described
+    if (in.trace->wants(kStepBin, 0, 1))
+      in.trace->record({kStepBin,
+                        "Bin: the screen is cut into " + std::to_string(tiles) +
+                            " tiles of 64x64 pixels; each of the " + std::to_string(tris.size()) +
+                            " triangles is listed in every tile it reaches. Each tile is filled and resolved "
+                            "on its own, so only one tile's fragment lists exist at a time.",
+                        &frame,
+                        {}});
+    std::string longest;
+    int longest_n = 0, px = 0, py = 0;
+    for (std::size_t tile = 0; tile < tiles; ++tile) {
+      const PixelBox box = scratch.bins.tileBox(tile, frame.width, frame.height);
+      TileLists& lists = scratch.lists.local();
+      FragmentCounts c;
+      fillLists(job, tile, box, lists, c);
+      const auto [at, n] = longestList(lists);
+      if (n > longest_n) {
+        const int tile_w = box.x1 - box.x0 + 1;
+        px = box.x0 + static_cast<int>(at % tile_w), py = box.y0 + static_cast<int>(at / tile_w);
+        longest_n = n;
+        longest = describeList(job, lists, lists.head[at], px, py);
+      }
+      resolveTile(job, box, lists);
+      counts.local() += c;
+      if (in.trace->wants(kStepTile, tile, tiles))
+        in.trace->record({kStepTile,
+                          "Tile " + std::to_string(tile + 1) + " of " + std::to_string(tiles) + ": " +
+                              std::to_string(scratch.bins.start[tile + 1] - scratch.bins.start[tile]) +
+                              " triangles gave " + std::to_string(c.written) +
+                              " fragments (a coverage mask of " + std::to_string(pattern.count) +
+                              " samples each, those hidden behind a polygon covering the whole pixel left out); "
+                              "each pixel's list resolved sample by sample.",
+                          &frame,
+                          {boxOutline(box.x0, box.y0, box.x1, box.y1)}});
+    }
+    if (longest_n > 0 && in.trace->wants(kStepPixel, 0, 1))
+      in.trace->record({kStepPixel, longest, &frame, {boxOutline(px - 3, py - 3, px + 3, py + 3)}});
+    if (in.trace->wants(kStepDone, 0, 1))
+      in.trace->record({kStepDone,
+                        "Done: edges antialiased (a pixel an edge crosses shows the mean of its samples), "
+                        "see-through polygons blended in depth order whatever order they came in; ids and "
+                        "depth are the nearest opaque polygon at each pixel centre, as the z-buffer's.",
+                        &frame,
+                        {}});
+  }
   lap("fill and resolve");
 
   FragmentCounts total;

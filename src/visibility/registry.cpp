@@ -79,7 +79,7 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .source = "Carpenter 1984; the notes' \"A-buffer\"; samples: Direct3D's standard patterns",
         .precision = Precision::kImage,
         .input = InputKind::kScreenTriangles,
-        .capabilities = kExactSharedCoverage | kTransparency | kBackToFront | kAntialiasing},
+        .capabilities = kExactSharedCoverage | kTransparency | kBackToFront | kAntialiasing | kExplain},
        &drawABuffer},
   };
   return table;

@@ -77,6 +77,37 @@ TEST(Explain, TiledZBufferShowsItsTiles) {
   fs::remove_all(dir);
 }
 
+// The A-buffer: its tiles, then the longest fragment list of the frame in words (each
+// fragment's polygon, opacity, sample mask and depth); the finished frame is its ordinary one.
+TEST(Explain, ABufferShowsItsTilesAndOnePixelsList) {
+  const Scene scene = loadScene("demo");
+  const Camera cam = frameScene(scene, 200, 150);
+  RenderOptions o;
+  o.algorithm = "abuffer";
+  const testing::ScratchDir scratch("hsr_explain");
+  const fs::path dir = scratch / "abuffer";
+  const Explanation e = explain(scene, cam, o, dir);
+  ASSERT_GE(e.steps.size(), 4u);
+  EXPECT_EQ(e.steps.front().name, "bin");
+  EXPECT_EQ(e.steps.back().name, "done");
+  int tiles = 0, pixel = 0;
+  for (const ExplainedStep& s : e.steps) {
+    tiles += s.name == "fill and resolve tile";
+    if (s.name == "one pixel's list") {
+      ++pixel;
+      EXPECT_NE(s.caption.find("samples"), std::string::npos) << s.caption;
+      EXPECT_NE(s.caption.find("fragments"), std::string::npos) << s.caption;
+    }
+  }
+  EXPECT_EQ(tiles, 12);  // 4 x 3 tiles of 64 x 64
+  EXPECT_EQ(pixel, 1);
+  const Frame plain = render(scene, cam, o);  // explained tile by tile, drawn in parallel: the same frame
+  EXPECT_EQ(e.frame.color, plain.color);
+  EXPECT_EQ(e.frame.ids, plain.ids);
+  EXPECT_EQ(e.frame.coverage, plain.coverage);
+  fs::remove_all(dir);
+}
+
 // The object-order algorithms explain themselves too: the painter's sort, swaps, splits and
 // paints; the BSP tree's splitters node by node, then its paints in the traversal's order.
 // Either way the finished frame is the algorithm's ordinary render.
