@@ -201,13 +201,19 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
     if (y0 > y1 || x0 > x1) continue;
     TriangleSetup s = setupTriangle(t, y0);
     setupSampleEdges(s, job.pattern, &samples);
+    // The pixels of a row it may reach: inside every edge moved out by the farthest sample (or
+    // the centre), found per row exactly as a span is (a sliver across the screen reaches few)
+    TriangleSetup reach = s;
+    for (int k = 0; k < 3; ++k) reach.edge[k].row += std::max<std::int64_t>(samples.highest[k], 0);
     const DepthRanges ranges(t.depth, x0, y0, x1, y1);
-    for (int y = y0; y <= y1; ++y, nextRow(s)) {
+    for (int y = y0; y <= y1; ++y, nextRow(s), nextRow(reach)) {
+      int lo = x0, hi = x1;
+      if (!spanOfRow(reach, &lo, &hi)) continue;
       const double row_start = depthRowStart(t.depth, y);
-      // The edge functions at the row's first pixel centre, stepped by additions
-      std::int64_t e[3] = {s.edge[0].row + s.edge[0].step_x * x0, s.edge[1].row + s.edge[1].step_x * x0,
-                           s.edge[2].row + s.edge[2].step_x * x0};
-      for (int x = x0; x <= x1;
+      // The edge functions at the span's first pixel centre, stepped by additions
+      std::int64_t e[3] = {s.edge[0].row + s.edge[0].step_x * lo, s.edge[1].row + s.edge[1].step_x * lo,
+                           s.edge[2].row + s.edge[2].step_x * lo};
+      for (int x = lo; x <= hi;
            ++x, e[0] += s.edge[0].step_x, e[1] += s.edge[1].step_x, e[2] += s.edge[2].step_x) {
         // The samples it covers, and whether it covers the centre
         const bool centre = (e[0] | e[1] | e[2]) >= 0;
