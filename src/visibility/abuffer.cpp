@@ -30,6 +30,9 @@
 // polygon drawn first, as the z-buffer's LESS), so they equal the z-buffer's whatever the
 // samples; with one sample (the centre) and opaque polygons the colour does too.
 //
+// A fragment wholly behind an opaque polygon that already covers the whole pixel can never
+// show: it is not stored, and one that such a polygon comes to cover leaves the list.
+//
 // The screen is cut into 64x64 tiles done one after another per core (bin the triangles, fill
 // the tile's lists, resolve them), so fragment memory is one tile's lists per core. Cost:
 // O(triangles + pixels reached + fragments x samples); memory 24 bytes a fragment. A frame
