@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/default_init.hpp"
+#include "core/trace.hpp"
 #include "hsr/scene.hpp"
 #include "raster/depth.hpp"
 
@@ -22,6 +23,14 @@ struct PixelBox {
   int x0, y0, x1, y1;
   bool empty() const { return x0 > x1 || y0 > y1; }
 };
+
+// The outline around a box's pixels (along their edges, centres at integers), for the
+// teaching view's pictures.
+inline TraceOutline pixelBoxOutline(const PixelBox& b) {
+  const float x0 = static_cast<float>(b.x0) - 0.5f, y0 = static_cast<float>(b.y0) - 0.5f;
+  const float x1 = static_cast<float>(b.x1) + 0.5f, y1 = static_cast<float>(b.y1) + 0.5f;
+  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
 
 // A triangle snapped to the sub-pixel grid. Vertices are ordered so the doubled signed area
 // (y down) is positive, i.e. every edge function is > 0 inside.

@@ -37,11 +37,16 @@ struct SampleEdges {
 };
 void setupSampleEdges(const TriangleSetup& s, const SamplePattern& p, SampleEdges* out);
 
+// The mask of every sample of a pattern of `count`.
+inline std::uint64_t allSamples(int count) {
+  return count == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << count) - 1;
+}
+
 // The samples of one pixel a triangle covers, a bit each (bit i: sample i), from the three
 // edge values at the pixel's centre (EdgeSetup::row + step_x * column, fill-rule bias
 // included: the values whose signs say whether the centre is inside).
 inline std::uint64_t sampleMask(const SampleEdges& se, const std::int64_t e[3]) {
-  const std::uint64_t all = se.count == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << se.count) - 1;
+  const std::uint64_t all = allSamples(se.count);
   bool inside_all = true;
   for (int k = 0; k < 3; ++k) {
     if (e[k] + se.highest[k] < 0) return 0;  // every sample outside this edge

@@ -191,7 +191,7 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
   l.covered_to.assign(tile_pixels, INFINITY);
   l.pool.clear();
   l.free.clear();
-  const std::uint64_t all = job.pattern.count == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << job.pattern.count) - 1;
+  const std::uint64_t all = allSamples(job.pattern.count);
   std::uint64_t uncounted = 0, tested = 0, written = 0;
   SampleEdges samples;
   for (std::size_t k = job.bins.start[tile]; k < job.bins.start[tile + 1]; ++k) {
@@ -314,7 +314,7 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::uint32_t head, i
 
   // Colour, sample by sample
   const std::uint32_t background = job.fb.rgba[idx];
-  const std::uint64_t all = p.count == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << p.count) - 1;
+  const std::uint64_t all = allSamples(p.count);
   if (list.size() == 1 && opaque(list[0]) && list[0]->mask == all) {  // one polygon over all samples
     job.fb.rgba[idx] = colour(list[0]);
     return;
@@ -354,12 +354,6 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::uint32_t head, i
 }
 
 // ---- the teaching view
-
-TraceOutline boxOutline(int x0, int y0, int x1, int y1) {
-  const float a = static_cast<float>(x0) - 0.5f, b = static_cast<float>(y0) - 0.5f;
-  const float c = static_cast<float>(x1) + 0.5f, d = static_cast<float>(y1) + 0.5f;
-  return {{a, b}, {c, b}, {c, d}, {a, d}};
-}
 
 // The pixel of a tile with the longest list, and its length.
 std::pair<std::size_t, int> longestList(const TileLists& l) {
@@ -480,10 +474,10 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
                               " samples each, those hidden behind a polygon covering the whole pixel left out); "
                               "each pixel's list resolved sample by sample.",
                           &frame,
-                          {boxOutline(box.x0, box.y0, box.x1, box.y1)}});
+                          {pixelBoxOutline(box)}});
     }
     if (longest_n > 0 && in.trace->wants(kStepPixel, 0, 1))
-      in.trace->record({kStepPixel, longest, &frame, {boxOutline(px - 3, py - 3, px + 3, py + 3)}});
+      in.trace->record({kStepPixel, longest, &frame, {pixelBoxOutline(PixelBox{px - 3, py - 3, px + 3, py + 3})}});
     if (in.trace->wants(kStepDone, 0, 1))
       in.trace->record({kStepDone,
                         "Done: edges antialiased (a pixel an edge crosses shows the mean of its samples), "

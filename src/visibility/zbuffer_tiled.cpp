@@ -89,12 +89,6 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-TraceOutline boxOutline(const PixelBox& b) {
-  // Around the pixels' edges (centres at integers).
-  const float x0 = b.x0 - 0.5f, y0 = b.y0 - 0.5f, x1 = b.x1 + 0.5f, y1 = b.y1 + 0.5f;
-  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-}
-
 }  // namespace
 
 void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
@@ -116,7 +110,7 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
     std::vector<TraceOutline> grid;
     std::size_t busy = 0;
     for (std::size_t t = 0; t < tiles; ++t) {
-      grid.push_back(boxOutline(z.tri_bins.tileBox(t, w, h)));
+      grid.push_back(pixelBoxOutline(z.tri_bins.tileBox(t, w, h)));
       busy += z.tri_bins.start[t + 1] > z.tri_bins.start[t];
     }
     in.trace->record({kStepBin,
@@ -150,7 +144,7 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
                  std::to_string(z.per_tile[t].written) + " of " +
                  std::to_string(z.per_tile[t].tested) + " pixels passed the depth test.",
              &frame,
-             {boxOutline(z.tri_bins.tileBox(t, w, h))}});
+             {pixelBoxOutline(z.tri_bins.tileBox(t, w, h))}});
     }
   }
   FragmentCounts total;

@@ -118,7 +118,7 @@ TEST(ABuffer, FanMasksAddUpToExactlyFullCoverage) {
   std::uint64_t full_pixels = 0, edge_pixels = 0;
   for (const int samples : kSampleCounts) {
     const detail::SamplePattern& p = detail::samplePattern(samples);
-    const std::uint64_t all = samples == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << samples) - 1;
+    const std::uint64_t all = detail::allSamples(samples);
     for (int fan = 0; fan < 40; ++fan) {
       const int n = 3 + static_cast<int>(rng.uniform(0.0f, 37.99f));
       const double cx = rng.uniform(18.0f, 30.0f) * 256, cy = rng.uniform(18.0f, 30.0f) * 256;
