@@ -31,12 +31,15 @@
 // samples; with one sample (the centre) and opaque polygons the colour does too.
 //
 // A fragment wholly behind an opaque polygon that already covers the whole pixel can never
-// show: it is not stored, and one that such a polygon comes to cover leaves the list.
+// show: it is not stored, and one that such a polygon comes to cover leaves the list. As in
+// Carpenter's paper, a pixel that one opaque polygon covers wholly, in front of all else that
+// reached it, holds that polygon itself and needs no list (most pixels of a solid scene).
 //
 // The screen is cut into 64x64 tiles done one after another per core (bin the triangles, fill
 // the tile's lists, resolve them), so fragment memory is one tile's lists per core. Cost:
-// O(triangles + pixels reached + fragments x samples); memory 24 bytes a fragment. A frame
-// whose fragments would exceed RenderOptions::fragment_memory is refused.
+// O(triangles + pixels reached + fragments x samples); memory 24 bytes a fragment in a list (a
+// pixel's own polygon costs nothing more). A frame whose listed fragments would exceed
+// RenderOptions::fragment_memory is refused.
 
 #include <algorithm>
 #include <atomic>
@@ -70,6 +73,7 @@ constexpr std::string_view kStepDone = "done";
 
 inline constexpr int kDefaultSamples = 4;
 inline constexpr std::uint32_t kEndOfList = 0xFFFFFFFFu;
+inline constexpr std::uint32_t kNoPolygon = 0xFFFFFFFFu;
 
 // One polygon's share of one pixel. Its depth at the centre and at each sample comes from its
 // polygon's plane (THE depth definition) when the list is resolved.
@@ -85,6 +89,12 @@ static_assert(sizeof(Fragment) == 24, "24 bytes a fragment");
 // One core's lists for the tile it is on.
 struct TileLists {
   std::vector<std::uint32_t> head;  // per pixel of the tile, its list's first fragment
+  // Per pixel: the opaque polygon that covers it wholly and lies in front of everything else
+  // that reached it when it came (kNoPolygon if none), and its nearest depth in the pixel. It
+  // is the pixel's fragment without a list; polygons that come later and lie in front of it
+  // in part are listed beside it
+  std::vector<std::uint32_t> whole;
+  std::vector<float> whole_nearest;
   // Per pixel: the far end of the depth range of the nearest opaque fragment that covers the
   // whole pixel (every sample and the centre), +infinity while there is none: whatever lies
   // wholly behind it never shows
@@ -182,12 +192,41 @@ struct DepthRanges {
   }
 };
 
+// Rows of fewer pixels than this are tested pixel by pixel throughout.
+constexpr int kShortRow = 8;
+
+// From pixel x to at most x_end of a row (the tile's pixels from row_at on), inside every
+// sample of an opaque polygon whose depth ranges are safe: while a pixel holds no list and no
+// polygon (or one wholly behind), it comes to hold this polygon whole. Returns the first pixel
+// it stopped at (x_end + 1 when none).
+int holdWhole(TileLists& l, const DepthRanges& ranges, double row_start, std::size_t row_at, int x0,
+              std::uint32_t polygon, int x, int x_end, std::uint64_t& written) {
+  const std::uint32_t* head = l.head.data() + row_at;
+  std::uint32_t* whole = l.whole.data() + row_at;
+  float* whole_nearest = l.whole_nearest.data() + row_at;
+  double* covered_to = l.covered_to.data() + row_at;
+  const int first = x;
+  for (; x <= x_end; ++x) {
+    const int p = x - x0;  // in the tile's row
+    if (head[p] != kEndOfList || whole[p] == polygon) break;
+    const DepthRange r = ranges.at(row_start, x);
+    if (!(r.hi < covered_to[p]) || (whole[p] != kNoPolygon && !behind(whole_nearest[p], r.hi))) break;
+    covered_to[p] = r.hi;
+    whole[p] = polygon;
+    whole_nearest[p] = nearestOf(r);
+  }
+  written += static_cast<std::uint64_t>(x - first);
+  return x;
+}
+
 // Step 1, for one tile: every polygon's fragments, pixel by pixel.
 void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileLists& l,
                FragmentCounts& counts) {
   const int tile_w = box.x1 - box.x0 + 1;
   const std::size_t tile_pixels = static_cast<std::size_t>(tile_w) * (box.y1 - box.y0 + 1);
   l.head.assign(tile_pixels, kEndOfList);
+  l.whole.assign(tile_pixels, kNoPolygon);
+  l.whole_nearest.resize(tile_pixels);
   l.covered_to.assign(tile_pixels, INFINITY);
   l.pool.clear();
   l.free.clear();
@@ -207,26 +246,50 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
     // The pixels of a row it may reach: inside every edge moved out by the farthest sample (or
     // the centre), found per row exactly as a span is (a sliver across the screen reaches few)
     TriangleSetup reach = s;
-    for (int k = 0; k < 3; ++k) reach.edge[k].row += std::max<std::int64_t>(samples.highest[k], 0);
+    for (int j = 0; j < 3; ++j) reach.edge[j].row += std::max<std::int64_t>(samples.highest[j], 0);
+    // And where every sample and the centre are inside: the edges moved in by the nearest sample
+    TriangleSetup inner = s;
+    for (int j = 0; j < 3; ++j) inner.edge[j].row += std::min<std::int64_t>(samples.lowest[j], 0);
     const DepthRanges ranges(t.depth, x0, y0, x1, y1);
-    for (int y = y0; y <= y1; ++y, nextRow(s), nextRow(reach)) {
+    const bool quick = opaque && ranges.safe;
+    for (int y = y0; y <= y1; ++y, nextRow(s), nextRow(reach), nextRow(inner)) {
       int lo = x0, hi = x1;
       if (!spanOfRow(reach, &lo, &hi)) continue;
+      tested += static_cast<std::uint64_t>(hi - lo + 1);
       const double row_start = depthRowStart(t.depth, y);
-      // The edge functions at the span's first pixel centre, stepped by additions
-      std::int64_t e[3] = {s.edge[0].row + s.edge[0].step_x * lo, s.edge[1].row + s.edge[1].step_x * lo,
-                           s.edge[2].row + s.edge[2].step_x * lo};
-      for (int x = lo; x <= hi;
-           ++x, e[0] += s.edge[0].step_x, e[1] += s.edge[1].step_x, e[2] += s.edge[2].step_x) {
-        // The samples it covers, and whether it covers the centre
-        const bool centre = (e[0] | e[1] | e[2]) >= 0;
-        const std::uint64_t mask = sampleMask(samples, e);
-        ++tested;
-        if (mask == 0 && !centre) continue;
-        const std::size_t at = static_cast<std::size_t>(y - box.y0) * tile_w + (x - box.x0);
+      const std::size_t row_at = static_cast<std::size_t>(y - box.y0) * tile_w;  // the row's first pixel in the tile
+
+      // Where every sample and the centre are inside (a row of a few pixels is not worth
+      // finding it for)
+      int in_lo = lo, in_hi = hi;
+      if (hi - lo < kShortRow || !spanOfRow(inner, &in_lo, &in_hi)) in_lo = hi + 1, in_hi = hi;
+      // The edge functions at pixel x's centre
+      auto edgesAt = [&](int x, std::int64_t e[3]) {
+        for (int j = 0; j < 3; ++j) e[j] = s.edge[j].row + s.edge[j].step_x * x;
+      };
+      for (int x = lo; x <= hi; ++x) {
+        // The common case, inside an opaque polygon: a run of pixels it covers whole, in front
+        // of all that reached them before, each holding it (as the steps below would decide)
+        if (quick && x >= in_lo && x <= in_hi) {
+          x = holdWhole(l, ranges, row_start, row_at, box.x0, polygon, x, in_hi, written);
+          if (x > in_hi) {
+            x = in_hi;
+            continue;
+          }
+        }
+        const std::size_t at = row_at + static_cast<std::size_t>(x - box.x0);
         std::uint32_t& head = l.head[at];
-        // Another triangle of the polygon already here (its triangles come one after another):
-        // its fragment takes these samples too, and may now cover the whole pixel
+        // The samples it covers, and whether it covers the centre
+        const bool inside = x >= in_lo && x <= in_hi;
+        std::int64_t e[3];
+        edgesAt(x, e);
+        const bool centre = inside || (e[0] | e[1] | e[2]) >= 0;
+        const std::uint64_t mask = inside ? all : sampleMask(samples, e);
+        if (mask == 0 && !centre) continue;
+        // The polygon the pixel holds wholly: these samples are its already
+        if (l.whole[at] == polygon) continue;
+        // Another triangle of the polygon already listed here (its triangles come one after
+        // another): its fragment takes these samples too, and may now cover the whole pixel
         if (head != kEndOfList && l.pool[head].polygon == polygon) {
           Fragment& h = l.pool[head];
           h.mask |= mask;
@@ -237,6 +300,7 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
               l.covered_to[at] = r.hi;
               const std::uint32_t dropped = dropBehind(l, h.next, r.hi);
               if (dropped != kEndOfList) l.free.push_back(dropped);
+              if (l.whole[at] != kNoPolygon && behind(l.whole_nearest[at], r.hi)) l.whole[at] = kNoPolygon;
             }
           }
           continue;
@@ -244,12 +308,21 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
         // Hidden wherever it lies: behind a polygon drawn before that covers the whole pixel
         const DepthRange r = ranges.at(row_start, x);
         if (r.lo <= r.hi && behind(r.lo, l.covered_to[at])) continue;
-        // Opaque over the whole pixel: what lies wholly behind it leaves the list first (and the
-        // new fragment takes the place of one of those)
+        // Opaque over the whole pixel: what lies wholly behind it leaves the pixel first (and
+        // the new fragment takes the place of one of those); in front of all of it, the pixel
+        // holds the polygon itself
         std::uint32_t f = kEndOfList;
         if (opaque && mask == all && centre && r.lo <= r.hi && r.hi < l.covered_to[at]) {
           l.covered_to[at] = r.hi;
-          f = dropBehind(l, head, r.hi);
+          if (l.whole[at] != kNoPolygon && behind(l.whole_nearest[at], r.hi)) l.whole[at] = kNoPolygon;
+          if (head != kEndOfList) f = dropBehind(l, head, r.hi);
+          if (head == kEndOfList && l.whole[at] == kNoPolygon) {
+            l.whole[at] = polygon;
+            l.whole_nearest[at] = nearestOf(r);
+            if (f != kEndOfList) l.free.push_back(f);
+            ++written;
+            continue;
+          }
         }
         if (f == kEndOfList && !l.free.empty()) {
           f = l.free.back();
@@ -270,6 +343,16 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
   counts.written += written;
 }
 
+// A pixel's fragments: its list's, then the polygon it holds wholly (made a fragment over every
+// sample in `whole`).
+void gatherPixel(const TileLists& l, std::size_t at, std::uint64_t all, Fragment& whole,
+                 std::vector<const Fragment*>& out) {
+  out.clear();
+  for (std::uint32_t f = l.head[at]; f != kEndOfList; f = l.pool[f].next) out.push_back(&l.pool[f]);
+  whole = {all, l.whole_nearest[at], l.whole[at], kEndOfList, true};
+  if (whole.polygon != kNoPolygon) out.push_back(&whole);
+}
+
 // A fragment's depth at sample s of pixel (x, y).
 float depthAtSample(const FrameJob& job, const Fragment& f, int x, int y, int s) {
   return sampleDepth(job.tris[f.polygon].depth, x, y, job.pattern.x[s], job.pattern.y[s]);
@@ -283,13 +366,15 @@ bool inFront(float za, const Fragment& a, float zb, const Fragment& b) {
 
 // Step 2, for one pixel: its list resolved into colour (the mean of its samples), and the
 // nearest opaque fragment at the centre into id and depth.
-void resolvePixel(const FrameJob& job, const TileLists& l, std::uint32_t head, int x, int y) {
+void resolvePixel(const FrameJob& job, const TileLists& l, std::size_t at, int x, int y) {
   const std::size_t idx = job.fb.index(x, y);
   const SamplePattern& p = job.pattern;
-  // Gather the list (it is short: the polygons that reach this pixel)
+  const std::uint64_t all = allSamples(p.count);
+  // Gather the list (it is short: the polygons that reach this pixel), with the polygon the
+  // pixel holds wholly
   thread_local std::vector<const Fragment*> list;
-  list.clear();
-  for (std::uint32_t f = head; f != kEndOfList; f = l.pool[f].next) list.push_back(&l.pool[f]);
+  Fragment whole;
+  gatherPixel(l, at, all, whole, list);
   job.fb.overdraw[idx] = static_cast<std::uint32_t>(list.size());
   if (list.empty()) return;
   auto opaque = [&](const Fragment* f) { return !job.tris[f->polygon].transparent(); };
@@ -314,37 +399,52 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::uint32_t head, i
 
   // Colour, sample by sample
   const std::uint32_t background = job.fb.rgba[idx];
-  const std::uint64_t all = allSamples(p.count);
   if (list.size() == 1 && opaque(list[0]) && list[0]->mask == all) {  // one polygon over all samples
     job.fb.rgba[idx] = colour(list[0]);
     return;
   }
-  thread_local std::vector<std::pair<float, const Fragment*>> in_front;
   std::uint32_t sum[3] = {0, 0, 0};
-  for (int s = 0; s < p.count; ++s) {
-    const std::uint64_t bit = std::uint64_t(1) << s;
-    // The nearest opaque fragment covering the sample hides everything behind it
-    const Fragment* nearest = nullptr;
-    float nearest_z = 0;
-    for (const Fragment* f : list) {
-      if (!(f->mask & bit) || !opaque(f)) continue;
-      const float z = depthAtSample(job, *f, x, y, s);
-      if (!nearest || inFront(z, *f, nearest_z, *nearest)) nearest = f, nearest_z = z;
+  auto add = [&](std::uint32_t c, std::uint32_t samples) {
+    for (int ch = 0; ch < 3; ++ch) sum[ch] += ((c >> (8 * ch)) & 0xFFu) * samples;
+  };
+  // Opaque fragments that share no sample (a pixel that an edge between neighbours crosses):
+  // each sample is the colour of the one that covers it, or the background
+  std::uint64_t covered = 0;
+  bool shared = false;
+  for (const Fragment* f : list) {
+    shared = shared || !opaque(f) || (f->mask & covered) != 0;
+    covered |= f->mask;
+  }
+  if (!shared) {
+    for (const Fragment* f : list) add(colour(f), static_cast<std::uint32_t>(std::popcount(f->mask)));
+    add(background, static_cast<std::uint32_t>(p.count - std::popcount(covered)));
+  } else {
+    thread_local std::vector<std::pair<float, const Fragment*>> in_front;
+    for (int s = 0; s < p.count; ++s) {
+      const std::uint64_t bit = std::uint64_t(1) << s;
+      // The nearest opaque fragment covering the sample hides everything behind it
+      const Fragment* nearest = nullptr;
+      float nearest_z = 0;
+      for (const Fragment* f : list) {
+        if (!(f->mask & bit) || !opaque(f)) continue;
+        const float z = depthAtSample(job, *f, x, y, s);
+        if (!nearest || inFront(z, *f, nearest_z, *nearest)) nearest = f, nearest_z = z;
+      }
+      std::uint32_t c = nearest ? colour(nearest) : background;
+      // The see-through ones nearer than it, laid over it farthest first (of equals, the one
+      // drawn first goes under, as the z-buffer blends them)
+      in_front.clear();
+      for (const Fragment* f : list) {
+        if (!(f->mask & bit) || opaque(f)) continue;
+        const float z = depthAtSample(job, *f, x, y, s);
+        if (!nearest || z < nearest_z) in_front.push_back({z, f});
+      }
+      std::sort(in_front.begin(), in_front.end(), [](const auto& a, const auto& b) {
+        return a.first > b.first || (a.first == b.first && a.second->polygon < b.second->polygon);
+      });
+      for (const auto& [z, f] : in_front) c = blendOver(colour(f), c);
+      add(c, 1);
     }
-    std::uint32_t c = nearest ? colour(nearest) : background;
-    // The see-through ones nearer than it, laid over it farthest first (of equals, the one
-    // drawn first goes under, as the z-buffer blends them)
-    in_front.clear();
-    for (const Fragment* f : list) {
-      if (!(f->mask & bit) || opaque(f)) continue;
-      const float z = depthAtSample(job, *f, x, y, s);
-      if (!nearest || z < nearest_z) in_front.push_back({z, f});
-    }
-    std::sort(in_front.begin(), in_front.end(), [](const auto& a, const auto& b) {
-      return a.first > b.first || (a.first == b.first && a.second->polygon < b.second->polygon);
-    });
-    for (const auto& [z, f] : in_front) c = blendOver(colour(f), c);
-    for (int ch = 0; ch < 3; ++ch) sum[ch] += (c >> (8 * ch)) & 0xFFu;
   }
   // The mean of the samples, rounded to nearest
   std::uint32_t out = 0xFF000000u;
@@ -355,23 +455,26 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::uint32_t head, i
 
 // ---- the teaching view
 
-// The pixel of a tile with the longest list, and its length.
-std::pair<std::size_t, int> longestList(const TileLists& l) {
+// The pixel of a tile with the most fragments, and how many.
+std::pair<std::size_t, int> longestList(const TileLists& l, std::uint64_t all) {
   std::pair<std::size_t, int> best{0, 0};
+  std::vector<const Fragment*> list;
+  Fragment whole;
   for (std::size_t at = 0; at < l.head.size(); ++at) {
-    int n = 0;
-    for (std::uint32_t f = l.head[at]; f != kEndOfList; f = l.pool[f].next) ++n;
-    if (n > best.second) best = {at, n};
+    gatherPixel(l, at, all, whole, list);
+    if (static_cast<int>(list.size()) > best.second) best = {at, static_cast<int>(list.size())};
   }
   return best;
 }
 
-// A pixel's list in words, before it is resolved: each fragment's polygon, opacity, samples
+// A pixel's fragments in words, before they are resolved: each one's polygon, opacity, samples
 // covered (sample 0 first) and depth at the centre, nearest first.
-std::string describeList(const FrameJob& job, const TileLists& l, std::uint32_t head, int x, int y) {
+std::string describeList(const FrameJob& job, const TileLists& l, std::size_t at, int x, int y) {
+  std::vector<const Fragment*> fragments;
+  Fragment whole;
+  gatherPixel(l, at, allSamples(job.pattern.count), whole, fragments);
   std::vector<std::pair<float, const Fragment*>> list;
-  for (std::uint32_t f = head; f != kEndOfList; f = l.pool[f].next)
-    list.push_back({fragmentDepth(job.tris[l.pool[f].polygon].depth, x, y), &l.pool[f]});
+  for (const Fragment* f : fragments) list.push_back({fragmentDepth(job.tris[f->polygon].depth, x, y), f});
   std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::string s = "Pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") holds " + std::to_string(list.size()) +
                   " fragments, one per polygon that reaches it, nearest first:";
@@ -383,7 +486,11 @@ std::string describeList(const FrameJob& job, const TileLists& l, std::uint32_t 
     std::snprintf(depth, sizeof depth, "%.6f", static_cast<double>(z));
     s += " polygon " + std::to_string(t.id) + " (" +
          (t.transparent() ? "alpha " + std::to_string(t.rgba >> 24) + "/255" : std::string("opaque")) + "), samples " +
-         bits + (f->centre ? " and the centre" : "") + ", depth " + depth + " at the centre;";
+         bits + (f->centre ? " and the centre" : "") + ", depth " + depth + " at the centre" +
+         (f == &whole ? " (covering the pixel in front of all that came before it, so held by the pixel itself, "
+                        "not listed)"
+                      : "") +
+         ";";
   }
   s += " Resolve: each sample takes the nearest opaque fragment covering it (or the background) with the "
        "see-through ones in front of it laid over it, farthest first; the pixel is the mean of its " +
@@ -394,8 +501,22 @@ std::string describeList(const FrameJob& job, const TileLists& l, std::uint32_t 
 void resolveTile(const FrameJob& job, const PixelBox& box, const TileLists& l) {
   const int tile_w = box.x1 - box.x0 + 1;
   for (int y = box.y0; y <= box.y1; ++y)
-    for (int x = box.x0; x <= box.x1; ++x)
-      resolvePixel(job, l, l.head[static_cast<std::size_t>(y - box.y0) * tile_w + (x - box.x0)], x, y);
+    for (int x = box.x0; x <= box.x1; ++x) {
+      const std::size_t at = static_cast<std::size_t>(y - box.y0) * tile_w + (x - box.x0);
+      if (l.head[at] != kEndOfList) {
+        resolvePixel(job, l, at, x, y);
+        continue;
+      }
+      // A pixel that nothing reached, or that holds one polygon and no list: that polygon's
+      const std::size_t idx = job.fb.index(x, y);
+      job.fb.overdraw[idx] = l.whole[at] == kNoPolygon ? 0 : 1;
+      if (l.whole[at] == kNoPolygon) continue;
+      const ScreenTriangle& t = job.tris[l.whole[at]];
+      job.fb.depth[idx] = fragmentDepth(t.depth, x, y);
+      job.fb.ids[idx] = t.id;
+      job.fb.rgba[idx] = t.rgba;
+      if (job.coverage) job.coverage[idx] = 1.0f;
+    }
 }
 
 }  // namespace
@@ -456,12 +577,12 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
       TileLists& lists = scratch.lists.local();
       FragmentCounts c;
       fillLists(job, tile, box, lists, c);
-      const auto [at, n] = longestList(lists);
+      const auto [at, n] = longestList(lists, allSamples(pattern.count));
       if (n > longest_n) {
         const int tile_w = box.x1 - box.x0 + 1;
         px = box.x0 + static_cast<int>(at % tile_w), py = box.y0 + static_cast<int>(at / tile_w);
         longest_n = n;
-        longest = describeList(job, lists, lists.head[at], px, py);
+        longest = describeList(job, lists, at, px, py);
       }
       resolveTile(job, box, lists);
       counts.local() += c;
@@ -496,7 +617,9 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("abuffer: fragments stored", fragments.load());
   frame.stats.addCounter("abuffer: samples", static_cast<std::uint64_t>(pattern.count));
   std::uint64_t pools = 0;
-  for (const TileLists& l : scratch.lists) pools += l.pool.capacity() * sizeof(Fragment) + l.head.capacity() * 4;
+  for (const TileLists& l : scratch.lists)
+    pools += l.pool.capacity() * sizeof(Fragment) + l.head.capacity() * 4 + l.whole.capacity() * 4 +
+             l.whole_nearest.capacity() * 4 + l.covered_to.capacity() * 8;
   frame.stats.state_bytes += frameBufferBytes(frame) + tris.capacity() * sizeof(ScreenTriangle) +
                              scratch.bins.bytes() + scratch.polygon_of.capacity() * 4 + pools;
 }
