@@ -51,6 +51,9 @@
 #include <string_view>
 #include <utility>
 
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -69,11 +72,12 @@ namespace {
 constexpr std::string_view kStepBin = "bin";
 constexpr std::string_view kStepTile = "fill and resolve tile";
 constexpr std::string_view kStepPixel = "one pixel's list";
+constexpr std::string_view kStepMagnified = "one pixel magnified";
 constexpr std::string_view kStepDone = "done";
 
 inline constexpr int kDefaultSamples = 4;
 inline constexpr std::uint32_t kEndOfList = 0xFFFFFFFFu;
-inline constexpr std::uint32_t kNoPolygon = 0xFFFFFFFFu;
+inline constexpr std::uint32_t kNoneHeld = 0xFFFFFFFFu;
 
 // One polygon's share of one pixel. Its depth at the centre and at each sample comes from its
 // polygon's plane (THE depth definition) when the list is resolved.
@@ -90,7 +94,7 @@ static_assert(sizeof(Fragment) == 24, "24 bytes a fragment");
 struct TileLists {
   std::vector<std::uint32_t> head;  // per pixel of the tile, its list's first fragment
   // Per pixel: the opaque polygon that covers it wholly and lies in front of everything else
-  // that reached it when it came (kNoPolygon if none), and its nearest depth in the pixel. It
+  // that reached it when it came (kNoneHeld if none), and its nearest depth in the pixel. It
   // is the pixel's fragment without a list; polygons that come later and lie in front of it
   // in part are listed beside it
   std::vector<std::uint32_t> whole;
@@ -210,7 +214,7 @@ int holdWhole(TileLists& l, const DepthRanges& ranges, double row_start, std::si
     const int p = x - x0;  // in the tile's row
     if (head[p] != kEndOfList || whole[p] == polygon) break;
     const DepthRange r = ranges.at(row_start, x);
-    if (!(r.hi < covered_to[p]) || (whole[p] != kNoPolygon && !behind(whole_nearest[p], r.hi))) break;
+    if (!(r.hi < covered_to[p]) || (whole[p] != kNoneHeld && !behind(whole_nearest[p], r.hi))) break;
     covered_to[p] = r.hi;
     whole[p] = polygon;
     whole_nearest[p] = nearestOf(r);
@@ -225,7 +229,7 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
   const int tile_w = box.x1 - box.x0 + 1;
   const std::size_t tile_pixels = static_cast<std::size_t>(tile_w) * (box.y1 - box.y0 + 1);
   l.head.assign(tile_pixels, kEndOfList);
-  l.whole.assign(tile_pixels, kNoPolygon);
+  l.whole.assign(tile_pixels, kNoneHeld);
   l.whole_nearest.resize(tile_pixels);
   l.covered_to.assign(tile_pixels, INFINITY);
   l.pool.clear();
@@ -300,7 +304,7 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
               l.covered_to[at] = r.hi;
               const std::uint32_t dropped = dropBehind(l, h.next, r.hi);
               if (dropped != kEndOfList) l.free.push_back(dropped);
-              if (l.whole[at] != kNoPolygon && behind(l.whole_nearest[at], r.hi)) l.whole[at] = kNoPolygon;
+              if (l.whole[at] != kNoneHeld && behind(l.whole_nearest[at], r.hi)) l.whole[at] = kNoneHeld;
             }
           }
           continue;
@@ -314,9 +318,9 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
         std::uint32_t f = kEndOfList;
         if (opaque && mask == all && centre && r.lo <= r.hi && r.hi < l.covered_to[at]) {
           l.covered_to[at] = r.hi;
-          if (l.whole[at] != kNoPolygon && behind(l.whole_nearest[at], r.hi)) l.whole[at] = kNoPolygon;
+          if (l.whole[at] != kNoneHeld && behind(l.whole_nearest[at], r.hi)) l.whole[at] = kNoneHeld;
           if (head != kEndOfList) f = dropBehind(l, head, r.hi);
-          if (head == kEndOfList && l.whole[at] == kNoPolygon) {
+          if (head == kEndOfList && l.whole[at] == kNoneHeld) {
             l.whole[at] = polygon;
             l.whole_nearest[at] = nearestOf(r);
             if (f != kEndOfList) l.free.push_back(f);
@@ -350,7 +354,7 @@ void gatherPixel(const TileLists& l, std::size_t at, std::uint64_t all, Fragment
   out.clear();
   for (std::uint32_t f = l.head[at]; f != kEndOfList; f = l.pool[f].next) out.push_back(&l.pool[f]);
   whole = {all, l.whole_nearest[at], l.whole[at], kEndOfList, true};
-  if (whole.polygon != kNoPolygon) out.push_back(&whole);
+  if (whole.polygon != kNoneHeld) out.push_back(&whole);
 }
 
 // A fragment's depth at sample s of pixel (x, y).
@@ -362,6 +366,45 @@ float depthAtSample(const FrameJob& job, const Fragment& f, int x, int y, int s)
 // as near and drawn first (the z-buffer's LESS keeps the first of equals).
 bool inFront(float za, const Fragment& a, float zb, const Fragment& b) {
   return za < zb || (za == zb && a.polygon < b.polygon);
+}
+
+// What one sample of a pixel shows: its colour, and the depth of the nearest opaque fragment
+// covering it (NaN where none does).
+struct SampleResult {
+  std::uint32_t colour;
+  float depth;
+  PolygonId id;  // the nearest opaque fragment's polygon (kNoPolygon where none)
+};
+
+// Step 2, for one sample of pixel (x, y) whose fragments are `list`.
+SampleResult resolveSample(const FrameJob& job, const std::vector<const Fragment*>& list, int x, int y, int s,
+                           std::uint32_t background) {
+  auto opaque = [&](const Fragment* f) { return !job.tris[f->polygon].transparent(); };
+  auto colour = [&](const Fragment* f) { return job.tris[f->polygon].rgba; };
+  const std::uint64_t bit = std::uint64_t(1) << s;
+  // The nearest opaque fragment covering the sample hides everything behind it
+  const Fragment* nearest = nullptr;
+  float nearest_z = 0;
+  for (const Fragment* f : list) {
+    if (!(f->mask & bit) || !opaque(f)) continue;
+    const float z = depthAtSample(job, *f, x, y, s);
+    if (!nearest || inFront(z, *f, nearest_z, *nearest)) nearest = f, nearest_z = z;
+  }
+  std::uint32_t c = nearest ? colour(nearest) : background;
+  // The see-through ones nearer than it, laid over it farthest first (of equals, the one drawn
+  // first goes under, as the z-buffer blends them)
+  thread_local std::vector<std::pair<float, const Fragment*>> in_front;
+  in_front.clear();
+  for (const Fragment* f : list) {
+    if (!(f->mask & bit) || opaque(f)) continue;
+    const float z = depthAtSample(job, *f, x, y, s);
+    if (!nearest || z < nearest_z) in_front.push_back({z, f});
+  }
+  std::sort(in_front.begin(), in_front.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second->polygon < b.second->polygon);
+  });
+  for (const auto& [z, f] : in_front) c = blendOver(colour(f), c);
+  return {c, nearest ? nearest_z : NAN, nearest ? job.tris[nearest->polygon].id : kNoPolygon};
 }
 
 // Step 2, for one pixel: its list resolved into colour (the mean of its samples), and the
@@ -419,32 +462,7 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::size_t at, int x
     for (const Fragment* f : list) add(colour(f), static_cast<std::uint32_t>(std::popcount(f->mask)));
     add(background, static_cast<std::uint32_t>(p.count - std::popcount(covered)));
   } else {
-    thread_local std::vector<std::pair<float, const Fragment*>> in_front;
-    for (int s = 0; s < p.count; ++s) {
-      const std::uint64_t bit = std::uint64_t(1) << s;
-      // The nearest opaque fragment covering the sample hides everything behind it
-      const Fragment* nearest = nullptr;
-      float nearest_z = 0;
-      for (const Fragment* f : list) {
-        if (!(f->mask & bit) || !opaque(f)) continue;
-        const float z = depthAtSample(job, *f, x, y, s);
-        if (!nearest || inFront(z, *f, nearest_z, *nearest)) nearest = f, nearest_z = z;
-      }
-      std::uint32_t c = nearest ? colour(nearest) : background;
-      // The see-through ones nearer than it, laid over it farthest first (of equals, the one
-      // drawn first goes under, as the z-buffer blends them)
-      in_front.clear();
-      for (const Fragment* f : list) {
-        if (!(f->mask & bit) || opaque(f)) continue;
-        const float z = depthAtSample(job, *f, x, y, s);
-        if (!nearest || z < nearest_z) in_front.push_back({z, f});
-      }
-      std::sort(in_front.begin(), in_front.end(), [](const auto& a, const auto& b) {
-        return a.first > b.first || (a.first == b.first && a.second->polygon < b.second->polygon);
-      });
-      for (const auto& [z, f] : in_front) c = blendOver(colour(f), c);
-      add(c, 1);
-    }
+    for (int s = 0; s < p.count; ++s) add(resolveSample(job, list, x, y, s, background).colour, 1);
   }
   // The mean of the samples, rounded to nearest
   std::uint32_t out = 0xFF000000u;
@@ -498,6 +516,100 @@ std::string describeList(const FrameJob& job, const TileLists& l, std::size_t at
   return s;
 }
 
+// The pixel with the longest list, kept for the magnified view: its fragments, and the
+// background behind them.
+struct KeptPixel {
+  int x = 0, y = 0;
+  std::uint32_t background = 0;
+  std::vector<Fragment> fragments;
+};
+
+// The part of segment ab inside the square of half-width r around c (Liang and Barsky's
+// clipping), or false when none is.
+bool clipToSquare(glm::dvec2& a, glm::dvec2& b, glm::dvec2 c, double r) {
+  double t0 = 0, t1 = 1;
+  const glm::dvec2 d = b - a;
+  for (int axis = 0; axis < 2; ++axis)
+    for (const double side : {-1.0, 1.0}) {
+      // Inside: side * (a + t d - c) <= r along this axis
+      const double p = side * d[axis], q = r - side * (a[axis] - c[axis]);
+      if (p == 0) {
+        if (q < 0) return false;
+      } else if (p > 0) {
+        t1 = std::min(t1, q / p);
+      } else {
+        t0 = std::max(t0, q / p);
+      }
+    }
+  if (t0 > t1) return false;
+  const glm::dvec2 a0 = a;
+  a = a0 + t0 * d;
+  b = a0 + t1 * d;
+  return true;
+}
+
+// The kept pixel magnified to fill the middle of a frame of z's size: each point shows what the
+// sample nearest it resolves to (colour, and depth of the nearest opaque fragment), the
+// samples are small squares, and the true edges of the triangles of every polygon listed there
+// are drawn through it. Returns the pixel's colour, the mean of its samples.
+std::uint32_t magnifyPixel(const FrameJob& job, const KeptPixel& k, Frame& z, std::vector<TraceOutline>& outlines) {
+  const SamplePattern& p = job.pattern;
+  std::vector<const Fragment*> list;
+  for (const Fragment& f : k.fragments) list.push_back(&f);
+  std::vector<SampleResult> samples;
+  std::uint32_t sum[3] = {0, 0, 0};
+  for (int s = 0; s < p.count; ++s) {
+    samples.push_back(resolveSample(job, list, k.x, k.y, s, k.background));
+    for (int ch = 0; ch < 3; ++ch) sum[ch] += (samples.back().colour >> (8 * ch)) & 0xFFu;
+  }
+  std::uint32_t mean = 0xFF000000u;
+  for (int ch = 0; ch < 3; ++ch)
+    mean |= ((sum[ch] + static_cast<std::uint32_t>(p.count) / 2) / static_cast<std::uint32_t>(p.count)) << (8 * ch);
+
+  // The pixel square: side `size` from (left, top) of z
+  const int size = std::max(1, std::min(z.width, z.height) - 8);
+  const int left = (z.width - size) / 2, top = (z.height - size) / 2;
+  std::fill(z.color.begin(), z.color.end(), 0xFF303030u);
+  auto sampleAt = [&](int s) {  // a sample's place in z, as pixel-centre coordinates
+    return glm::dvec2(left - 0.5 + (0.5 + p.x[s] / static_cast<double>(kSubpixelOne)) * size,
+                      top - 0.5 + (0.5 + p.y[s] / static_cast<double>(kSubpixelOne)) * size);
+  };
+  for (int v = top; v < top + size; ++v)
+    for (int u = left; u < left + size; ++u) {
+      int nearest = 0;
+      double best = INFINITY;
+      for (int s = 0; s < p.count; ++s) {
+        const glm::dvec2 d = sampleAt(s) - glm::dvec2(u, v);
+        if (glm::dot(d, d) < best) best = glm::dot(d, d), nearest = s;
+      }
+      const std::size_t i = static_cast<std::size_t>(v) * z.width + u;
+      z.color[i] = samples[nearest].colour;
+      z.depth[i] = std::isnan(samples[nearest].depth) ? 1.0f : samples[nearest].depth;
+      z.ids[i] = samples[nearest].id;
+    }
+  outlines.push_back(pixelBoxOutline(PixelBox{left, top, left + size - 1, top + size - 1}));
+  for (int s = 0; s < p.count; ++s) {
+    const glm::vec2 c(sampleAt(s));
+    outlines.push_back({c + glm::vec2(-2, -2), c + glm::vec2(2, -2), c + glm::vec2(2, 2), c + glm::vec2(-2, 2)});
+  }
+  // The edges: in window coordinates (pixel centres at integers), clipped to the pixel square
+  const glm::dvec2 centre(k.x, k.y);
+  auto toZ = [&](glm::dvec2 w) {
+    return glm::vec2(left - 0.5 + (w.x - centre.x + 0.5) * size, top - 0.5 + (w.y - centre.y + 0.5) * size);
+  };
+  for (const Fragment& f : k.fragments)
+    for (std::uint32_t i = f.polygon; i < job.tris.size() && job.polygon_of[i] == f.polygon; ++i) {
+      const ScreenTriangle& t = job.tris[i];
+      for (int e = 0; e < 3; ++e) {
+        glm::dvec2 a(t.x[e] / static_cast<double>(kSubpixelOne), t.y[e] / static_cast<double>(kSubpixelOne));
+        glm::dvec2 b(t.x[(e + 1) % 3] / static_cast<double>(kSubpixelOne),
+                     t.y[(e + 1) % 3] / static_cast<double>(kSubpixelOne));
+        if (clipToSquare(a, b, centre, 0.5)) outlines.push_back({toZ(a), toZ(b)});
+      }
+    }
+  return mean;
+}
+
 void resolveTile(const FrameJob& job, const PixelBox& box, const TileLists& l) {
   const int tile_w = box.x1 - box.x0 + 1;
   for (int y = box.y0; y <= box.y1; ++y)
@@ -509,8 +621,8 @@ void resolveTile(const FrameJob& job, const PixelBox& box, const TileLists& l) {
       }
       // A pixel that nothing reached, or that holds one polygon and no list: that polygon's
       const std::size_t idx = job.fb.index(x, y);
-      job.fb.overdraw[idx] = l.whole[at] == kNoPolygon ? 0 : 1;
-      if (l.whole[at] == kNoPolygon) continue;
+      job.fb.overdraw[idx] = l.whole[at] == kNoneHeld ? 0 : 1;
+      if (l.whole[at] == kNoneHeld) continue;
       const ScreenTriangle& t = job.tris[l.whole[at]];
       job.fb.depth[idx] = fragmentDepth(t.depth, x, y);
       job.fb.ids[idx] = t.id;
@@ -572,6 +684,7 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
                         {}});
     std::string longest;
     int longest_n = 0, px = 0, py = 0;
+    KeptPixel kept;
     for (std::size_t tile = 0; tile < tiles; ++tile) {
       const PixelBox box = scratch.bins.tileBox(tile, frame.width, frame.height);
       TileLists& lists = scratch.lists.local();
@@ -583,6 +696,11 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
         px = box.x0 + static_cast<int>(at % tile_w), py = box.y0 + static_cast<int>(at / tile_w);
         longest_n = n;
         longest = describeList(job, lists, at, px, py);
+        std::vector<const Fragment*> list;
+        Fragment whole;
+        gatherPixel(lists, at, allSamples(pattern.count), whole, list);
+        kept = {px, py, fb.rgba[fb.index(px, py)], {}};
+        for (const Fragment* f : list) kept.fragments.push_back(*f);
       }
       resolveTile(job, box, lists);
       counts.local() += c;
@@ -599,6 +717,30 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
     }
     if (longest_n > 0 && in.trace->wants(kStepPixel, 0, 1))
       in.trace->record({kStepPixel, longest, &frame, {pixelBoxOutline(PixelBox{px - 3, py - 3, px + 3, py + 3})}});
+    if (longest_n > 0 && in.trace->wants(kStepMagnified, 0, 1)) {
+      Frame zoom;
+      zoom.width = frame.width;
+      zoom.height = frame.height;
+      zoom.color.assign(frame.color.size(), 0);
+      zoom.depth.assign(frame.depth.size(), 1.0f);
+      zoom.ids.assign(frame.ids.size(), kNoPolygon);
+      zoom.overdraw.assign(frame.overdraw.size(), 0);
+      std::vector<TraceOutline> outlines;
+      const std::uint32_t mean = magnifyPixel(job, kept, zoom, outlines);
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "#%02x%02x%02x", mean & 0xFFu, (mean >> 8) & 0xFFu, (mean >> 16) & 0xFFu);
+      in.trace->record({kStepMagnified,
+                        "Pixel (" + std::to_string(px) + ", " + std::to_string(py) +
+                            ") magnified: the lines are the true edges of the triangles of the " +
+                            std::to_string(kept.fragments.size()) + " polygons listed there, the squares its " +
+                            std::to_string(pattern.count) +
+                            " samples; each point shows what the sample nearest it resolves to (the nearest "
+                            "opaque fragment covering it, see-through ones laid over it) and that fragment's "
+                            "depth. The pixel's colour is the mean of its samples: " +
+                            hex + ".",
+                        &zoom,
+                        outlines});
+    }
     if (in.trace->wants(kStepDone, 0, 1))
       in.trace->record({kStepDone,
                         "Done: edges antialiased (a pixel an edge crosses shows the mean of its samples), "

@@ -2,10 +2,10 @@
 
 #include <gtest/gtest.h>
 
-#include <map>
-
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "hsr/explain.hpp"
@@ -90,7 +90,8 @@ TEST(Explain, ABufferShowsItsTilesAndOnePixelsList) {
   ASSERT_GE(e.steps.size(), 4u);
   EXPECT_EQ(e.steps.front().name, "bin");
   EXPECT_EQ(e.steps.back().name, "done");
-  int tiles = 0, pixel = 0;
+  int tiles = 0, pixel = 0, magnified = 0;
+  std::string magnified_caption;
   for (const ExplainedStep& s : e.steps) {
     tiles += s.name == "fill and resolve tile";
     if (s.name == "one pixel's list") {
@@ -98,9 +99,25 @@ TEST(Explain, ABufferShowsItsTilesAndOnePixelsList) {
       EXPECT_NE(s.caption.find("samples"), std::string::npos) << s.caption;
       EXPECT_NE(s.caption.find("fragments"), std::string::npos) << s.caption;
     }
+    if (s.name == "one pixel magnified") {
+      ++magnified;
+      magnified_caption = s.caption;
+      EXPECT_TRUE(fs::exists(s.picture)) << s.picture;
+    }
   }
   EXPECT_EQ(tiles, 12);  // 4 x 3 tiles of 64 x 64
   EXPECT_EQ(pixel, 1);
+  EXPECT_EQ(magnified, 1);
+  // The magnified pixel's samples average to the colour the frame has there
+  int x = -1, y = -1;
+  unsigned r = 0, g = 0, b = 0;
+  ASSERT_EQ(std::sscanf(magnified_caption.c_str(), "Pixel (%d, %d)", &x, &y), 2) << magnified_caption;
+  const std::size_t hash = magnified_caption.rfind('#');
+  ASSERT_NE(hash, std::string::npos) << magnified_caption;
+  ASSERT_EQ(std::sscanf(magnified_caption.c_str() + hash, "#%2x%2x%2x", &r, &g, &b), 3) << magnified_caption;
+  ASSERT_TRUE(x >= 0 && y >= 0 && x < e.frame.width && y < e.frame.height);
+  const std::uint32_t c = e.frame.color[static_cast<std::size_t>(y) * e.frame.width + x];
+  EXPECT_EQ(c & 0xFFFFFFu, r | (g << 8) | (b << 16)) << magnified_caption;
   const Frame plain = render(scene, cam, o);  // explained tile by tile, drawn in parallel: the same frame
   EXPECT_EQ(e.frame.color, plain.color);
   EXPECT_EQ(e.frame.ids, plain.ids);
