@@ -14,6 +14,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -65,6 +66,21 @@ hsr::Scene fillRateScene() {
     s.beginObject("quad" + std::to_string(k));
     const std::uint32_t m = s.addMaterial({{0.1f * k, 0.5f, 1.0f - 0.1f * k}, 1.0f});
     const float z = -1.0f + 0.1f * static_cast<float>(k);  // later quads are nearer
+    s.addPolygonVertices({{-4, -4, z}, {4, -4, z}, {4, 4, z}, {-4, 4, z}}, m);
+  }
+  return s;
+}
+
+// `layers` see-through (alpha 0.5) quads far larger than the view, stacked along z, listed back
+// to front: every pixel's depth complexity is `layers`, and nothing hides anything.
+hsr::Scene glassLayersScene(int layers) {
+  hsr::Scene s;
+  s.name = "glass";
+  for (int k = 0; k < layers; ++k) {
+    s.beginObject("glass" + std::to_string(k));
+    const float t = static_cast<float>(k) / static_cast<float>(std::max(layers - 1, 1));
+    const std::uint32_t m = s.addMaterial({{t, 0.5f, 1.0f - t}, 0.5f});
+    const float z = -1.0f + 1.5f * t;  // later quads are nearer
     s.addPolygonVertices({{-4, -4, z}, {4, -4, z}, {4, 4, z}, {-4, 4, z}}, m);
   }
   return s;
@@ -202,6 +218,31 @@ void printABufferTable(const MedianCollector& reporter) {
   }
   std::printf("(ratio = llvmpipe 4x MSAA time / A-buffer time: >= 1 means as fast; MAD: mean |difference| per "
               "channel, 0-255)\n");
+  // Time and memory against depth complexity: see-through layers, none hiding another, so every
+  // pixel lists them all
+  std::printf("A-buffer (4 samples) against depth complexity: full-screen see-through layers, %dx%d, threads=%d\n"
+              "%8s %10s %12s %10s %10s\n",
+              kWidth, kHeight, g_threads, "layers", "ms", "frags/px", "MiB", "B/px");
+  for (const int layers : {1, 2, 4, 8, 16, 32}) {
+    const hsr::Scene scene = glassLayersScene(layers);
+    hsr::RenderOptions o;
+    o.algorithm = "abuffer";
+    o.threads = g_threads;
+    hsr::Frame f;
+    hsr::render(scene, fillRateCamera(), o, f);  // warm
+    std::vector<double> ms;
+    for (int r = 0; r < 5; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      hsr::render(scene, fillRateCamera(), o, f);
+      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ms.begin(), ms.end());
+    const double px = double(kWidth) * kHeight;
+    std::printf("%8d %10.2f %12.2f %10.1f %10.1f\n", layers, ms[ms.size() / 2],
+                static_cast<double>(f.stats.fragments_written) / px, static_cast<double>(f.stats.state_bytes) / 1048576.0,
+                static_cast<double>(f.stats.state_bytes) / px);
+  }
+  std::printf("(median of 5 frames; state: frame buffers, fragment lists and the scene's screen triangles)\n");
   for (BenchScene& b : benchScenes()) {
     bool any = false;
     for (const int n : {1, 4, 8, 16, 32, 64}) {

@@ -407,6 +407,45 @@ SampleResult resolveSample(const FrameJob& job, const std::vector<const Fragment
   return {c, nearest ? nearest_z : NAN, nearest ? job.tris[nearest->polygon].id : kNoPolygon};
 }
 
+// The mean of a pixel's samples from their channel sums, rounded to nearest (opaque). The sample
+// counts are powers of two, so it divides by shifting.
+std::uint32_t meanOfSamples(const std::uint32_t sum[3], int count) {
+  const int shift = std::countr_zero(static_cast<unsigned>(count));
+  std::uint32_t out = 0xFF000000u;
+  for (int ch = 0; ch < 3; ++ch) out |= ((sum[ch] + static_cast<std::uint32_t>(count) / 2) >> shift) << (8 * ch);
+  return out;
+}
+
+// Every sample of pixel (x, y) resolves alike when each fragment covers them all and their depth
+// ranges over the pixel are apart (each wholly behind the next by the safe gap): they lie in the
+// same order at every sample (see-through layers over a pixel, say). Then the one colour they
+// all resolve to is the nearest opaque fragment's (or the background) with the see-through ones
+// in front of it laid over it, farthest first, as resolveSample() would find at each; returns
+// false when they do not resolve alike.
+bool resolveAlike(const FrameJob& job, const std::vector<const Fragment*>& list, int x, int y,
+                  std::uint32_t background, std::uint32_t* colour) {
+  const std::uint64_t all = allSamples(job.pattern.count);
+  thread_local std::vector<std::pair<DepthRange, const Fragment*>> order;
+  order.clear();
+  for (const Fragment* f : list) {
+    if (f->mask != all) return false;
+    const DepthPlane& plane = job.tris[f->polygon].depth;
+    const DepthRange r = DepthRanges(plane, x, y, x, y).at(depthRowStart(plane, y), x);
+    if (!(r.lo <= r.hi)) return false;
+    order.push_back({r, f});
+  }
+  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first.lo < b.first.lo; });
+  for (std::size_t i = 1; i < order.size(); ++i)
+    if (!behind(order[i].first.lo, order[i - 1].first.hi)) return false;
+  // Nearest first: up to the first opaque one, then back out over the see-through ones
+  std::size_t opaque = 0;
+  while (opaque < order.size() && job.tris[order[opaque].second->polygon].transparent()) ++opaque;
+  std::uint32_t c = opaque < order.size() ? job.tris[order[opaque].second->polygon].rgba : background;
+  for (std::size_t i = opaque; i-- > 0;) c = blendOver(job.tris[order[i].second->polygon].rgba, c);
+  *colour = c;
+  return true;
+}
+
 // Step 2, for one pixel: its list resolved into colour (the mean of its samples), and the
 // nearest opaque fragment at the centre into id and depth.
 void resolvePixel(const FrameJob& job, const TileLists& l, std::size_t at, int x, int y) {
@@ -461,14 +500,13 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::size_t at, int x
   if (!shared) {
     for (const Fragment* f : list) add(colour(f), static_cast<std::uint32_t>(std::popcount(f->mask)));
     add(background, static_cast<std::uint32_t>(p.count - std::popcount(covered)));
+  } else if (std::uint32_t c; resolveAlike(job, list, x, y, background, &c)) {
+    add(c, static_cast<std::uint32_t>(p.count));
   } else {
     for (int s = 0; s < p.count; ++s) add(resolveSample(job, list, x, y, s, background).colour, 1);
   }
   // The mean of the samples, rounded to nearest
-  std::uint32_t out = 0xFF000000u;
-  for (int ch = 0; ch < 3; ++ch)
-    out |= ((sum[ch] + static_cast<std::uint32_t>(p.count) / 2) / static_cast<std::uint32_t>(p.count)) << (8 * ch);
-  job.fb.rgba[idx] = out;
+  job.fb.rgba[idx] = meanOfSamples(sum, p.count);
 }
 
 // ---- the teaching view
@@ -562,9 +600,7 @@ std::uint32_t magnifyPixel(const FrameJob& job, const KeptPixel& k, Frame& z, st
     samples.push_back(resolveSample(job, list, k.x, k.y, s, k.background));
     for (int ch = 0; ch < 3; ++ch) sum[ch] += (samples.back().colour >> (8 * ch)) & 0xFFu;
   }
-  std::uint32_t mean = 0xFF000000u;
-  for (int ch = 0; ch < 3; ++ch)
-    mean |= ((sum[ch] + static_cast<std::uint32_t>(p.count) / 2) / static_cast<std::uint32_t>(p.count)) << (8 * ch);
+  const std::uint32_t mean = meanOfSamples(sum, p.count);
 
   // The pixel square: side `size` from (left, top) of z
   const int size = std::max(1, std::min(z.width, z.height) - 8);
