@@ -27,17 +27,34 @@ SamplePattern fromSixteenths(const int (*xy)[2], int n) {
   return p;
 }
 
-// The n Hammersley points (n = 2^bits) on the sub-pixel grid: sample i at ((i + 1/2) / n,
-// (reverse(i) + 1/2) / n) of the pixel square.
-SamplePattern hammersley(int bits) {
+// 32 and 64 points placed for straight edges: the share of samples on one side of an edge
+// through the pixel is, on average over random edges, as close to the share of the pixel's area
+// there as annealing could make it (Dobkin & Mitchell's random-edge discrepancy; found from the
+// Hammersley points by apps/sample_patterns: `hsr_sample_patterns 32 400000 40000 7 0.3` and
+// `hsr_sample_patterns 64 600000 100000 7 0.3`). Mean |share of samples - share of area| over
+// 200,000 random edges: 0.0135 (32) and 0.0080 (64), against the Hammersley points' 0.0191 and
+// 0.0113. In 1/256 pixel from the centre, y down.
+constexpr int kEdge32[32][2] = {
+    {55, 109}, {-51, 107}, {-43, -64}, {-18, -16}, {4, -51}, {-116, 63}, {-99, 112}, {-69, 65},
+    {88, 74}, {-112, -103}, {-17, -109}, {82, -76}, {114, -40}, {87, -4}, {107, 109}, {-67, -19},
+    {-115, -21}, {-20, 67}, {0, 109}, {23, -81}, {114, 37}, {60, 34}, {47, -115}, {-93, -66},
+    {58, -43}, {109, -106}, {8, 30}, {31, 69}, {-64, -107}, {34, -7}, {-93, 21}, {-44, 22}};
+constexpr int kEdge64[64][2] = {
+    {16, 68}, {13, 108}, {-115, 76}, {-111, -26}, {23, -48}, {-48, -1}, {14, 21}, {81, -13},
+    {112, -28}, {-21, -15}, {-83, 113}, {45, 116}, {111, -57}, {46, -101}, {-111, -118}, {41, 80},
+    {53, -30}, {48, -68}, {-33, 44}, {17, -84}, {-52, 111}, {36, 38}, {-33, -80}, {113, 5},
+    {-114, 41}, {-7, 56}, {63, 50}, {13, -119}, {-16, -104}, {-112, -55}, {115, 38}, {-21, 87},
+    {27, -8}, {-9, 14}, {-82, 21}, {78, -49}, {57, 9}, {-82, -103}, {-84, 55}, {-115, 112},
+    {-81, -61}, {-9, -65}, {-37, -47}, {-58, 31}, {3, -30}, {-112, 7}, {77, -85}, {-65, -83},
+    {-81, -14}, {73, -117}, {89, 63}, {111, -114}, {-48, -120}, {115, 77}, {114, 114}, {84, 21},
+    {-79, 83}, {111, -85}, {68, 90}, {-58, -32}, {-48, 72}, {-17, 117}, {86, 110}, {-111, -84}};
+
+SamplePattern fromSubpixels(const int (*xy)[2], int n) {
   SamplePattern p;
-  p.count = 1 << bits;
-  const int cell = kSubpixelOne / p.count;  // 8 (32 samples) or 4 (64)
-  for (int i = 0; i < p.count; ++i) {
-    int r = 0;
-    for (int b = 0; b < bits; ++b) r |= ((i >> b) & 1) << (bits - 1 - b);
-    p.x[i] = i * cell + cell / 2 - kSubpixelOne / 2;
-    p.y[i] = r * cell + cell / 2 - kSubpixelOne / 2;
+  p.count = n;
+  for (int i = 0; i < n; ++i) {
+    p.x[i] = xy[i][0];
+    p.y[i] = xy[i][1];
   }
   return p;
 }
@@ -56,8 +73,8 @@ const SamplePattern& samplePattern(int count) {
     p[1] = fromSixteenths(kD3D4, 4);
     p[2] = fromSixteenths(kD3D8, 8);
     p[3] = fromSixteenths(kD3D16, 16);
-    p[4] = hammersley(5);
-    p[5] = hammersley(6);
+    p[4] = fromSubpixels(kEdge32, 32);
+    p[5] = fromSubpixels(kEdge64, 64);
     return p;
   }();
   for (const SamplePattern& p : patterns)

@@ -7,9 +7,10 @@
 //
 // The patterns (offsets from the pixel centre, y down, in 1/16 pixel):
 //   1 sample: the centre;  4, 8, 16: Direct3D's standard patterns (4: (-2,-6) (6,-2) (-6,2)
-//   (2,6)), which every rasterizer uses for 4x MSAA;  32 and 64: the Hammersley points
-//   (i + 1/2) / n across, bit-reversed i down: one sample in each column and each row of an
-//   n x n grid and in each cell of an 8x4 or 8x8 grid, so no edge direction lines up with them.
+//   (2,6)), which every rasterizer uses for 4x MSAA;  32 and 64: points placed so that the share
+//   of samples on one side of a straight edge is, on average over random edges, close to the
+//   share of the pixel's area there (found by annealing from the Hammersley points; how, in
+//   samples.cpp).
 
 #include <cstdint>
 
