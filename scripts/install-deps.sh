@@ -2,9 +2,9 @@
 # Installs the Debian packages hsr builds, tests and benchmarks with. Idempotent.
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config
-      libglm-dev libassimp-dev zlib1g-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtbb-dev libstb-dev
+      libglm-dev libgmp-dev libassimp-dev zlib1g-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtbb-dev libstb-dev
       libgtest-dev libgmock-dev libbenchmark-dev
-      libosmesa6-dev libembree-dev assimp-testmodels
+      libosmesa6-dev libembree-dev libcgal-dev libpolyclipping-dev libboost-dev assimp-testmodels
       clang-14 libclang-rt-14-dev)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -1,0 +1,822 @@
+// Weiler-Atherton clipping (Weiler & Atherton 1977; Weiler 1980, "Polygon comparison using a
+// graph representation"): the boundaries of A and B are cut where they meet, each piece of
+// boundary is labelled inside or outside the other polygon, the pieces an operation keeps are
+// chosen, and the result is walked: follow A's vertex list, and where it meets B switch to B's
+// list (and back), until the walk comes home. The notes' four operations differ only in which
+// pieces they keep:
+//   A∩B: pieces of A inside B, and of B inside A;
+//   A∪B: pieces of A outside B, and of B outside A;
+//   A−B: pieces of A outside B, and of B inside A walked backwards; B−A the other way round.
+//
+// Exactness (the guarantee of this file): every edge lies on a line through two grid points,
+// a x + b y + c = 0 with integer a, b, c; every vertex is an input vertex or the crossing of
+// two such lines, (X / D, Y / D) in integers. With |coordinates| <= 2^28, a, b < 2^30,
+// c < 2^59, D < 2^60, X and Y < 2^89, and the side of a line a vertex lies on,
+// a X + b Y + c D, stays below 2^120: every test is an exact integer sign in __int128. Only
+// comparing two vertices' coordinates needs 192 bits (compareFractions).
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <gmpxx.h>
+
+#include "hsr/clipping.hpp"
+
+namespace hsr {
+namespace {
+
+using i128 = __int128;
+using u128 = unsigned __int128;
+
+int sign(i128 v) { return (v > 0) - (v < 0); }
+
+// A line a x + b y + c = 0 through p in direction (dx, dy) = (-b, a): positive on its left.
+struct Line {
+  std::int64_t a = 0, b = 0, c = 0;
+};
+
+Line lineThrough(GridPoint p, std::int64_t dx, std::int64_t dy) { return {-dy, dx, dy * p.x - dx * p.y}; }
+
+// Exact vertex (X / D, Y / D), D > 0.
+struct Vertex {
+  i128 x = 0, y = 0;
+  std::int64_t d = 1;
+};
+
+Vertex crossing(const Line& l, const Line& m) {
+  i128 d = i128{l.a} * m.b - i128{m.a} * l.b;
+  i128 x = i128{l.b} * m.c - i128{m.b} * l.c, y = i128{m.a} * l.c - i128{l.a} * m.c;
+  if (d < 0) d = -d, x = -x, y = -y;
+  return {x, y, static_cast<std::int64_t>(d)};
+}
+
+// Which side of line l the vertex lies on: +1 left, -1 right, 0 on it.
+int side(const Line& l, const Vertex& v) { return sign(i128{l.a} * v.x + i128{l.b} * v.y + i128{l.c} * v.d); }
+int side(const Line& l, GridPoint p) { return sign(i128{l.a} * p.x + i128{l.b} * p.y + l.c); }
+
+// sign(p / q - r / s) for q, s > 0, |p|, |r| < 2^127: the products need 192 bits.
+struct U192 {
+  std::uint64_t w[3];
+};
+U192 multiply(u128 a, std::uint64_t b) {
+  const u128 lo = static_cast<u128>(static_cast<std::uint64_t>(a)) * b;
+  const u128 hi = static_cast<u128>(static_cast<std::uint64_t>(a >> 64)) * b;
+  const u128 mid = (lo >> 64) + static_cast<std::uint64_t>(hi);
+  return {{static_cast<std::uint64_t>(lo), static_cast<std::uint64_t>(mid),
+           static_cast<std::uint64_t>(hi >> 64) + static_cast<std::uint64_t>(mid >> 64)}};
+}
+int compareFractions(i128 p, std::int64_t q, i128 r, std::int64_t s) {
+  const int sp = sign(p), sr = sign(r);
+  if (sp != sr) return sp > sr ? 1 : -1;
+  if (sp == 0) return 0;
+  const U192 left = multiply(static_cast<u128>(sp > 0 ? p : -p), static_cast<std::uint64_t>(s));
+  const U192 right = multiply(static_cast<u128>(sr > 0 ? r : -r), static_cast<std::uint64_t>(q));
+  for (int k = 2; k >= 0; --k)
+    if (left.w[k] != right.w[k]) return (left.w[k] > right.w[k] ? 1 : -1) * sp;
+  return 0;
+}
+
+// Directions: integer vectors of edges. cross > 0: b turns left of a.
+i128 cross(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) { return i128{ax} * by - i128{ay} * bx; }
+i128 dot(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) { return i128{ax} * bx + i128{ay} * by; }
+
+struct Direction {
+  std::int64_t x = 0, y = 0;
+  Direction reversed() const { return {-x, -y}; }
+};
+
+// Turning counter-clockwise from `from`, is `a` met before `b`? (angles in [0, 360), `from`
+// itself at 0).
+bool metBefore(Direction from, Direction a, Direction b) {
+  auto half = [&](Direction v) {
+    const i128 c = cross(from.x, from.y, v.x, v.y);
+    return c < 0 || (c == 0 && dot(from.x, from.y, v.x, v.y) < 0) ? 1 : 0;
+  };
+  const int ha = half(a), hb = half(b);
+  if (ha != hb) return ha < hb;
+  return cross(a.x, a.y, b.x, b.y) > 0;
+}
+bool sameDirection(Direction a, Direction b) {
+  return cross(a.x, a.y, b.x, b.y) == 0 && dot(a.x, a.y, b.x, b.y) > 0;
+}
+
+// The region left of a boundary that comes into a point along `in` and leaves along `out`:
+// does direction u point into it? (strictly: not along the boundary itself)
+bool pointsInto(Direction in, Direction out, Direction u) {
+  if (sameDirection(u, out) || sameDirection(u, in.reversed())) return false;
+  return metBefore(out, u, in.reversed());
+}
+
+// Crossing-number test of a grid point that is on no edge of `region`, against its rings.
+bool insideRegion(GridPoint p, const GridRegion& region) {
+  bool inside = false;
+  auto ring = [&](const GridRing& r) {
+    for (std::size_t i = 0, n = r.size(); i < n; ++i) {
+      const GridPoint a = r[i], b = r[(i + 1) % n];
+      if ((a.y > p.y) == (b.y > p.y)) continue;
+      // The edge crosses the horizontal through p; it crosses right of p when p lies left of
+      // the edge walked upwards.
+      const int s = sign(cross(b.x - a.x, b.y - a.y, p.x - a.x, p.y - a.y));
+      if (b.y > a.y ? s > 0 : s < 0) inside = !inside;
+    }
+  };
+  for (const GridPolygon& poly : region) {
+    ring(poly.outer);
+    for (const GridRing& h : poly.holes) ring(h);
+  }
+  return inside;
+}
+
+i128 twiceSignedArea(const GridRing& r) {
+  i128 s = 0;
+  for (std::size_t i = 0, n = r.size(); i < n; ++i)
+    s += cross(r[i].x, r[i].y, r[(i + 1) % n].x, r[(i + 1) % n].y);
+  return s;
+}
+
+// ------------------------------------------------------------------------------------------
+// The graph of both boundaries
+
+enum Owner : std::uint8_t { kA = 0, kB = 1 };
+
+struct Edge {
+  GridPoint p;         // start vertex
+  Direction d;         // to the end vertex
+  Line line;
+  int node0, node1;    // graph nodes of the two ends
+  int ring;            // ring index (over both regions)
+  Owner owner;
+  std::int64_t x0, x1, y0, y1;  // box
+};
+
+// A point on an edge, at parameter num / den (0 at its start, 1 at its end).
+struct Hit {
+  int edge;
+  std::int64_t num, den;
+  int node;
+};
+
+// A piece of boundary between two consecutive points on an edge.
+struct Piece {
+  int from, to, edge;
+};
+
+enum class Label : std::uint8_t { Outside, Inside, SharedSame, SharedOpposite };
+
+struct Ring {
+  Owner owner;
+  int first_edge, edge_count;
+  int first_piece = 0, piece_count = 0;
+};
+
+class Graph {
+ public:
+  std::vector<Vertex> nodes;
+  std::vector<Edge> edges;
+  std::vector<Ring> rings;
+  std::vector<Hit> hits;
+  std::vector<Piece> pieces;
+  std::vector<Label> labels;
+  std::vector<int> parent;  // union-find over nodes that turn out to be one point
+
+  int find(int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  }
+  void unite(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+
+  void addRing(const GridRing& r, bool counter_clockwise, Owner owner) {
+    const bool as_given = (twiceSignedArea(r) > 0) == counter_clockwise;
+    const int n = static_cast<int>(r.size()), base = static_cast<int>(nodes.size());
+    const int ring = static_cast<int>(rings.size());
+    rings.push_back({owner, static_cast<int>(edges.size()), n});
+    auto at = [&](int i) { return as_given ? r[i] : r[n - 1 - i]; };
+    for (int i = 0; i < n; ++i) nodes.push_back({at(i).x, at(i).y, 1});
+    for (int i = 0; i < n; ++i) {
+      const GridPoint p = at(i), q = at((i + 1) % n);
+      Edge e{p, {q.x - p.x, q.y - p.y}, lineThrough(p, q.x - p.x, q.y - p.y), base + i, base + (i + 1) % n, ring, owner,
+             std::min(p.x, q.x), std::max(p.x, q.x), std::min(p.y, q.y), std::max(p.y, q.y)};
+      edges.push_back(e);
+    }
+  }
+  void addRegion(const GridRegion& region, Owner owner) {
+    for (const GridPolygon& poly : region) {
+      addRing(poly.outer, true, owner);
+      for (const GridRing& h : poly.holes) addRing(h, false, owner);
+    }
+  }
+
+  // Where grid point p (node `node`) lies on edge e, as a parameter.
+  void hitAt(int e, GridPoint p, int node) {
+    const Edge& E = edges[e];
+    hits.push_back({e, static_cast<std::int64_t>(dot(p.x - E.p.x, p.y - E.p.y, E.d.x, E.d.y)),
+                    static_cast<std::int64_t>(dot(E.d.x, E.d.y, E.d.x, E.d.y)), node});
+  }
+  // Where edge e crosses line m, as a parameter.
+  void hitCrossing(int e, const Line& m, int node) {
+    const Edge& E = edges[e];
+    std::int64_t num = -(m.a * E.p.x + m.b * E.p.y + m.c), den = m.a * E.d.x + m.b * E.d.y;
+    if (den < 0) num = -num, den = -den;
+    hits.push_back({e, num, den, node});
+  }
+
+  // 1. Find where the boundaries meet, and insert those points into both vertex lists.
+  void intersect(int ea, int eb) {
+    const Edge &A = edges[ea], &B = edges[eb];
+    const GridPoint a0 = A.p, a1{A.p.x + A.d.x, A.p.y + A.d.y};
+    const GridPoint b0 = B.p, b1{B.p.x + B.d.x, B.p.y + B.d.y};
+    const int s0 = side(B.line, a0), s1 = side(B.line, a1);
+    if (s0 * s1 > 0) return;
+    const int r0 = side(A.line, b0), r1 = side(A.line, b1);
+    if (r0 * r1 > 0) return;
+    if (s0 == 0 && s1 == 0) {
+      // Collinear: each end that lies inside the other edge is a point of both boundaries;
+      // ends that coincide are one node.
+      auto place = [&](int on, GridPoint p, int node, int start, int end) {
+        const Edge& E = edges[on];
+        const i128 t = dot(p.x - E.p.x, p.y - E.p.y, E.d.x, E.d.y), len = dot(E.d.x, E.d.y, E.d.x, E.d.y);
+        if (t < 0 || t > len) return;
+        if (t == 0) unite(node, start);
+        else if (t == len) unite(node, end);
+        else hitAt(on, p, node);
+      };
+      place(ea, b0, B.node0, A.node0, A.node1);
+      place(ea, b1, B.node1, A.node0, A.node1);
+      place(eb, a0, A.node0, B.node0, B.node1);
+      place(eb, a1, A.node1, B.node0, B.node1);
+      return;
+    }
+    // The lines cross at one point, and it lies on both edges.
+    if (s0 == 0 || s1 == 0) {  // at an end of A's edge
+      const GridPoint p = s0 == 0 ? a0 : a1;
+      const int node = s0 == 0 ? A.node0 : A.node1;
+      if (r0 == 0) unite(node, B.node0);
+      else if (r1 == 0) unite(node, B.node1);
+      else hitAt(eb, p, node);
+    } else if (r0 == 0 || r1 == 0) {  // at an end of B's edge, inside A's
+      hitAt(ea, r0 == 0 ? b0 : b1, r0 == 0 ? B.node0 : B.node1);
+    } else {  // a proper crossing: a new vertex on both lists
+      const int node = static_cast<int>(nodes.size());
+      nodes.push_back(crossing(A.line, B.line));
+      parent.push_back(node);
+      hitCrossing(ea, B.line, node);
+      hitCrossing(eb, A.line, node);
+    }
+  }
+
+  void build(const GridRegion& a, const GridRegion& b) {
+    addRegion(a, kA);
+    const int first_b = static_cast<int>(edges.size());
+    addRegion(b, kB);
+    parent.resize(nodes.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    // Every edge's own ends
+    for (int e = 0; e < static_cast<int>(edges.size()); ++e) {
+      hits.push_back({e, 0, 1, edges[e].node0});
+      hits.push_back({e, 1, 1, edges[e].node1});
+    }
+    // Every pair of an edge of A and an edge of B whose boxes overlap. B's edges sorted by
+    // their left end, so that each edge of A looks only at those that start before it ends.
+    const int edge_count = static_cast<int>(edges.size());
+    auto pairs = [&](int first0, int end0, int first1, int end1, bool other_ring_only) {
+      std::vector<int> by_x(static_cast<std::size_t>(end1 - first1));
+      std::iota(by_x.begin(), by_x.end(), first1);
+      std::sort(by_x.begin(), by_x.end(), [&](int l, int r) { return edges[l].x0 < edges[r].x0; });
+      for (int ea = first0; ea < end0; ++ea) {
+        const Edge& A = edges[ea];
+        for (int eb : by_x) {
+          const Edge& B = edges[eb];
+          if (B.x0 > A.x1) break;
+          if (B.x1 < A.x0 || B.y1 < A.y0 || B.y0 > A.y1) continue;
+          if (other_ring_only && B.ring <= A.ring) continue;
+          intersect(ea, eb);
+        }
+      }
+    };
+    pairs(0, first_b, first_b, edge_count, false);
+    // Rings of one region may touch at points: find those too, so that a point where two rings
+    // of one region meet is one node (needed only where a region has several rings)
+    if (first_b > 0 && edges[first_b - 1].ring > edges[0].ring) pairs(0, first_b, 0, first_b, true);
+    if (first_b < edge_count && edges[edge_count - 1].ring > edges[first_b].ring) pairs(first_b, edge_count, first_b, edge_count, true);
+    // Sort each edge's points along it; points at the same place are one node.
+    std::sort(hits.begin(), hits.end(), [](const Hit& l, const Hit& r) {
+      if (l.edge != r.edge) return l.edge < r.edge;
+      return i128{l.num} * r.den < i128{r.num} * l.den;
+    });
+    for (std::size_t i = 1; i < hits.size(); ++i)
+      if (hits[i].edge == hits[i - 1].edge && i128{hits[i].num} * hits[i - 1].den == i128{hits[i - 1].num} * hits[i].den)
+        unite(hits[i].node, hits[i - 1].node);
+    // The pieces, ring by ring in boundary order
+    std::size_t h = 0;
+    for (Ring& r : rings) {
+      r.first_piece = static_cast<int>(pieces.size());
+      for (int e = r.first_edge; e < r.first_edge + r.edge_count; ++e) {
+        int last = -1;
+        for (; h < hits.size() && hits[h].edge == e; ++h) {
+          const int node = find(hits[h].node);
+          if (last >= 0 && node != last) pieces.push_back({last, node, e});
+          last = node;
+        }
+      }
+      r.piece_count = static_cast<int>(pieces.size()) - r.first_piece;
+    }
+  }
+
+  int nextInRing(int p) const {
+    const Ring& r = rings[edges[pieces[p].edge].ring];
+    return p + 1 < r.first_piece + r.piece_count ? p + 1 : r.first_piece;
+  }
+  Direction direction(int p) const { return edges[pieces[p].edge].d; }
+  Owner owner(int p) const { return edges[pieces[p].edge].owner; }
+};
+
+// For each node, the passages of each region's boundary through it: (piece in, piece out).
+struct Passages {
+  std::vector<int> start;                 // per node + 1
+  std::vector<std::pair<int, int>> items;
+  void build(const Graph& g, Owner owner) {
+    start.assign(g.nodes.size() + 1, 0);
+    for (std::size_t p = 0; p < g.pieces.size(); ++p)
+      if (g.owner(static_cast<int>(p)) == owner) ++start[g.pieces[p].to + 1];
+    for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    items.resize(start.back());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t p = 0; p < g.pieces.size(); ++p)
+      if (g.owner(static_cast<int>(p)) == owner)
+        items[fill[g.pieces[p].to]++] = {static_cast<int>(p), g.nextInRing(static_cast<int>(p))};
+  }
+  bool touches(int node) const { return start[node] != start[node + 1]; }
+};
+
+// 2. Label each piece: inside or outside the other region, or shared with its boundary (the
+// same way round or the opposite way). A piece that starts where the other boundary passes
+// is labelled by the angle it leaves at; one that starts elsewhere inherits the label of the
+// piece before it (its status can change only where the boundaries meet); a ring that never
+// meets the other boundary is inside or outside as a whole (a crossing-number test).
+void label(Graph& g, const GridRegion& other_a, const GridRegion& other_b) {
+  g.labels.assign(g.pieces.size(), Label::Outside);
+  Passages passages[2];
+  passages[kA].build(g, kA);
+  passages[kB].build(g, kB);
+  // Shared pieces: the same two nodes on both boundaries
+  std::vector<std::pair<std::pair<int, int>, int>> keys;
+  for (std::size_t p = 0; p < g.pieces.size(); ++p)
+    if (g.owner(static_cast<int>(p)) == kB)
+      keys.push_back({{std::min(g.pieces[p].from, g.pieces[p].to), std::max(g.pieces[p].from, g.pieces[p].to)}, static_cast<int>(p)});
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::int8_t> shared(g.pieces.size(), 0);  // +1 same way, -1 opposite
+  for (std::size_t p = 0; p < g.pieces.size(); ++p) {
+    const Piece& P = g.pieces[p];
+    if (g.owner(static_cast<int>(p)) != kA) continue;
+    const std::pair<int, int> key{std::min(P.from, P.to), std::max(P.from, P.to)};
+    const auto it = std::lower_bound(keys.begin(), keys.end(), std::pair<std::pair<int, int>, int>{key, -1});
+    if (it == keys.end() || it->first != key) continue;
+    const int q = it->second;
+    const std::int8_t way = g.pieces[q].from == P.from ? 1 : -1;
+    shared[p] = shared[q] = way;
+  }
+
+  for (const Ring& r : g.rings) {
+    if (r.piece_count == 0) continue;
+    const Owner other = r.owner == kA ? kB : kA;
+    const Passages& there = passages[other];
+    auto decided = [&](int p, Label* out) {
+      if (shared[p] != 0) {
+        *out = shared[p] > 0 ? Label::SharedSame : Label::SharedOpposite;
+        return true;
+      }
+      const int node = g.pieces[p].from;
+      if (!there.touches(node)) return false;
+      bool inside = false;
+      for (int k = there.start[node]; k < there.start[node + 1]; ++k) {
+        const auto [in, out] = there.items[k];
+        inside = inside || pointsInto(g.direction(in), g.direction(out), g.direction(p));
+      }
+      *out = inside ? Label::Inside : Label::Outside;
+      return true;
+    };
+    int start = -1;
+    Label current = Label::Outside;
+    for (int p = r.first_piece; p < r.first_piece + r.piece_count && start < 0; ++p)
+      if (decided(p, &current)) start = p;
+    if (start < 0) {  // never meets the other boundary
+      const GridPoint v = g.edges[g.pieces[r.first_piece].edge].p;
+      const bool inside = insideRegion(v, r.owner == kA ? other_b : other_a);
+      for (int p = r.first_piece; p < r.first_piece + r.piece_count; ++p)
+        g.labels[p] = inside ? Label::Inside : Label::Outside;
+      continue;
+    }
+    int p = start;
+    do {
+      Label l;
+      if (decided(p, &l)) current = l;
+      else if (current == Label::SharedSame || current == Label::SharedOpposite)
+        current = Label::Outside;  // cannot happen: a shared piece ends where the boundaries meet
+      g.labels[p] = current;
+      p = g.nextInRing(p);
+    } while (p != start);
+  }
+}
+
+// A kept piece, walked from -> to along direction d on line `line` (reversed pieces turned).
+struct Kept {
+  int from, to;
+  Direction d;
+  Line line;
+};
+
+// 3. Keep the pieces the operation asks for.
+std::vector<Kept> keep(const Graph& g, BooleanOp op) {
+  std::vector<Kept> kept;
+  for (std::size_t i = 0; i < g.pieces.size(); ++i) {
+    const int p = static_cast<int>(i);
+    const Owner o = g.owner(p);
+    const Label l = g.labels[i];
+    bool forward = false, backward = false;
+    switch (op) {
+      case BooleanOp::Intersection:
+        forward = l == Label::Inside || (l == Label::SharedSame && o == kA);
+        break;
+      case BooleanOp::Union:
+        forward = l == Label::Outside || (l == Label::SharedSame && o == kA);
+        break;
+      case BooleanOp::AMinusB:
+        forward = o == kA && (l == Label::Outside || l == Label::SharedOpposite);
+        backward = o == kB && l == Label::Inside;
+        break;
+      case BooleanOp::BMinusA:
+        forward = o == kB && (l == Label::Outside || l == Label::SharedOpposite);
+        backward = o == kA && l == Label::Inside;
+        break;
+    }
+    const Edge& e = g.edges[g.pieces[i].edge];
+    if (forward) kept.push_back({g.pieces[i].from, g.pieces[i].to, e.d, e.line});
+    if (backward) kept.push_back({g.pieces[i].to, g.pieces[i].from, e.d.reversed(), {-e.line.a, -e.line.b, -e.line.c}});
+  }
+  return kept;
+}
+
+struct RingOut {
+  std::vector<int> nodes;
+  std::vector<Direction> out;  // direction leaving each node
+  std::vector<Line> lines;     // the line of that piece
+};
+
+// 4. Walk the kept pieces into closed rings: from each piece go on with the piece that leaves
+// its end; where several leave one point (the regions touch there), take the first one met
+// turning clockwise from the way back, so that each ring keeps its region on its left and
+// closes on the nearest corner.
+std::vector<RingOut> walk(const Graph& g, const std::vector<Kept>& kept) {
+  std::vector<int> start(g.nodes.size() + 1, 0);
+  for (const Kept& k : kept) ++start[k.from + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<int> leaving(kept.size());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < kept.size(); ++k) leaving[fill[kept[k].from]++] = static_cast<int>(k);
+  }
+  std::vector<char> used(kept.size(), 0);
+  std::vector<RingOut> rings;
+  for (std::size_t first = 0; first < kept.size(); ++first) {
+    if (used[first]) continue;
+    RingOut ring;
+    int cur = static_cast<int>(first);
+    for (std::size_t steps = 0; steps <= kept.size(); ++steps) {
+      used[cur] = 1;
+      ring.nodes.push_back(kept[cur].from);
+      ring.out.push_back(kept[cur].d);
+      ring.lines.push_back(kept[cur].line);
+      const int node = kept[cur].to;
+      const Direction back = kept[cur].d.reversed();
+      int next = -1;
+      for (int i = start[node]; i < start[node + 1]; ++i) {
+        const int c = leaving[i];
+        // the largest counter-clockwise angle from the way back (the way back itself last)
+        if (next < 0) next = c;
+        else if (sameDirection(kept[next].d, back)) next = c;
+        else if (!sameDirection(kept[c].d, back) && metBefore(back, kept[next].d, kept[c].d)) next = c;
+      }
+      if (next < 0 || next == static_cast<int>(first)) break;
+      if (used[next]) break;  // only on invalid input: the ring is left open
+      cur = next;
+    }
+    rings.push_back(std::move(ring));
+  }
+  return rings;
+}
+
+// Split a ring that passes one point twice into rings that pass it once, then drop the points
+// where a ring runs straight on (in that order: a point passed twice may be passed straight once).
+std::vector<RingOut> tidy(std::vector<RingOut> rings, std::size_t node_count) {
+  std::vector<RingOut> loops;
+  std::vector<int> seen(node_count, -1);
+  for (RingOut& r : rings) {
+    // A stack of points; when a point comes round again, the points since its first visit
+    // close a ring of their own.
+    RingOut stack;
+    for (std::size_t i = 0; i < r.nodes.size(); ++i) {
+      const int node = r.nodes[i];
+      if (seen[node] >= 0) {
+        const std::size_t from = static_cast<std::size_t>(seen[node]);
+        RingOut loop;
+        loop.nodes.assign(stack.nodes.begin() + from, stack.nodes.end());
+        loop.out.assign(stack.out.begin() + from, stack.out.end());
+        loop.lines.assign(stack.lines.begin() + from, stack.lines.end());
+        for (int v : loop.nodes) seen[v] = -1;
+        stack.nodes.resize(from), stack.out.resize(from), stack.lines.resize(from);
+        loops.push_back(std::move(loop));
+      }
+      seen[node] = static_cast<int>(stack.nodes.size());
+      stack.nodes.push_back(node);
+      stack.out.push_back(r.out[i]);
+      stack.lines.push_back(r.lines[i]);
+    }
+    for (int v : stack.nodes) seen[v] = -1;
+    loops.push_back(std::move(stack));
+  }
+  std::vector<RingOut> out;
+  for (const RingOut& r : loops) {
+    RingOut s;
+    const std::size_t n = r.nodes.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (sameDirection(r.out[(i + n - 1) % n], r.out[i])) continue;
+      s.nodes.push_back(r.nodes[i]);
+      s.out.push_back(r.out[i]);
+      s.lines.push_back(r.lines[i]);
+    }
+    if (s.nodes.size() >= 3) out.push_back(std::move(s));
+  }
+  return out;
+}
+
+// The lowest vertex (then the leftmost) of a ring: a corner where it turns its true way.
+std::size_t lowestLeftmost(const RingOut& r, const std::vector<Vertex>& nodes) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < r.nodes.size(); ++i) {
+    const Vertex &v = nodes[r.nodes[i]], &b = nodes[r.nodes[best]];
+    const int cy = compareFractions(v.y, v.d, b.y, b.d);
+    if (cy < 0 || (cy == 0 && compareFractions(v.x, v.d, b.x, b.d) < 0)) best = i;
+  }
+  return best;
+}
+
+// Is the ring's vertex v (a node of the graph, not necessarily of `ring`) inside `ring`?
+// `leaving` is the direction the vertex's own ring leaves it by, used when v lies on `ring`.
+bool insideRing(const RingOut& ring, int v, Direction leaving, const std::vector<Vertex>& nodes) {
+  const std::size_t n = ring.nodes.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (ring.nodes[i] == v) return pointsInto(ring.out[(i + n - 1) % n], ring.out[i], leaving);
+  const Vertex& p = nodes[v];
+  bool inside = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vertex &a = nodes[ring.nodes[i]], &b = nodes[ring.nodes[(i + 1) % n]];
+    const bool a_above = compareFractions(a.y, a.d, p.y, p.d) > 0, b_above = compareFractions(b.y, b.d, p.y, p.d) > 0;
+    if (a_above == b_above) continue;
+    const int s = side(ring.lines[i], p);  // > 0: p left of the edge as walked
+    if (b_above ? s > 0 : s < 0) inside = !inside;
+  }
+  return inside;
+}
+
+// 5. Sort the rings into outer boundaries (counter-clockwise) and holes (clockwise), and put
+// each hole under the smallest outer ring around it.
+ExactRegion assemble(const std::vector<RingOut>& rings, const std::vector<Vertex>& nodes) {
+  std::vector<int> outers, holes;
+  std::vector<double> size(rings.size(), 0.0);
+  for (std::size_t i = 0; i < rings.size(); ++i) {
+    const RingOut& r = rings[i];
+    const std::size_t n = r.nodes.size(), k = lowestLeftmost(r, nodes);
+    const Direction in = r.out[(k + n - 1) % n], out = r.out[k];
+    (cross(in.x, in.y, out.x, out.y) > 0 ? outers : holes).push_back(static_cast<int>(i));
+    double a = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      const Vertex &p = nodes[r.nodes[j]], &q = nodes[r.nodes[(j + 1) % n]];
+      const double px = static_cast<double>(p.x) / static_cast<double>(p.d), py = static_cast<double>(p.y) / static_cast<double>(p.d);
+      const double qx = static_cast<double>(q.x) / static_cast<double>(q.d), qy = static_cast<double>(q.y) / static_cast<double>(q.d);
+      a += px * qy - qx * py;
+    }
+    size[i] = std::abs(a);
+  }
+  std::sort(outers.begin(), outers.end(), [&](int l, int r) { return size[l] < size[r]; });
+  ExactRegion region(outers.size());
+  auto points = [&](const RingOut& r) {
+    ExactRing ring;
+    ring.reserve(r.nodes.size());
+    for (int v : r.nodes) ring.push_back({nodes[v].x, nodes[v].y, nodes[v].d});
+    return ring;
+  };
+  for (std::size_t i = 0; i < outers.size(); ++i) region[i].outer = points(rings[outers[i]]);
+  for (int h : holes) {
+    std::size_t owner = 0;
+    if (outers.size() > 1) {
+      const RingOut& r = rings[h];
+      const std::size_t k = lowestLeftmost(r, nodes);
+      owner = outers.size();
+      for (std::size_t i = 0; i < outers.size() && owner == outers.size(); ++i)
+        if (insideRing(rings[outers[i]], r.nodes[k], r.out[k], nodes)) owner = i;
+      if (owner == outers.size()) continue;  // only on invalid input
+    } else if (outers.empty()) {
+      continue;  // only on invalid input
+    }
+    region[owner].holes.push_back(points(rings[h]));
+  }
+  return region;
+}
+
+mpz_class toMpz(i128 v) {
+  const bool negative = v < 0;
+  const u128 m = negative ? -static_cast<u128>(v) : static_cast<u128>(v);
+  mpz_class r(static_cast<unsigned long>(static_cast<std::uint64_t>(m >> 64)));
+  r <<= 64;
+  r += mpz_class(static_cast<unsigned long>(static_cast<std::uint64_t>(m)));
+  return negative ? mpz_class(-r) : r;
+}
+
+mpq_class exactTwiceSignedArea(const ExactRing& r) {
+  mpq_class sum = 0;
+  for (std::size_t i = 0, n = r.size(); i < n; ++i) {
+    const ExactPoint &p = r[i], &q = r[(i + 1) % n];
+    const mpz_class num = toMpz(p.x) * toMpz(q.y) - toMpz(q.x) * toMpz(p.y);
+    const mpz_class den = mpz_class(static_cast<long>(p.d)) * mpz_class(static_cast<long>(q.d));
+    mpq_class term(num, den);
+    term.canonicalize();
+    sum += term;
+  }
+  return sum;
+}
+
+}  // namespace
+
+const char* booleanOpName(BooleanOp op) {
+  switch (op) {
+    case BooleanOp::Intersection: return "A∩B";
+    case BooleanOp::Union: return "A∪B";
+    case BooleanOp::AMinusB: return "A−B";
+    case BooleanOp::BMinusA: return "B−A";
+  }
+  return "?";
+}
+
+std::string invalidRegionReason(const GridRegion& region) {
+  struct Seg {
+    GridPoint p, q;
+    int poly, ring, index, ring_size;
+  };
+  std::vector<Seg> segs;
+  std::vector<const GridRing*> rings;
+  std::vector<int> ring_poly;
+  auto where = [](int poly, int ring) {
+    return "polygon " + std::to_string(poly) + (ring == 0 ? " outer ring" : " hole " + std::to_string(ring - 1));
+  };
+  for (std::size_t pi = 0; pi < region.size(); ++pi) {
+    for (std::size_t ri = 0; ri <= region[pi].holes.size(); ++ri) {
+      const GridRing& r = ri == 0 ? region[pi].outer : region[pi].holes[ri - 1];
+      const std::string at = where(static_cast<int>(pi), static_cast<int>(ri));
+      if (r.size() < 3) return at + ": fewer than 3 vertices";
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        if (r[i].x < -kClipCoordinateLimit || r[i].x > kClipCoordinateLimit || r[i].y < -kClipCoordinateLimit ||
+            r[i].y > kClipCoordinateLimit)
+          return at + " vertex " + std::to_string(i) + ": coordinate beyond ±2^28";
+        if (r[i] == r[(i + 1) % r.size()]) return at + " vertex " + std::to_string(i) + ": repeated (an edge of length 0)";
+      }
+      if (twiceSignedArea(r) == 0) return at + ": area 0";
+      const int ring = static_cast<int>(rings.size());
+      rings.push_back(&r);
+      ring_poly.push_back(static_cast<int>(pi) * 1000000 + static_cast<int>(ri));
+      for (std::size_t i = 0; i < r.size(); ++i)
+        segs.push_back({r[i], r[(i + 1) % r.size()], static_cast<int>(pi), ring, static_cast<int>(i), static_cast<int>(r.size())});
+    }
+  }
+  // No two edges cross or run along one another; they may touch at a point.
+  auto onSegment = [](GridPoint p, GridPoint a, GridPoint b) {  // p on the closed segment ab
+    return cross(b.x - a.x, b.y - a.y, p.x - a.x, p.y - a.y) == 0 && std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) &&
+           std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y);
+  };
+  for (std::size_t i = 0; i < segs.size(); ++i)
+    for (std::size_t j = i + 1; j < segs.size(); ++j) {
+      const Seg &s = segs[i], &t = segs[j];
+      if (std::max(s.p.x, s.q.x) < std::min(t.p.x, t.q.x) || std::max(t.p.x, t.q.x) < std::min(s.p.x, s.q.x) ||
+          std::max(s.p.y, s.q.y) < std::min(t.p.y, t.q.y) || std::max(t.p.y, t.q.y) < std::min(s.p.y, s.q.y))
+        continue;
+      const std::string what = "edge " + std::to_string(s.index) + " of " + "ring " +
+                               std::to_string(s.ring) + " and edge " + std::to_string(t.index) + " of ring " + std::to_string(t.ring);
+      const i128 d1 = cross(s.q.x - s.p.x, s.q.y - s.p.y, t.p.x - s.p.x, t.p.y - s.p.y);
+      const i128 d2 = cross(s.q.x - s.p.x, s.q.y - s.p.y, t.q.x - s.p.x, t.q.y - s.p.y);
+      const i128 d3 = cross(t.q.x - t.p.x, t.q.y - t.p.y, s.p.x - t.p.x, s.p.y - t.p.y);
+      const i128 d4 = cross(t.q.x - t.p.x, t.q.y - t.p.y, s.q.x - t.p.x, s.q.y - t.p.y);
+      const bool adjacent = s.ring == t.ring && (t.index == (s.index + 1) % s.ring_size || s.index == (t.index + 1) % s.ring_size);
+      if (d1 == 0 && d2 == 0) {  // collinear: they may share one point, no more
+        const bool by_x = s.p.x != s.q.x;
+        const std::int64_t s0 = by_x ? std::min(s.p.x, s.q.x) : std::min(s.p.y, s.q.y), s1 = by_x ? std::max(s.p.x, s.q.x) : std::max(s.p.y, s.q.y);
+        const std::int64_t t0 = by_x ? std::min(t.p.x, t.q.x) : std::min(t.p.y, t.q.y), t1 = by_x ? std::max(t.p.x, t.q.x) : std::max(t.p.y, t.q.y);
+        if (std::min(s1, t1) > std::max(s0, t0)) return what + ": run along one another";
+        if (std::min(s1, t1) == std::max(s0, t0) && s.ring == t.ring && !adjacent)
+          return what + ": touch (a ring must not touch itself)";
+        continue;
+      }
+      if ((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0) || (d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0)) continue;
+      if (d1 != 0 && d2 != 0 && d3 != 0 && d4 != 0) return what + ": cross";
+      // They touch at a point: an end of one on the other. Rings of a region may touch one
+      // another so; a ring may not touch itself, except where its edges follow one another.
+      if (s.ring == t.ring && !adjacent) return what + ": touch (a ring must not touch itself)";
+    }
+  // Rings nest properly: each hole inside its outer ring, holes apart, polygons apart. Decided
+  // at a point of each ring that is on no edge of the other: a vertex, or the middle of an edge.
+  auto sample = [&](const GridRing& r, const GridRing& other, GridPoint* out) {
+    auto on = [&](GridPoint p2) {  // p2 in doubled coordinates
+      for (std::size_t i = 0; i < other.size(); ++i) {
+        const GridPoint a{other[i].x * 2, other[i].y * 2}, b{other[(i + 1) % other.size()].x * 2, other[(i + 1) % other.size()].y * 2};
+        if (onSegment(p2, a, b)) return true;
+      }
+      return false;
+    };
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const GridPoint v{r[i].x * 2, r[i].y * 2}, m{r[i].x + r[(i + 1) % r.size()].x, r[i].y + r[(i + 1) % r.size()].y};
+      if (!on(v)) return *out = v, true;
+      if (!on(m)) return *out = m, true;
+    }
+    return false;
+  };
+  auto inside = [&](GridPoint p2, const GridRing& r) {
+    GridRing doubled;
+    for (const GridPoint& v : r) doubled.push_back({v.x * 2, v.y * 2});
+    return insideRegion(p2, GridRegion{GridPolygon{doubled, {}}});
+  };
+  for (std::size_t i = 0; i < rings.size(); ++i)
+    for (std::size_t j = 0; j < rings.size(); ++j) {
+      if (i == j) continue;
+      const int pi = ring_poly[i] / 1000000, ri = ring_poly[i] % 1000000, pj = ring_poly[j] / 1000000, rj = ring_poly[j] % 1000000;
+      GridPoint p;
+      if (!sample(*rings[i], *rings[j], &p)) return where(pi, ri) + " lies along " + where(pj, rj);
+      const bool in = inside(p, *rings[j]);
+      if (pi == pj && ri > 0 && rj == 0 && !in) return where(pi, ri) + " is not inside its outer ring";
+      if (pi == pj && ri > 0 && rj > 0 && in) return where(pi, ri) + " overlaps " + where(pj, rj);
+      if (pi != pj && ri == 0 && rj == 0 && in) {
+        // inside another polygon's outer ring: only allowed inside one of its holes
+        bool in_hole = false;
+        for (const GridRing& h : region[pj].holes) {
+          GridPoint q;
+          if (sample(*rings[i], h, &q) && inside(q, h)) in_hole = true;
+        }
+        if (!in_hole) return where(pi, ri) + " overlaps " + where(pj, rj);
+      }
+    }
+  return {};
+}
+
+ExactRegion booleanOp(const GridRegion& a, const GridRegion& b, BooleanOp op) {
+  Graph g;
+  g.build(a, b);
+  label(g, a, b);
+  return assemble(tidy(walk(g, keep(g, op)), g.nodes.size()), g.nodes);
+}
+
+std::string exactArea(const ExactRegion& region) {
+  mpq_class twice = 0;
+  for (const ExactPolygon& p : region) {
+    twice += abs(exactTwiceSignedArea(p.outer));
+    for (const ExactRing& h : p.holes) twice -= abs(exactTwiceSignedArea(h));
+  }
+  mpq_class area = twice / 2;
+  area.canonicalize();
+  return area.get_str();
+}
+
+std::string exactArea(const GridRegion& region) {
+  ExactRegion exact;
+  auto ring = [](const GridRing& r) {
+    ExactRing out;
+    for (const GridPoint& p : r) out.push_back({p.x, p.y, 1});
+    return out;
+  };
+  for (const GridPolygon& p : region) {
+    ExactPolygon& e = exact.emplace_back();
+    e.outer = ring(p.outer);
+    for (const GridRing& h : p.holes) e.holes.push_back(ring(h));
+  }
+  return exactArea(exact);
+}
+
+double area(const ExactRegion& region) {
+  auto ring = [](const ExactRing& r) {
+    double s = 0;
+    for (std::size_t i = 0, n = r.size(); i < n; ++i)
+      s += r[i].xd() * r[(i + 1) % n].yd() - r[(i + 1) % n].xd() * r[i].yd();
+    return std::abs(s) / 2;
+  };
+  double s = 0;
+  for (const ExactPolygon& p : region) {
+    s += ring(p.outer);
+    for (const ExactRing& h : p.holes) s -= ring(h);
+  }
+  return s;
+}
+
+}  // namespace hsr
