@@ -153,7 +153,7 @@ struct Edge {
   std::int64_t x0, x1, y0, y1;  // box
 };
 
-// A point on an edge, at parameter num / den (0 at its start, 1 at its end).
+// A point inside an edge, at parameter num / den (0 at its start, 1 at its end).
 struct Hit {
   int edge;
   std::int64_t num, den;
@@ -277,21 +277,21 @@ class Graph {
     addRegion(b, kB);
     parent.resize(nodes.size());
     std::iota(parent.begin(), parent.end(), 0);
-    // Every edge's own ends
-    for (int e = 0; e < static_cast<int>(edges.size()); ++e) {
-      hits.push_back({e, 0, 1, edges[e].node0});
-      hits.push_back({e, 1, 1, edges[e].node1});
-    }
     // Every pair of an edge of A and an edge of B whose boxes overlap. B's edges sorted by
-    // their left end, so that each edge of A looks only at those that start before it ends.
+    // their left end, so that each edge of A looks only at those that start within the widest
+    // of B's edges before it, and before it ends.
     const int edge_count = static_cast<int>(edges.size());
     auto pairs = [&](int first0, int end0, int first1, int end1, bool other_ring_only) {
       std::vector<int> by_x(static_cast<std::size_t>(end1 - first1));
       std::iota(by_x.begin(), by_x.end(), first1);
       std::sort(by_x.begin(), by_x.end(), [&](int l, int r) { return edges[l].x0 < edges[r].x0; });
+      std::int64_t widest = 0;
+      for (int e : by_x) widest = std::max(widest, edges[e].x1 - edges[e].x0);
       for (int ea = first0; ea < end0; ++ea) {
         const Edge& A = edges[ea];
-        for (int eb : by_x) {
+        const auto from = std::partition_point(by_x.begin(), by_x.end(), [&](int e) { return edges[e].x0 < A.x0 - widest; });
+        for (auto it = from; it != by_x.end(); ++it) {
+          const int eb = *it;
           const Edge& B = edges[eb];
           if (B.x0 > A.x1) break;
           if (B.x1 < A.x0 || B.y1 < A.y0 || B.y0 > A.y1) continue;
@@ -305,7 +305,7 @@ class Graph {
     // of one region meet is one node (needed only where a region has several rings)
     if (first_b > 0 && edges[first_b - 1].ring > edges[0].ring) pairs(0, first_b, 0, first_b, true);
     if (first_b < edge_count && edges[edge_count - 1].ring > edges[first_b].ring) pairs(first_b, edge_count, first_b, edge_count, true);
-    // Sort each edge's points along it; points at the same place are one node.
+    // Sort the points inside each edge along it; points at the same place are one node.
     std::sort(hits.begin(), hits.end(), [](const Hit& l, const Hit& r) {
       if (l.edge != r.edge) return l.edge < r.edge;
       return i128{l.num} * r.den < i128{r.num} * l.den;
@@ -313,17 +313,20 @@ class Graph {
     for (std::size_t i = 1; i < hits.size(); ++i)
       if (hits[i].edge == hits[i - 1].edge && i128{hits[i].num} * hits[i - 1].den == i128{hits[i - 1].num} * hits[i].den)
         unite(hits[i].node, hits[i - 1].node);
-    // The pieces, ring by ring in boundary order
+    // The pieces, ring by ring in boundary order: from each edge's start, through the points
+    // found inside it (never at its ends), to its end
     std::size_t h = 0;
     for (Ring& r : rings) {
       r.first_piece = static_cast<int>(pieces.size());
       for (int e = r.first_edge; e < r.first_edge + r.edge_count; ++e) {
-        int last = -1;
+        int last = find(edges[e].node0);
         for (; h < hits.size() && hits[h].edge == e; ++h) {
           const int node = find(hits[h].node);
-          if (last >= 0 && node != last) pieces.push_back({last, node, e});
+          if (node != last) pieces.push_back({last, node, e});
           last = node;
         }
+        const int end = find(edges[e].node1);
+        if (end != last) pieces.push_back({last, end, e});
       }
       r.piece_count = static_cast<int>(pieces.size()) - r.first_piece;
     }
