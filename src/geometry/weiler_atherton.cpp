@@ -397,12 +397,20 @@ void label(Graph& g, const GridRegion& other_a, const GridRegion& other_b) {
       }
       const int node = g.pieces[p].from;
       if (!there.touches(node)) return false;
-      bool inside = false;
+      // Round the point, the other region lies counter-clockwise after each of its boundary's
+      // pieces leaving the point, up to the next piece arriving. So the piece is inside when
+      // the first of the other boundary's pieces met turning clockwise from it leaves the point.
+      const Direction u = g.direction(p);
+      Direction nearest{};
+      bool nearest_leaves = false, any = false;
       for (int k = there.start[node]; k < there.start[node + 1]; ++k) {
         const auto [in, out] = there.items[k];
-        inside = inside || pointsInto(g.direction(in), g.direction(out), g.direction(p));
+        for (const auto& [d, leaves] : {std::pair{g.direction(out), true}, std::pair{g.direction(in).reversed(), false}}) {
+          if (sameDirection(d, u)) continue;  // only for a shared piece, decided above
+          if (!any || metBefore(u, nearest, d)) nearest = d, nearest_leaves = leaves, any = true;
+        }
       }
-      *out = inside ? Label::Inside : Label::Outside;
+      *out = nearest_leaves ? Label::Inside : Label::Outside;
       return true;
     };
     int start = -1;
@@ -580,6 +588,15 @@ bool insideRing(const RingOut& ring, int v, Direction leaving, const std::vector
   bool inside = false;
   for (std::size_t i = 0; i < n; ++i) {
     const Vertex &a = nodes[ring.nodes[i]], &b = nodes[ring.nodes[(i + 1) % n]];
+    if (side(ring.lines[i], p) == 0) {
+      // On the edge's line: on the edge itself (where a point the ring runs straight through
+      // was dropped, or a ring of the same region touches it), decided by the angle it leaves at
+      const Direction d = ring.out[i];
+      const bool by_x = (d.x < 0 ? -d.x : d.x) >= (d.y < 0 ? -d.y : d.y);
+      const int from = by_x ? compareFractions(p.x, p.d, a.x, a.d) : compareFractions(p.y, p.d, a.y, a.d);
+      const int to = by_x ? compareFractions(p.x, p.d, b.x, b.d) : compareFractions(p.y, p.d, b.y, b.d);
+      if (from * to <= 0) return pointsInto(d, d, leaving);
+    }
     const bool a_above = compareFractions(a.y, a.d, p.y, p.d) > 0, b_above = compareFractions(b.y, b.d, p.y, p.d) > 0;
     if (a_above == b_above) continue;
     const int s = side(ring.lines[i], p);  // > 0: p left of the edge as walked
@@ -673,8 +690,7 @@ std::string invalidRegionReason(const GridRegion& region) {
     int poly, ring, index, ring_size;
   };
   std::vector<Seg> segs;
-  std::vector<const GridRing*> rings;
-  std::vector<int> ring_poly;
+  int ring_count = 0;
   auto where = [](int poly, int ring) {
     return "polygon " + std::to_string(poly) + (ring == 0 ? " outer ring" : " hole " + std::to_string(ring - 1));
   };
@@ -690,18 +706,12 @@ std::string invalidRegionReason(const GridRegion& region) {
         if (r[i] == r[(i + 1) % r.size()]) return at + " vertex " + std::to_string(i) + ": repeated (an edge of length 0)";
       }
       if (twiceSignedArea(r) == 0) return at + ": area 0";
-      const int ring = static_cast<int>(rings.size());
-      rings.push_back(&r);
-      ring_poly.push_back(static_cast<int>(pi) * 1000000 + static_cast<int>(ri));
+      const int ring = ring_count++;
       for (std::size_t i = 0; i < r.size(); ++i)
         segs.push_back({r[i], r[(i + 1) % r.size()], static_cast<int>(pi), ring, static_cast<int>(i), static_cast<int>(r.size())});
     }
   }
   // No two edges cross or run along one another; they may touch at a point.
-  auto onSegment = [](GridPoint p, GridPoint a, GridPoint b) {  // p on the closed segment ab
-    return cross(b.x - a.x, b.y - a.y, p.x - a.x, p.y - a.y) == 0 && std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) &&
-           std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y);
-  };
   for (std::size_t i = 0; i < segs.size(); ++i)
     for (std::size_t j = i + 1; j < segs.size(); ++j) {
       const Seg &s = segs[i], &t = segs[j];
@@ -730,47 +740,29 @@ std::string invalidRegionReason(const GridRegion& region) {
       // another so; a ring may not touch itself, except where its edges follow one another.
       if (s.ring == t.ring && !adjacent) return what + ": touch (a ring must not touch itself)";
     }
-  // Rings nest properly: each hole inside its outer ring, holes apart, polygons apart. Decided
-  // at a point of each ring that is on no edge of the other: a vertex, or the middle of an edge.
-  auto sample = [&](const GridRing& r, const GridRing& other, GridPoint* out) {
-    auto on = [&](GridPoint p2) {  // p2 in doubled coordinates
-      for (std::size_t i = 0; i < other.size(); ++i) {
-        const GridPoint a{other[i].x * 2, other[i].y * 2}, b{other[(i + 1) % other.size()].x * 2, other[(i + 1) % other.size()].y * 2};
-        if (onSegment(p2, a, b)) return true;
-      }
-      return false;
-    };
-    for (std::size_t i = 0; i < r.size(); ++i) {
-      const GridPoint v{r[i].x * 2, r[i].y * 2}, m{r[i].x + r[(i + 1) % r.size()].x, r[i].y + r[(i + 1) % r.size()].y};
-      if (!on(v)) return *out = v, true;
-      if (!on(m)) return *out = m, true;
-    }
-    return false;
+  // Rings nest properly: each hole inside its outer ring, holes apart, polygons apart. Rings
+  // that only touch may lie partly inside one another (a ring touching another at two points
+  // can have one arc inside it and one outside), so no sample point decides it: the clipper
+  // does, on inputs it already handles (each ring simple, each polygon checked before the
+  // pairs of polygons): the area of H − outer, H1 ∩ H2 and P ∩ Q must be exactly 0.
+  auto alone = [](const GridRing& r) { return GridRegion{GridPolygon{r, {}}}; };
+  auto overlap = [](const GridRegion& x, const GridRegion& y, BooleanOp op) {
+    return exactArea(booleanOp(x, y, op)) != "0";
   };
-  auto inside = [&](GridPoint p2, const GridRing& r) {
-    GridRing doubled;
-    for (const GridPoint& v : r) doubled.push_back({v.x * 2, v.y * 2});
-    return insideRegion(p2, GridRegion{GridPolygon{doubled, {}}});
-  };
-  for (std::size_t i = 0; i < rings.size(); ++i)
-    for (std::size_t j = 0; j < rings.size(); ++j) {
-      if (i == j) continue;
-      const int pi = ring_poly[i] / 1000000, ri = ring_poly[i] % 1000000, pj = ring_poly[j] / 1000000, rj = ring_poly[j] % 1000000;
-      GridPoint p;
-      if (!sample(*rings[i], *rings[j], &p)) return where(pi, ri) + " lies along " + where(pj, rj);
-      const bool in = inside(p, *rings[j]);
-      if (pi == pj && ri > 0 && rj == 0 && !in) return where(pi, ri) + " is not inside its outer ring";
-      if (pi == pj && ri > 0 && rj > 0 && in) return where(pi, ri) + " overlaps " + where(pj, rj);
-      if (pi != pj && ri == 0 && rj == 0 && in) {
-        // inside another polygon's outer ring: only allowed inside one of its holes
-        bool in_hole = false;
-        for (const GridRing& h : region[pj].holes) {
-          GridPoint q;
-          if (sample(*rings[i], h, &q) && inside(q, h)) in_hole = true;
-        }
-        if (!in_hole) return where(pi, ri) + " overlaps " + where(pj, rj);
-      }
+  for (std::size_t pi = 0; pi < region.size(); ++pi) {
+    const GridPolygon& p = region[pi];
+    for (std::size_t h = 0; h < p.holes.size(); ++h) {
+      const std::string at = where(static_cast<int>(pi), static_cast<int>(h) + 1);
+      if (overlap(alone(p.holes[h]), alone(p.outer), BooleanOp::AMinusB)) return at + " is not inside its outer ring";
+      for (std::size_t k = 0; k < h; ++k)
+        if (overlap(alone(p.holes[h]), alone(p.holes[k]), BooleanOp::Intersection))
+          return at + " overlaps " + where(static_cast<int>(pi), static_cast<int>(k) + 1);
     }
+  }
+  for (std::size_t pi = 0; pi < region.size(); ++pi)
+    for (std::size_t pj = 0; pj < pi; ++pj)
+      if (overlap(GridRegion{region[pi]}, GridRegion{region[pj]}, BooleanOp::Intersection))
+        return where(static_cast<int>(pi), 0) + " overlaps " + where(static_cast<int>(pj), 0);
   return {};
 }
 
