@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -83,6 +84,13 @@ TEST(WeilerAtherton, AgreesWithCgalExactlyOnRandomPairs) {
     int vertices, pairs;
     double scale;  // grid size: coordinates within about ±scale
   };
+  // Under the sanitizers (this test ran 15 times slower there) a fifth of the pairs; Release
+  // checks them all.
+#ifdef HSR_SANITIZER_BUILD
+  constexpr int kShare = 5;
+#else
+  constexpr int kShare = 1;
+#endif
   const int k = testing::countScale();
   const Family families[] = {{"star", 4, 600 * k, 1000},   {"star", 16, 400 * k, 1000},
                              {"star", 64, 150 * k, 1000},  {"star", 256, 30 * k, 1000},
@@ -97,7 +105,7 @@ TEST(WeilerAtherton, AgreesWithCgalExactlyOnRandomPairs) {
   for (const Family& f : families) {
     Checked c;
     int refused = 0;
-    for (int i = 0; i < f.pairs; ++i) {
+    for (int i = 0; i < f.pairs / kShare; ++i) {
       GridRegion a, b;
       const double s = f.scale;
       const std::string name(f.name);
@@ -122,13 +130,13 @@ TEST(WeilerAtherton, AgreesWithCgalExactlyOnRandomPairs) {
       }
       checkPair(a, b, name + " " + std::to_string(f.vertices) + " pair " + std::to_string(i), &c);
     }
-    EXPECT_LT(refused, f.pairs / 4) << f.name << ": too many invalid pairs to prove anything";
+    EXPECT_LT(refused, std::max(2, f.pairs / kShare / 4)) << f.name << ": too many invalid pairs to prove anything";
     figures += " " + std::string(f.name) + " " + std::to_string(f.vertices) + ": " + grouped(c.operations) + " ops, " +
                grouped(c.mismatches) + " differ;";
     total.operations += c.operations, total.mismatches += c.mismatches;
   }
   EXPECT_EQ(total.mismatches, 0u);
-  EXPECT_GE(total.operations, 4 * 1500u);
+  EXPECT_GE(total.operations, 4 * 1500u / kShare);
   testing::printFigures(figures + " in all " + grouped(total.operations) + " operations, " + grouped(total.mismatches) +
                         " with an area different from CGAL's");
 }
