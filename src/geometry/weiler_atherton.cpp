@@ -24,6 +24,7 @@
 
 #include <gmpxx.h>
 
+#include "geometry/predicates.hpp"
 #include "hsr/clipping.hpp"
 
 namespace hsr {
@@ -120,7 +121,7 @@ bool insideRegion(GridPoint p, const GridRegion& region) {
       if ((a.y > p.y) == (b.y > p.y)) continue;
       // The edge crosses the horizontal through p; it crosses right of p when p lies left of
       // the edge walked upwards.
-      const int s = sign(cross(b.x - a.x, b.y - a.y, p.x - a.x, p.y - a.y));
+      const int s = detail::orient2d(a.x, a.y, b.x, b.y, p.x, p.y);
       if (b.y > a.y ? s > 0 : s < 0) inside = !inside;
     }
   };
@@ -720,10 +721,10 @@ std::string invalidRegionReason(const GridRegion& region) {
         continue;
       const std::string what = "edge " + std::to_string(s.index) + " of " + "ring " +
                                std::to_string(s.ring) + " and edge " + std::to_string(t.index) + " of ring " + std::to_string(t.ring);
-      const i128 d1 = cross(s.q.x - s.p.x, s.q.y - s.p.y, t.p.x - s.p.x, t.p.y - s.p.y);
-      const i128 d2 = cross(s.q.x - s.p.x, s.q.y - s.p.y, t.q.x - s.p.x, t.q.y - s.p.y);
-      const i128 d3 = cross(t.q.x - t.p.x, t.q.y - t.p.y, s.p.x - t.p.x, s.p.y - t.p.y);
-      const i128 d4 = cross(t.q.x - t.p.x, t.q.y - t.p.y, s.q.x - t.p.x, s.q.y - t.p.y);
+      const int d1 = detail::orient2d(s.p.x, s.p.y, s.q.x, s.q.y, t.p.x, t.p.y);
+      const int d2 = detail::orient2d(s.p.x, s.p.y, s.q.x, s.q.y, t.q.x, t.q.y);
+      const int d3 = detail::orient2d(t.p.x, t.p.y, t.q.x, t.q.y, s.p.x, s.p.y);
+      const int d4 = detail::orient2d(t.p.x, t.p.y, t.q.x, t.q.y, s.q.x, s.q.y);
       const bool adjacent = s.ring == t.ring && (t.index == (s.index + 1) % s.ring_size || s.index == (t.index + 1) % s.ring_size);
       if (d1 == 0 && d2 == 0) {  // collinear: they may share one point, no more
         const bool by_x = s.p.x != s.q.x;
