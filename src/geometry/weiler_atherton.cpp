@@ -405,8 +405,8 @@ void label(Graph& g, const GridRegion& other_a, const GridRegion& other_b) {
       Direction nearest{};
       bool nearest_leaves = false, any = false;
       for (int k = there.start[node]; k < there.start[node + 1]; ++k) {
-        const auto [in, out] = there.items[k];
-        for (const auto& [d, leaves] : {std::pair{g.direction(out), true}, std::pair{g.direction(in).reversed(), false}}) {
+        const auto [arriving, leaving] = there.items[k];
+        for (const auto& [d, leaves] : {std::pair{g.direction(leaving), true}, std::pair{g.direction(arriving).reversed(), false}}) {
           if (sameDirection(d, u)) continue;  // only for a shared piece, decided above
           if (!any || metBefore(u, nearest, d)) nearest = d, nearest_leaves = leaves, any = true;
         }
