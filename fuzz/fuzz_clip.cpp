@@ -6,7 +6,8 @@
 // vertices in all. A region invalidRegionReason() refuses must come with a reason; for valid
 // ones all four operations run and the area identities must hold exactly:
 // area(A∩B) + area(A−B) = area(A), area(A∩B) + area(B−A) = area(B),
-// area(A∪B) = area(A) + area(B) − area(A∩B). Anything else (a crash, a sanitizer report, a
+// area(A∪B) = area(A) + area(B) − area(A∩B); and A∪B, clipped again, gives (A∪B)∩A = A and
+// (A∪B)−A = B−A. Anything else (a crash, a sanitizer report, a
 // hang, an identity broken) is a finding.
 
 #include <cstddef>
@@ -43,5 +44,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     area[op] = mpq_class(hsr::exactArea(hsr::booleanOp(region[0], region[1], static_cast<hsr::BooleanOp>(op))));
   const mpq_class a(hsr::exactArea(region[0])), b(hsr::exactArea(region[1]));
   if (area[0] + area[2] != a || area[0] + area[3] != b || area[1] != a + b - area[0]) std::abort();
+  // A result clipped again (its vertices now crossings): (A∪B)∩A is A, and (A∪B)−A is B−A
+  const hsr::ExactRegion both = hsr::booleanOp(region[0], region[1], hsr::BooleanOp::Union);
+  if (!hsr::invalidRegionReason(both).empty()) std::abort();
+  const hsr::ExactRegion exact_a = hsr::exactRegion(region[0]);
+  if (mpq_class(hsr::exactArea(hsr::booleanOp(both, exact_a, hsr::BooleanOp::Intersection))) != a ||
+      mpq_class(hsr::exactArea(hsr::booleanOp(both, exact_a, hsr::BooleanOp::AMinusB))) != area[3])
+    std::abort();
   return 0;
 }

@@ -3,7 +3,8 @@
 // convex or concave, with holes, decided exactly.
 //
 // Input: polygons on an integer grid (|x|, |y| <= kClipCoordinateLimit; hsr's window
-// coordinates snapped to 1/256 pixel fit it with room to spare). A region is a set of polygons
+// coordinates snapped to 1/256 pixel fit it with room to spare), or results of earlier
+// operations on such polygons (exact regions, which carry each edge's line: see ExactPoint). A region is a set of polygons
 // with holes whose interiors do not overlap; rings are simple and may touch one another only at
 // points, never cross or run along one another; outer rings may be given either way round, and
 // are made counter-clockwise, holes clockwise. invalidRegionReason() says what is wrong with a
@@ -44,10 +45,16 @@ struct GridPolygon {
 };
 using GridRegion = std::vector<GridPolygon>;
 
-// A result vertex: (x / d, y / d) exactly, d > 0 (d = 1 for an input vertex).
+// A vertex of an exact region: (x / d, y / d) exactly, d > 0 (d = 1 for a grid point), and
+// the line a x + b y + c = 0 that the ring's edge from this vertex to the next lies on, with
+// the region on its left (a x + b y + c > 0 there). Every line is one through two grid points
+// within the limit (|a|, |b| <= 2^29, |c| <= 2^58) and every vertex the crossing of two such
+// lines (|x|, |y| < 2^89, d < 2^60): results of booleanOp() are, so they can be clipped again
+// without rounding, as the hidden-surface algorithm does.
 struct ExactPoint {
   __int128 x = 0, y = 0;
   std::int64_t d = 1;
+  std::int64_t a = 0, b = 0, c = 0;
   double xd() const { return static_cast<double>(static_cast<long double>(x) / static_cast<long double>(d)); }
   double yd() const { return static_cast<double>(static_cast<long double>(y) / static_cast<long double>(d)); }
 };
@@ -67,6 +74,17 @@ std::string invalidRegionReason(const GridRegion& region);
 
 // A op B, by Weiler-Atherton (see the top of this file).
 ExactRegion booleanOp(const GridRegion& a, const GridRegion& b, BooleanOp op);
+// The same on exact regions: results of booleanOp(), or grid regions through exactRegion().
+// Rings obey the rules above (simple, touching only at points) and carry their edges' lines.
+ExactRegion booleanOp(const ExactRegion& a, const ExactRegion& b, BooleanOp op);
+
+// A grid region as an exact one: each edge's line through its two ends.
+ExactRegion exactRegion(const GridRegion& region);
+
+// Empty when the exact region's numbers are in range and each vertex lies on the lines of
+// both its edges; otherwise one line saying where not. O(e) (it does not look for crossings:
+// results of booleanOp() have none).
+std::string invalidRegionReason(const ExactRegion& region);
 
 // Area, holes subtracted: exactly, as a reduced fraction "p/q" (or "p" when whole); and in
 // double. Exact areas use GMP.

@@ -57,7 +57,6 @@ Vertex crossing(const Line& l, const Line& m) {
 
 // Which side of line l the vertex lies on: +1 left, -1 right, 0 on it.
 int side(const Line& l, const Vertex& v) { return sign(i128{l.a} * v.x + i128{l.b} * v.y + i128{l.c} * v.d); }
-int side(const Line& l, GridPoint p) { return sign(i128{l.a} * p.x + i128{l.b} * p.y + l.c); }
 
 // sign(p / q - r / s) for q, s > 0, |p|, |r| < 2^127: the products need 192 bits.
 struct U192 {
@@ -112,26 +111,6 @@ bool pointsInto(Direction in, Direction out, Direction u) {
   return metBefore(out, u, in.reversed());
 }
 
-// Crossing-number test of a grid point that is on no edge of `region`, against its rings.
-bool insideRegion(GridPoint p, const GridRegion& region) {
-  bool inside = false;
-  auto ring = [&](const GridRing& r) {
-    for (std::size_t i = 0, n = r.size(); i < n; ++i) {
-      const GridPoint a = r[i], b = r[(i + 1) % n];
-      if ((a.y > p.y) == (b.y > p.y)) continue;
-      // The edge crosses the horizontal through p; it crosses right of p when p lies left of
-      // the edge walked upwards.
-      const int s = detail::orient2d(a.x, a.y, b.x, b.y, p.x, p.y);
-      if (b.y > a.y ? s > 0 : s < 0) inside = !inside;
-    }
-  };
-  for (const GridPolygon& poly : region) {
-    ring(poly.outer);
-    for (const GridRing& h : poly.holes) ring(h);
-  }
-  return inside;
-}
-
 i128 twiceSignedArea(const GridRing& r) {
   i128 s = 0;
   for (std::size_t i = 0, n = r.size(); i < n; ++i)
@@ -144,20 +123,36 @@ i128 twiceSignedArea(const GridRing& r) {
 
 enum Owner : std::uint8_t { kA = 0, kB = 1 };
 
+// Where a vertex lies along a line walked in direction d: (v · d) / v.d, compared exactly.
+struct Param {
+  i128 num;
+  std::int64_t den;
+};
+Param along(const Vertex& v, Direction d) { return {v.x * d.x + v.y * d.y, v.d}; }
+int compare(Param l, Param r) { return compareFractions(l.num, l.den, r.num, r.den); }
+
+std::int64_t floorDiv(i128 x, std::int64_t d) {
+  i128 q = x / d;
+  if (q * d > x) --q;
+  return static_cast<std::int64_t>(q);
+}
+std::int64_t ceilDiv(i128 x, std::int64_t d) { return -floorDiv(-x, d); }
+
 struct Edge {
-  GridPoint p;         // start vertex
-  Direction d;         // to the end vertex
-  Line line;
+  Vertex v0, v1;       // its ends
+  Direction d;         // along its line, from v0 to v1
+  Line line;           // positive on its left
+  Param t0, t1;        // its ends along d (t0 < t1)
   int node0, node1;    // graph nodes of the two ends
   int ring;            // ring index (over both regions)
   Owner owner;
-  std::int64_t x0, x1, y0, y1;  // box
+  std::int64_t x0, x1, y0, y1;  // a box around it, on the grid
 };
 
-// A point inside an edge, at parameter num / den (0 at its start, 1 at its end).
+// A point inside an edge, at parameter t along it.
 struct Hit {
   int edge;
-  std::int64_t num, den;
+  Param t;
   int node;
 };
 
@@ -173,6 +168,8 @@ struct Ring {
   int first_edge, edge_count;
   int first_piece = 0, piece_count = 0;
 };
+
+Direction directionOf(const Line& l) { return {l.b, -l.a}; }
 
 class Graph {
  public:
@@ -193,86 +190,91 @@ class Graph {
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   }
 
-  void addRing(const GridRing& r, bool counter_clockwise, Owner owner) {
-    const bool as_given = (twiceSignedArea(r) > 0) == counter_clockwise;
+  void addRing(const ExactRing& r, bool counter_clockwise, Owner owner) {
     const int n = static_cast<int>(r.size()), base = static_cast<int>(nodes.size());
     const int ring = static_cast<int>(rings.size());
     rings.push_back({owner, static_cast<int>(edges.size()), n});
-    auto at = [&](int i) { return as_given ? r[i] : r[n - 1 - i]; };
-    for (int i = 0; i < n; ++i) nodes.push_back({at(i).x, at(i).y, 1});
+    auto vertex = [](const ExactPoint& p) { return Vertex{p.x, p.y, p.d}; };
+    auto line = [](const ExactPoint& p) { return Line{p.a, p.b, p.c}; };
+    // Which way round it runs: the turn at its lowest (then leftmost) vertex
+    int low = 0;
+    for (int i = 1; i < n; ++i) {
+      const int cy = compareFractions(r[i].y, r[i].d, r[low].y, r[low].d);
+      if (cy < 0 || (cy == 0 && compareFractions(r[i].x, r[i].d, r[low].x, r[low].d) < 0)) low = i;
+    }
+    const Direction in = directionOf(line(r[(low + n - 1) % n])), out = directionOf(line(r[low]));
+    const bool as_given = (cross(in.x, in.y, out.x, out.y) > 0) == counter_clockwise;
+    // Vertex i and the line of the edge leaving it, walked the chosen way round
+    auto at = [&](int i) { return vertex(as_given ? r[i] : r[n - 1 - i]); };
+    auto lineFrom = [&](int i) {
+      if (as_given) return line(r[i]);
+      const Line l = line(r[(2 * n - 2 - i) % n]);  // the edge from n-1-i back to n-2-i, turned
+      return Line{-l.a, -l.b, -l.c};
+    };
+    for (int i = 0; i < n; ++i) nodes.push_back(at(i));
     for (int i = 0; i < n; ++i) {
-      const GridPoint p = at(i), q = at((i + 1) % n);
-      Edge e{p, {q.x - p.x, q.y - p.y}, lineThrough(p, q.x - p.x, q.y - p.y), base + i, base + (i + 1) % n, ring, owner,
-             std::min(p.x, q.x), std::max(p.x, q.x), std::min(p.y, q.y), std::max(p.y, q.y)};
-      edges.push_back(e);
+      const Vertex p = at(i), q = at((i + 1) % n);
+      const Line l = lineFrom(i);
+      const Direction d = directionOf(l);
+      edges.push_back({p, q, d, l, along(p, d), along(q, d), base + i, base + (i + 1) % n, ring, owner,
+                       std::min(floorDiv(p.x, p.d), floorDiv(q.x, q.d)), std::max(ceilDiv(p.x, p.d), ceilDiv(q.x, q.d)),
+                       std::min(floorDiv(p.y, p.d), floorDiv(q.y, q.d)), std::max(ceilDiv(p.y, p.d), ceilDiv(q.y, q.d))});
     }
   }
-  void addRegion(const GridRegion& region, Owner owner) {
-    for (const GridPolygon& poly : region) {
+  void addRegion(const ExactRegion& region, Owner owner) {
+    for (const ExactPolygon& poly : region) {
       addRing(poly.outer, true, owner);
-      for (const GridRing& h : poly.holes) addRing(h, false, owner);
+      for (const ExactRing& h : poly.holes) addRing(h, false, owner);
     }
   }
 
-  // Where grid point p (node `node`) lies on edge e, as a parameter.
-  void hitAt(int e, GridPoint p, int node) {
-    const Edge& E = edges[e];
-    hits.push_back({e, static_cast<std::int64_t>(dot(p.x - E.p.x, p.y - E.p.y, E.d.x, E.d.y)),
-                    static_cast<std::int64_t>(dot(E.d.x, E.d.y, E.d.x, E.d.y)), node});
-  }
-  // Where edge e crosses line m, as a parameter.
-  void hitCrossing(int e, const Line& m, int node) {
-    const Edge& E = edges[e];
-    std::int64_t num = -(m.a * E.p.x + m.b * E.p.y + m.c), den = m.a * E.d.x + m.b * E.d.y;
-    if (den < 0) num = -num, den = -den;
-    hits.push_back({e, num, den, node});
-  }
+  // Vertex v (node `node`) lies inside edge e: a hit there.
+  void hitAt(int e, const Vertex& v, int node) { hits.push_back({e, along(v, edges[e].d), node}); }
 
   // 1. Find where the boundaries meet, and insert those points into both vertex lists.
   void intersect(int ea, int eb) {
     const Edge &A = edges[ea], &B = edges[eb];
-    const GridPoint a0 = A.p, a1{A.p.x + A.d.x, A.p.y + A.d.y};
-    const GridPoint b0 = B.p, b1{B.p.x + B.d.x, B.p.y + B.d.y};
-    const int s0 = side(B.line, a0), s1 = side(B.line, a1);
+    const int s0 = side(B.line, A.v0), s1 = side(B.line, A.v1);
     if (s0 * s1 > 0) return;
-    const int r0 = side(A.line, b0), r1 = side(A.line, b1);
+    const int r0 = side(A.line, B.v0), r1 = side(A.line, B.v1);
     if (r0 * r1 > 0) return;
     if (s0 == 0 && s1 == 0) {
       // Collinear: each end that lies inside the other edge is a point of both boundaries;
       // ends that coincide are one node.
-      auto place = [&](int on, GridPoint p, int node, int start, int end) {
+      auto place = [&](int on, const Vertex& v, int node) {
         const Edge& E = edges[on];
-        const i128 t = dot(p.x - E.p.x, p.y - E.p.y, E.d.x, E.d.y), len = dot(E.d.x, E.d.y, E.d.x, E.d.y);
-        if (t < 0 || t > len) return;
-        if (t == 0) unite(node, start);
-        else if (t == len) unite(node, end);
-        else hitAt(on, p, node);
+        const Param t = along(v, E.d);
+        const int from = compare(t, E.t0), to = compare(t, E.t1);
+        if (from < 0 || to > 0) return;
+        if (from == 0) unite(node, E.node0);
+        else if (to == 0) unite(node, E.node1);
+        else hitAt(on, v, node);
       };
-      place(ea, b0, B.node0, A.node0, A.node1);
-      place(ea, b1, B.node1, A.node0, A.node1);
-      place(eb, a0, A.node0, B.node0, B.node1);
-      place(eb, a1, A.node1, B.node0, B.node1);
+      place(ea, B.v0, B.node0);
+      place(ea, B.v1, B.node1);
+      place(eb, A.v0, A.node0);
+      place(eb, A.v1, A.node1);
       return;
     }
     // The lines cross at one point, and it lies on both edges.
     if (s0 == 0 || s1 == 0) {  // at an end of A's edge
-      const GridPoint p = s0 == 0 ? a0 : a1;
       const int node = s0 == 0 ? A.node0 : A.node1;
       if (r0 == 0) unite(node, B.node0);
       else if (r1 == 0) unite(node, B.node1);
-      else hitAt(eb, p, node);
+      else hitAt(eb, s0 == 0 ? A.v0 : A.v1, node);
     } else if (r0 == 0 || r1 == 0) {  // at an end of B's edge, inside A's
-      hitAt(ea, r0 == 0 ? b0 : b1, r0 == 0 ? B.node0 : B.node1);
+      hitAt(ea, r0 == 0 ? B.v0 : B.v1, r0 == 0 ? B.node0 : B.node1);
     } else {  // a proper crossing: a new vertex on both lists
       const int node = static_cast<int>(nodes.size());
-      nodes.push_back(crossing(A.line, B.line));
+      const Vertex v = crossing(A.line, B.line);
+      nodes.push_back(v);
       parent.push_back(node);
-      hitCrossing(ea, B.line, node);
-      hitCrossing(eb, A.line, node);
+      hitAt(ea, v, node);
+      hitAt(eb, v, node);
     }
   }
 
-  void build(const GridRegion& a, const GridRegion& b) {
+  void build(const ExactRegion& a, const ExactRegion& b) {
     addRegion(a, kA);
     const int first_b = static_cast<int>(edges.size());
     addRegion(b, kB);
@@ -309,11 +311,10 @@ class Graph {
     // Sort the points inside each edge along it; points at the same place are one node.
     std::sort(hits.begin(), hits.end(), [](const Hit& l, const Hit& r) {
       if (l.edge != r.edge) return l.edge < r.edge;
-      return i128{l.num} * r.den < i128{r.num} * l.den;
+      return compare(l.t, r.t) < 0;
     });
     for (std::size_t i = 1; i < hits.size(); ++i)
-      if (hits[i].edge == hits[i - 1].edge && i128{hits[i].num} * hits[i - 1].den == i128{hits[i - 1].num} * hits[i].den)
-        unite(hits[i].node, hits[i - 1].node);
+      if (hits[i].edge == hits[i - 1].edge && compare(hits[i].t, hits[i - 1].t) == 0) unite(hits[i].node, hits[i - 1].node);
     // The pieces, ring by ring in boundary order: from each edge's start, through the points
     // found inside it (never at its ends), to its end
     std::size_t h = 0;
@@ -359,12 +360,28 @@ struct Passages {
   bool touches(int node) const { return start[node] != start[node + 1]; }
 };
 
+// Crossing-number test of a vertex that is on no edge of `owner`'s boundary: is it inside?
+// (A horizontal ray to the right of it, counted against that boundary's edges.)
+bool insideBoundary(const Graph& g, const Vertex& p, Owner owner) {
+  bool inside = false;
+  for (const Edge& e : g.edges) {
+    if (e.owner != owner) continue;
+    const bool a_above = compareFractions(e.v0.y, e.v0.d, p.y, p.d) > 0, b_above = compareFractions(e.v1.y, e.v1.d, p.y, p.d) > 0;
+    if (a_above == b_above) continue;
+    // The edge crosses the horizontal through p; it crosses right of p when p lies left of
+    // the edge walked upwards.
+    const int s = side(e.line, p);
+    if (b_above ? s > 0 : s < 0) inside = !inside;
+  }
+  return inside;
+}
+
 // 2. Label each piece: inside or outside the other region, or shared with its boundary (the
 // same way round or the opposite way). A piece that starts where the other boundary passes
 // is labelled by the angle it leaves at; one that starts elsewhere inherits the label of the
 // piece before it (its status can change only where the boundaries meet); a ring that never
 // meets the other boundary is inside or outside as a whole (a crossing-number test).
-void label(Graph& g, const GridRegion& other_a, const GridRegion& other_b) {
+void label(Graph& g) {
   g.labels.assign(g.pieces.size(), Label::Outside);
   Passages passages[2];
   passages[kA].build(g, kA);
@@ -419,8 +436,7 @@ void label(Graph& g, const GridRegion& other_a, const GridRegion& other_b) {
     for (int p = r.first_piece; p < r.first_piece + r.piece_count && start < 0; ++p)
       if (decided(p, &current)) start = p;
     if (start < 0) {  // never meets the other boundary
-      const GridPoint v = g.edges[g.pieces[r.first_piece].edge].p;
-      const bool inside = insideRegion(v, r.owner == kA ? other_b : other_a);
+      const bool inside = insideBoundary(g, g.edges[g.pieces[r.first_piece].edge].v0, other);
       for (int p = r.first_piece; p < r.first_piece + r.piece_count; ++p)
         g.labels[p] = inside ? Label::Inside : Label::Outside;
       continue;
@@ -630,7 +646,10 @@ ExactRegion assemble(const std::vector<RingOut>& rings, const std::vector<Vertex
   auto points = [&](const RingOut& r) {
     ExactRing ring;
     ring.reserve(r.nodes.size());
-    for (int v : r.nodes) ring.push_back({nodes[v].x, nodes[v].y, nodes[v].d});
+    for (std::size_t i = 0; i < r.nodes.size(); ++i) {
+      const Vertex& v = nodes[r.nodes[i]];
+      ring.push_back({v.x, v.y, v.d, r.lines[i].a, r.lines[i].b, r.lines[i].c});
+    }
     return ring;
   };
   for (std::size_t i = 0; i < outers.size(); ++i) region[i].outer = points(rings[outers[i]]);
@@ -767,11 +786,59 @@ std::string invalidRegionReason(const GridRegion& region) {
   return {};
 }
 
-ExactRegion booleanOp(const GridRegion& a, const GridRegion& b, BooleanOp op) {
+ExactRegion booleanOp(const ExactRegion& a, const ExactRegion& b, BooleanOp op) {
   Graph g;
   g.build(a, b);
-  label(g, a, b);
+  label(g);
   return assemble(tidy(walk(g, keep(g, op)), g.nodes.size()), g.nodes);
+}
+
+ExactRegion booleanOp(const GridRegion& a, const GridRegion& b, BooleanOp op) {
+  return booleanOp(exactRegion(a), exactRegion(b), op);
+}
+
+ExactRegion exactRegion(const GridRegion& region) {
+  auto ring = [](const GridRing& r) {
+    ExactRing out(r.size());
+    for (std::size_t i = 0, n = r.size(); i < n; ++i) {
+      const GridPoint p = r[i], q = r[(i + 1) % n];
+      const Line l = lineThrough(p, q.x - p.x, q.y - p.y);
+      out[i] = {p.x, p.y, 1, l.a, l.b, l.c};
+    }
+    return out;
+  };
+  ExactRegion exact;
+  exact.reserve(region.size());
+  for (const GridPolygon& p : region) {
+    ExactPolygon& e = exact.emplace_back();
+    e.outer = ring(p.outer);
+    for (const GridRing& h : p.holes) e.holes.push_back(ring(h));
+  }
+  return exact;
+}
+
+std::string invalidRegionReason(const ExactRegion& region) {
+  const std::int64_t ab = std::int64_t{1} << 29, cmax = std::int64_t{1} << 58, dmax = std::int64_t{1} << 60;
+  const i128 xmax = i128{1} << 89;
+  for (std::size_t pi = 0; pi < region.size(); ++pi)
+    for (std::size_t ri = 0; ri <= region[pi].holes.size(); ++ri) {
+      const ExactRing& r = ri == 0 ? region[pi].outer : region[pi].holes[ri - 1];
+      const std::string at = "polygon " + std::to_string(pi) + (ri == 0 ? " outer ring" : " hole " + std::to_string(ri - 1));
+      if (r.size() < 3) return at + ": fewer than 3 vertices";
+      for (std::size_t i = 0, n = r.size(); i < n; ++i) {
+        const ExactPoint& p = r[i];
+        const std::string v = at + " vertex " + std::to_string(i);
+        if (p.d <= 0 || p.d >= dmax || p.x <= -xmax || p.x >= xmax || p.y <= -xmax || p.y >= xmax) return v + ": out of range";
+        if (p.a < -ab || p.a > ab || p.b < -ab || p.b > ab || p.c < -cmax || p.c > cmax || (p.a == 0 && p.b == 0))
+          return v + ": its edge's line is out of range";
+        const Vertex here{p.x, p.y, p.d}, next{r[(i + 1) % n].x, r[(i + 1) % n].y, r[(i + 1) % n].d};
+        const Line l{p.a, p.b, p.c};
+        if (side(l, here) != 0 || side(l, next) != 0) return v + ": not on its edge's line";
+        if (compare(along(here, directionOf(l)), along(next, directionOf(l))) >= 0)
+          return v + ": its edge runs against its line's direction, or has length 0";
+      }
+    }
+  return {};
 }
 
 std::string exactArea(const ExactRegion& region) {
@@ -785,20 +852,7 @@ std::string exactArea(const ExactRegion& region) {
   return area.get_str();
 }
 
-std::string exactArea(const GridRegion& region) {
-  ExactRegion exact;
-  auto ring = [](const GridRing& r) {
-    ExactRing out;
-    for (const GridPoint& p : r) out.push_back({p.x, p.y, 1});
-    return out;
-  };
-  for (const GridPolygon& p : region) {
-    ExactPolygon& e = exact.emplace_back();
-    e.outer = ring(p.outer);
-    for (const GridRing& h : p.holes) e.holes.push_back(ring(h));
-  }
-  return exactArea(exact);
-}
+std::string exactArea(const GridRegion& region) { return exactArea(exactRegion(region)); }
 
 double area(const ExactRegion& region) {
   auto ring = [](const ExactRing& r) {

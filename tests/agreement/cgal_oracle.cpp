@@ -45,19 +45,24 @@ K::FT exactCoordinate(__int128 v, std::int64_t d) {
   return K::FT(K::FT::ET(q.get_mpq_t()));
 }
 
-}  // namespace
 
-std::string cgalArea(const GridRegion& a, const GridRegion& b, BooleanOp op) {
-  const CgalSet ca = cgalSet(a), cb = cgalSet(b);
-  CgalSet out = op == BooleanOp::BMinusA ? cb : ca;
+void apply(CgalSet& a, const CgalSet& b, BooleanOp op) {
   switch (op) {
-    case BooleanOp::Intersection: out.intersection(cb); break;
-    case BooleanOp::Union: out.join(cb); break;
-    case BooleanOp::AMinusB: out.difference(cb); break;
-    case BooleanOp::BMinusA: out.difference(ca); break;
+    case BooleanOp::Intersection: a.intersection(b); break;
+    case BooleanOp::Union: a.join(b); break;
+    case BooleanOp::AMinusB: a.difference(b); break;
+    case BooleanOp::BMinusA: {
+      CgalSet r = b;
+      r.difference(a);
+      a = r;
+      break;
+    }
   }
+}
+
+std::string areaOf(const CgalSet& set) {
   std::vector<CgalPolygonWithHoles> polys;
-  out.polygons_with_holes(std::back_inserter(polys));
+  set.polygons_with_holes(std::back_inserter(polys));
   K::FT area = 0;
   for (const CgalPolygonWithHoles& ph : polys) {
     area += ph.outer_boundary().area();
@@ -68,6 +73,20 @@ std::string cgalArea(const GridRegion& a, const GridRegion& b, BooleanOp op) {
   mpq_class q(s.str());
   q.canonicalize();
   return q.get_str();
+}
+
+}  // namespace
+
+std::string cgalArea(const GridRegion& a, const GridRegion& b, BooleanOp op) {
+  CgalSet out = cgalSet(a);
+  apply(out, cgalSet(b), op);
+  return areaOf(out);
+}
+
+std::string cgalChainArea(const std::vector<GridRegion>& regions, const std::vector<BooleanOp>& ops) {
+  CgalSet out = cgalSet(regions.at(0));
+  for (std::size_t i = 0; i < ops.size(); ++i) apply(out, cgalSet(regions.at(i + 1)), ops[i]);
+  return areaOf(out);
 }
 
 std::string cgalRingProblems(const ExactRegion& region) {

@@ -6,6 +6,7 @@
 // tests/geometry/weiler_atherton_test.cpp.
 
 #include <string>
+#include <vector>
 
 #include "hsr/clipping.hpp"
 
@@ -14,6 +15,10 @@ namespace hsr::testing {
 // The exact area of A op B by CGAL, as a reduced fraction "p/q" (or "p"), as hsr::exactArea
 // writes it.
 std::string cgalArea(const GridRegion& a, const GridRegion& b, BooleanOp op);
+
+// The exact area of ((R0 op0 R1) op1 R2) ... by CGAL: a chain of operations, each result the
+// next one's A (ops.size() == regions.size() - 1).
+std::string cgalChainArea(const std::vector<GridRegion>& regions, const std::vector<BooleanOp>& ops);
 
 // "" when every ring of `region` is simple (CGAL's is_simple on the exact vertices), outer
 // rings counter-clockwise and holes clockwise; otherwise what is wrong.
