@@ -106,4 +106,71 @@ std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<con
   });
 }
 
+std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
+                             const FrameView& fb, FragmentCounts& counts) {
+  using i128 = __int128;
+  struct RegionEdge {
+    i128 y0, y1;            // ends' y as fractions of their d
+    std::int64_t d0, d1;
+    std::int64_t a, b, c;   // its line
+  };
+  thread_local std::vector<RegionEdge> edges;
+  thread_local std::vector<std::int64_t> starts;
+  edges.clear();
+  // The rows the region's box spans (centres at y * 256 on the grid), with a row to spare
+  double lo = 0, hi = 0;
+  bool any = false;
+  auto ring = [&](const ExactRing& r) {
+    for (std::size_t i = 0, n = r.size(); i < n; ++i) {
+      const ExactPoint &p = r[i], &q = r[(i + 1) % n];
+      edges.push_back({p.y, q.y, p.d, q.d, p.a, p.b, p.c});
+      lo = any ? std::min(lo, p.yd()) : p.yd();
+      hi = any ? std::max(hi, p.yd()) : p.yd();
+      any = true;
+    }
+  };
+  for (const ExactPolygon& poly : region) {
+    ring(poly.outer);
+    for (const ExactRing& h : poly.holes) ring(h);
+  }
+  if (!any) return 0;
+  auto floorDiv128 = [](i128 n, i128 d) {  // d > 0
+    i128 q = n / d;
+    if (q * d > n) --q;
+    return q;
+  };
+  const int y0 = static_cast<int>(std::clamp(std::floor(lo / kSubpixelOne) - 1, 0.0, static_cast<double>(fb.height)));
+  const int y1 = static_cast<int>(std::clamp(std::ceil(hi / kSubpixelOne) + 1, -1.0, static_cast<double>(fb.height - 1)));
+  std::size_t written = 0;
+  ScreenTriangle st{};
+  st.id = id;
+  st.rgba = rgba;
+  for (int y = y0; y <= y1; ++y) {
+    const i128 Y = i128{y} * kSubpixelOne;
+    // Each edge met by the row just above the centres (y - e²): one whose ends lie on either
+    // side, an end on the row itself counting as below it. Where it meets the row, x = -(b Y +
+    // c) / a; the centres from the first column at or right of x on are past it.
+    starts.clear();
+    for (const RegionEdge& e : edges) {
+      const bool below0 = e.y0 >= Y * e.d0, below1 = e.y1 >= Y * e.d1;
+      if (below0 == below1) continue;
+      i128 num = -(i128{e.b} * Y + e.c), den = i128{e.a} * kSubpixelOne;
+      if (den < 0) num = -num, den = -den;
+      const i128 col = -floorDiv128(-num, den);
+      starts.push_back(static_cast<std::int64_t>(std::clamp<i128>(col, -1, fb.width)));
+    }
+    std::sort(starts.begin(), starts.end());
+    const double row = depthRowStart(depth, y);
+    for (std::size_t k = 0; k + 1 < starts.size(); k += 2) {
+      const int x0 = static_cast<int>(std::max<std::int64_t>(starts[k], 0));
+      const int x1 = static_cast<int>(std::min<std::int64_t>(starts[k + 1], fb.width)) - 1;
+      for (int x = x0; x <= x1; ++x) {
+        writeFragment<DepthFunc::Always>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true, counts);
+        ++written;
+      }
+    }
+  }
+  return written;
+}
+
 }  // namespace hsr::detail

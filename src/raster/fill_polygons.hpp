@@ -17,6 +17,7 @@
 
 #include <glm/vec2.hpp>
 
+#include "hsr/clipping.hpp"
 #include "raster/fragment.hpp"
 #include "raster/primitives.hpp"
 
@@ -79,5 +80,18 @@ std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<con
                              const PixelBox& box, const DepthPlane& depth, PolygonId id,
                              std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts,
                              const PaintGroup* group = nullptr);
+
+// Paints, with no depth test (depth written), the pixel centres inside an exact region
+// (hsr/clipping.hpp) given on the sub-pixel grid (x / (d * 256) pixels, as the pipeline snaps):
+// what the Weiler-Atherton algorithm's visible pieces are filled with. A centre on the
+// region's boundary counts as inside exactly when the fill rule would give it to a triangle
+// with that edge (raster/edge.hpp): the test is made at the centre moved right by an
+// infinitesimal e and up by e² (no edge then passes through it). So pieces that tile a
+// polygon share out its pixels exactly, and a region that is a whole snapped polygon covers
+// the pixels fillPolygon covers. Each pixel's depth is the plane's (raster/depth.hpp), as every
+// other algorithm writes it. Cost: per row of the region's box, its edges and a sort of their
+// crossings. Returns the fragments written.
+std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
+                             const FrameView& fb, FragmentCounts& counts);
 
 }  // namespace hsr::detail
