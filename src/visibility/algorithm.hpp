@@ -8,6 +8,7 @@
 
 #include "core/trace.hpp"
 #include "hsr/render.hpp"
+#include "hsr/visible_set.hpp"
 #include "pipeline/pipeline.hpp"
 
 namespace hsr::detail {
@@ -55,5 +56,11 @@ void drawWarnock(const AlgorithmInput& input, Frame& frame);          // warnock
 void drawOctree(const AlgorithmInput& input, Frame& frame);           // octree.cpp
 void drawRaycast(const AlgorithmInput& input, Frame& frame);          // raycast.cpp
 void drawABuffer(const AlgorithmInput& input, Frame& frame);          // abuffer.cpp
+void drawWeilerAtherton(const AlgorithmInput& input, Frame& frame);   // weiler_atherton.cpp
+
+// The Weiler-Atherton visible set of the pipeline's window polygons (weiler_atherton.cpp);
+// `state_bytes`, when given, gets the memory its list and cells held.
+VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
+                                    std::size_t* state_bytes);
 
 }  // namespace hsr::detail

@@ -81,6 +81,13 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .input = InputKind::kScreenTriangles,
         .capabilities = kExactSharedCoverage | kTransparency | kBackToFront | kAntialiasing | kExplain},
        &drawABuffer},
+      {{.name = "weiler-atherton",
+        .summary = "Weiler-Atherton: the front polygon clips the rest into inside and outside lists; exact visible polygons",
+        .source = "Weiler & Atherton 1977; the notes' \"Weiler-Atherton\"",
+        .precision = Precision::kObject,
+        .input = InputKind::kWindowPolygons,
+        .capabilities = kExactSharedCoverage | kOutline | kTransparency},
+       &drawWeilerAtherton},
   };
   return table;
 }
