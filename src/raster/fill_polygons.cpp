@@ -106,8 +106,8 @@ std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<con
   });
 }
 
-std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
-                             const FrameView& fb, FragmentCounts& counts) {
+void forEachCentreIn(const ExactRegion& region, int width, int height,
+                     const std::function<void(int y, int x0, int x1)>& span) {
   using i128 = __int128;
   struct RegionEdge {
     i128 y0, y1;            // ends' y as fractions of their d
@@ -133,18 +133,14 @@ std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth,
     ring(poly.outer);
     for (const ExactRing& h : poly.holes) ring(h);
   }
-  if (!any) return 0;
+  if (!any) return;
   auto floorDiv128 = [](i128 n, i128 d) {  // d > 0
     i128 q = n / d;
     if (q * d > n) --q;
     return q;
   };
-  const int y0 = static_cast<int>(std::clamp(std::floor(lo / kSubpixelOne) - 1, 0.0, static_cast<double>(fb.height)));
-  const int y1 = static_cast<int>(std::clamp(std::ceil(hi / kSubpixelOne) + 1, -1.0, static_cast<double>(fb.height - 1)));
-  std::size_t written = 0;
-  ScreenTriangle st{};
-  st.id = id;
-  st.rgba = rgba;
+  const int y0 = static_cast<int>(std::clamp(std::floor(lo / kSubpixelOne) - 1, 0.0, static_cast<double>(height)));
+  const int y1 = static_cast<int>(std::clamp(std::ceil(hi / kSubpixelOne) + 1, -1.0, static_cast<double>(height - 1)));
   for (int y = y0; y <= y1; ++y) {
     const i128 Y = i128{y} * kSubpixelOne;
     // Each edge met by the row just above the centres (y - e²): one whose ends lie on either
@@ -157,19 +153,30 @@ std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth,
       i128 num = -(i128{e.b} * Y + e.c), den = i128{e.a} * kSubpixelOne;
       if (den < 0) num = -num, den = -den;
       const i128 col = -floorDiv128(-num, den);
-      starts.push_back(static_cast<std::int64_t>(std::clamp<i128>(col, -1, fb.width)));
+      starts.push_back(static_cast<std::int64_t>(std::clamp<i128>(col, -1, width)));
     }
     std::sort(starts.begin(), starts.end());
-    const double row = depthRowStart(depth, y);
     for (std::size_t k = 0; k + 1 < starts.size(); k += 2) {
       const int x0 = static_cast<int>(std::max<std::int64_t>(starts[k], 0));
-      const int x1 = static_cast<int>(std::min<std::int64_t>(starts[k + 1], fb.width)) - 1;
-      for (int x = x0; x <= x1; ++x) {
-        writeFragment<DepthFunc::Always>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true, counts);
-        ++written;
-      }
+      const int x1 = static_cast<int>(std::min<std::int64_t>(starts[k + 1], width)) - 1;
+      if (x0 <= x1) span(y, x0, x1);
     }
   }
+}
+
+std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
+                             const FrameView& fb, FragmentCounts& counts) {
+  std::size_t written = 0;
+  ScreenTriangle st{};
+  st.id = id;
+  st.rgba = rgba;
+  forEachCentreIn(region, fb.width, fb.height, [&](int y, int x0, int x1) {
+    const double row = depthRowStart(depth, y);
+    for (int x = x0; x <= x1; ++x) {
+      writeFragment<DepthFunc::Always>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true, counts);
+      ++written;
+    }
+  });
   return written;
 }
 

@@ -13,6 +13,7 @@
 // piece of it writes, where it covers, what the whole would.
 
 #include <cstdint>
+#include <functional>
 #include <span>
 
 #include <glm/vec2.hpp>
@@ -93,5 +94,10 @@ std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<con
 // crossings. Returns the fragments written.
 std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
                              const FrameView& fb, FragmentCounts& counts);
+
+// The pixel centres paintExactRegion paints, within a width x height picture, as spans:
+// span(y, x0, x1) for columns x0..x1 of row y.
+void forEachCentreIn(const ExactRegion& region, int width, int height,
+                     const std::function<void(int y, int x0, int x1)>& span);
 
 }  // namespace hsr::detail

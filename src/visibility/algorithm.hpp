@@ -59,8 +59,15 @@ void drawABuffer(const AlgorithmInput& input, Frame& frame);          // abuffer
 void drawWeilerAtherton(const AlgorithmInput& input, Frame& frame);   // weiler_atherton.cpp
 
 // The Weiler-Atherton visible set of the pipeline's window polygons (weiler_atherton.cpp);
-// `state_bytes`, when given, gets the memory its list and cells held.
+// `state_bytes`, when given, gets the memory its list and cells held; `close`, when given, the
+// pairs of overlapping polygons whose depths come within a float step of each other.
+struct ClosePair {
+  ExactRegion whole_a, whole_b;  // the two snapped polygons
+  DepthPlane plane_a, plane_b;
+  PolygonId id_a, id_b;
+  std::uint32_t rgba_a, rgba_b;
+};
 VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
-                                    std::size_t* state_bytes);
+                                    std::size_t* state_bytes, std::vector<ClosePair>* close);
 
 }  // namespace hsr::detail

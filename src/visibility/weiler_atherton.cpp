@@ -65,19 +65,30 @@ namespace {
 // Two depths closer than this (window depth, 0..1) are equal: as the painter's kOnPlane, far
 // below what a float depth buffer resolves, far above double's rounding of a plane's value.
 constexpr double kOnPlane = 1e-12;
+// Two polygons whose depths come this close where they overlap (or cross there) are "close":
+// at pixel centres a float depth buffer may order them either way (a float step near depth 1
+// is 6e-8), so the frame settles their shared pixels as one does (see drawWeilerAtherton).
+// Planes with huge terms (an edge-on polygon: 1e8 per pixel) are evaluated with larger
+// errors, in doubles here and before the rounding to float in every algorithm: their pairs
+// are close within kFloatClose plus kTermError times the size of the plane's terms.
+constexpr double kFloatClose = 1e-6;
+constexpr double kTermError = 1e-14;
 // The split line's two grid points lie this far (grid units, 2^16 pixels) either side of the
 // piece's centre: the line's direction is then rounded by under 2^-24 radians.
 constexpr double kSplitReach = 16777216.0;
 
 struct Entry {
   ExactRegion region;        // what is left of the polygon
+  ExactRegion whole;         // the whole snapped polygon
   DepthPlane plane;
   PolygonId id = kNoPolygon;
   std::uint32_t rgba = 0;
   double zmin = 0, zmax = 0;  // depth extent of the whole polygon
+  double terms = 0;           // size of its plane's terms over the picture
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // box of what is left, grid units
+  std::vector<GridPoint> hull; // the whole polygon counter-clockwise, when it is convex
+  bool pristine = false;      // the region is still that whole convex polygon
   bool done = false;          // output (or emptied)
-  std::uint32_t seen = 0;     // stamp of the last candidate search that met it
 };
 
 double depthAt(const DepthPlane& p, double gx, double gy) {
@@ -120,15 +131,38 @@ bool separated(const ExactRegion& a, const ExactRegion& b) {
   return false;
 }
 
+// The same for two whole convex polygons, in 64-bit integers: the test most pairs of a mesh
+// end with (neighbours sharing an edge), and the one a fan of thin triangles round one vertex
+// asks of every pair.
+bool hullsSeparated(const std::vector<GridPoint>& a, const std::vector<GridPoint>& b) {
+  auto edgeSeparates = [](const std::vector<GridPoint>& h, const std::vector<GridPoint>& other) {
+    for (std::size_t i = 0, n = h.size(); i < n; ++i) {
+      const GridPoint p = h[i], q = h[(i + 1) % n];
+      const std::int64_t dx = q.x - p.x, dy = q.y - p.y;
+      bool all = true;
+      for (const GridPoint& v : other)
+        if (dx * (v.y - p.y) - dy * (v.x - p.x) > 0) {  // strictly inside the edge's half-plane
+          all = false;
+          break;
+        }
+      if (all) return true;
+    }
+    return false;
+  };
+  return edgeSeparates(a, b) || edgeSeparates(b, a);
+}
+
 enum class Verdict { Behind, InFront, Crossing };
 
-// Where a piece of Q inside P lies against P: the sign of z_Q - z_P at its corners.
-Verdict compare(const ExactPolygon& piece, const Entry& p, const Entry& q) {
+// Where a piece of Q inside P lies against P: the sign of z_Q - z_P at its corners. `closest`
+// gets the smallest |z_Q - z_P| there.
+Verdict compare(const ExactPolygon& piece, const Entry& p, const Entry& q, double* closest) {
   bool behind = true, in_front = true;
   for (const ExactPoint& v : piece.outer) {
     const double dz = depthAt(q.plane, v.xd(), v.yd()) - depthAt(p.plane, v.xd(), v.yd());
     behind = behind && dz >= -kOnPlane;
     in_front = in_front && dz <= kOnPlane;
+    *closest = std::min(*closest, std::abs(dz));
   }
   if (behind && in_front) return p.id < q.id ? Verdict::Behind : Verdict::InFront;  // one plane
   return behind ? Verdict::Behind : in_front ? Verdict::InFront : Verdict::Crossing;
@@ -159,32 +193,42 @@ struct Counts {
   std::uint64_t pairs = 0, clips = 0, splits = 0, separated = 0, deeper = 0, apart = 0;
 };
 
-// Steps 3 and 4 for the clip polygon p and one other polygon q.
-void clipPair(Entry& p, Entry& q, Counts& c) {
+// Steps 3 and 4 for the clip polygon p and one other polygon q. Returns whether they are close
+// (kFloatClose) somewhere they overlap.
+bool clipPair(Entry& p, Entry& q, Counts& c) {
   c.pairs++;
+  const double close = kFloatClose + kTermError * std::max(p.terms, q.terms);
   if (q.x0 >= p.x1 || q.x1 <= p.x0 || q.y0 >= p.y1 || q.y1 <= p.y0) {
     c.apart++;
-    return;
+    return false;
   }
-  if (q.zmin > p.zmax + kOnPlane) {  // Q deeper than P everywhere: its part inside P is hidden
+  if (p.pristine && q.pristine && hullsSeparated(p.hull, q.hull)) {
+    c.separated++;
+    return false;
+  }
+  if (q.zmin > p.zmax + close) {  // Q deeper than P everywhere: its part inside P is hidden
     c.deeper++, c.clips++;
+    q.pristine = false;
     q.region = booleanOp(q.region, p.region, BooleanOp::AMinusB);
     updateBox(q);
-    return;
+    return false;
   }
   if (separated(p.region, q.region)) {
     c.separated++;
-    return;
+    return false;
   }
   c.clips++;
   const ExactRegion inside = booleanOp(q.region, p.region, BooleanOp::Intersection);
-  if (inside.empty()) return;
+  if (inside.empty()) return false;
+  double closest = INFINITY;
+  bool crossing = false;
   ExactRegion hidden_q, hidden_p;  // pieces behind P, pieces in front of it
   for (const ExactPolygon& piece : inside) {
-    const Verdict v = compare(piece, p, q);
+    const Verdict v = compare(piece, p, q, &closest);
     if (v == Verdict::Behind) hidden_q.push_back(piece);
     else if (v == Verdict::InFront) hidden_p.push_back(piece);
     else {
+      crossing = true;
       const GridRegion side = deeperSide(piece, p, q);
       if (side.empty() || !invalidRegionReason(side).empty()) {  // planes all but parallel: no line to cut along
         (p.id < q.id ? hidden_q : hidden_p).push_back(piece);
@@ -198,6 +242,7 @@ void clipPair(Entry& p, Entry& q, Counts& c) {
   }
   auto remove = [&](Entry& e, const ExactRegion& pieces, const ExactRegion& rest, const ExactRegion& whole_other) {
     if (pieces.empty()) return;
+    e.pristine = false;
     if (rest.empty()) {
       c.clips++;
       e.region = booleanOp(e.region, whole_other, BooleanOp::AMinusB);  // all of the inside
@@ -211,6 +256,7 @@ void clipPair(Entry& p, Entry& q, Counts& c) {
   };
   remove(q, hidden_q, hidden_p, p.region);  // (when all of the inside is behind: Q − P)
   remove(p, hidden_p, hidden_q, q.region);  // (when all of it is in front: P − Q; Q is as it was)
+  return crossing || closest < close;
 }
 
 // A grid of screen cells, each listing the entries whose box meets it.
@@ -229,11 +275,13 @@ class Cells {
       forCells(e, [&](std::vector<std::uint32_t>& cell) { cell.push_back(i); });
     }
   }
+  // The cells of e's box; for a whole convex polygon only those its interior meets.
   template <class Fn>
   void forCells(const Entry& e, Fn&& fn) {
     const int c0 = col(e.x0), c1 = col(e.x1), r0 = row(e.y0), r1 = row(e.y1);
     for (int r = r0; r <= r1; ++r)
-      for (int c = c0; c <= c1; ++c) fn(cells_[static_cast<std::size_t>(r) * cols_ + c]);
+      for (int c = c0; c <= c1; ++c)
+        if (!e.pristine || (c0 == c1 && r0 == r1) || meets(e.hull, c, r)) fn(cells_[static_cast<std::size_t>(r) * cols_ + c]);
   }
   std::size_t bytes() const {
     std::size_t b = cells_.capacity() * sizeof(cells_[0]);
@@ -242,6 +290,18 @@ class Cells {
   }
 
  private:
+  // Does the convex polygon's interior meet cell (c, r)? (No edge has the whole cell on its
+  // outer side; the boxes already meet.) Conservative in doubles: a cell on the edge counts.
+  bool meets(const std::vector<GridPoint>& hull, int c, int r) const {
+    const double x0 = c * side_, y0 = r * side_, x1 = x0 + side_, y1 = y0 + side_;
+    for (std::size_t i = 0, n = hull.size(); i < n; ++i) {
+      const GridPoint p = hull[i], q = hull[(i + 1) % n];
+      const double dx = static_cast<double>(q.x - p.x), dy = static_cast<double>(q.y - p.y);
+      auto left = [&](double x, double y) { return dx * (y - static_cast<double>(p.y)) - dy * (x - static_cast<double>(p.x)) >= 0; };
+      if (!left(x0, y0) && !left(x1, y0) && !left(x0, y1) && !left(x1, y1)) return false;
+    }
+    return true;
+  }
   int col(double x) const { return std::clamp(static_cast<int>(std::floor(x / side_)), 0, cols_ - 1); }
   int row(double y) const { return std::clamp(static_cast<int>(std::floor(y / side_)), 0, rows_ - 1); }
   double side_ = 1;
@@ -251,7 +311,7 @@ class Cells {
 
 // The list: each opaque polygon snapped to the grid. A polygon that snapping folds (rare: a
 // sliver clipped at the frustum) enters as the triangles of a fan, each valid one an entry.
-std::vector<Entry> makeEntries(const std::vector<WindowPolygon>& polygons) {
+std::vector<Entry> makeEntries(const std::vector<WindowPolygon>& polygons, int width, int height) {
   std::vector<Entry> entries;
   entries.reserve(polygons.size());
   auto add = [&](const WindowPolygon& w, const GridRing& ring) {
@@ -259,13 +319,30 @@ std::vector<Entry> makeEntries(const std::vector<WindowPolygon>& polygons) {
     if (!invalidRegionReason(region).empty()) return false;
     Entry e;
     e.region = exactRegion(region);
+    e.whole = e.region;
     e.plane = w.depth;
+    e.terms = std::abs(w.depth.z0) + std::abs(w.depth.dzdx) * (width + 1) + std::abs(w.depth.dzdy) * (height + 1);
     e.id = w.id;
     e.rgba = w.rgba;
     e.zmin = INFINITY, e.zmax = -INFINITY;
     for (const GridPoint& v : ring) {
       const double z = depthAt(w.depth, static_cast<double>(v.x), static_cast<double>(v.y));
       e.zmin = std::min(e.zmin, z), e.zmax = std::max(e.zmax, z);
+    }
+    // Convex (every turn the same way, or straight): kept counter-clockwise for hullsSeparated
+    int turns = 0;
+    bool convex = true;
+    for (std::size_t i = 0, n = ring.size(); i < n && convex; ++i) {
+      const GridPoint a = ring[i], b = ring[(i + 1) % n], c = ring[(i + 2) % n];
+      const std::int64_t t = (b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x);
+      const int sign = (t > 0) - (t < 0);
+      if (sign != 0 && turns != 0 && sign != turns) convex = false;
+      if (sign != 0) turns = sign;
+    }
+    if (convex) {
+      e.hull = ring;
+      if (turns < 0) std::reverse(e.hull.begin(), e.hull.end());
+      e.pristine = true;
     }
     updateBox(e);
     entries.push_back(std::move(e));
@@ -291,8 +368,8 @@ std::vector<Entry> makeEntries(const std::vector<WindowPolygon>& polygons) {
 }  // namespace
 
 VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
-                                    std::size_t* state_bytes) {
-  std::vector<Entry> entries = makeEntries(polygons);
+                                    std::size_t* state_bytes, std::vector<ClosePair>* close) {
+  std::vector<Entry> entries = makeEntries(polygons, width, height);
   VisibleSet out;
   out.width = width, out.height = height;
   out.polygons_in = entries.size();
@@ -306,18 +383,28 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
   Cells cells(entries, width, height);
   Counts c;
   std::uint32_t stamp = 0;
+  std::vector<std::uint32_t> seen(entries.size(), 0);  // the last candidate search that met each
   for (const std::uint32_t pi : order) {
     Entry& p = entries[pi];
     if (p.done) continue;
     // 2.-4. P clips every polygon still in the list whose cells it shares
     ++stamp;
-    p.seen = stamp;
+    seen[pi] = stamp;
     cells.forCells(p, [&](std::vector<std::uint32_t>& cell) {
-      for (const std::uint32_t qi : cell) {
-        Entry& q = entries[qi];
-        if (q.seen == stamp || q.done) continue;
-        q.seen = stamp;
-        if (!p.done) clipPair(p, q, c);
+      for (std::size_t k = 0; k < cell.size();) {
+        const std::uint32_t qi = cell[k];
+        if (entries[qi].done) {  // output or emptied: off the cell's list
+          cell[k] = cell.back();
+          cell.pop_back();
+          continue;
+        }
+        ++k;
+        if (seen[qi] == stamp) continue;
+        seen[qi] = stamp;
+        if (!p.done && clipPair(p, entries[qi], c) && close) {
+          const Entry& q = entries[qi];
+          close->push_back({p.whole, q.whole, p.plane, q.plane, p.id, q.id, p.rgba, q.rgba});
+        }
       }
     });
     // 5. What is left of P is visible.
@@ -338,12 +425,40 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
 void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   const auto t0 = std::chrono::steady_clock::now();
   std::size_t bytes = 0;
-  const VisibleSet set = weilerAthertonVisibleSet(in.prepared.polygons, frame.width, frame.height, &bytes);
+  std::vector<ClosePair> close;
+  const VisibleSet set = weilerAthertonVisibleSet(in.prepared.polygons, frame.width, frame.height, &bytes, &close);
   const auto t1 = std::chrono::steady_clock::now();
   const FrameView fb(frame);
   FragmentCounts fragments;
   for (const VisiblePolygon& v : set.polygons) {
     paintExactRegion(v.region, {v.dzdx, v.dzdy, v.z0}, v.id, v.rgba, fb, fragments);
+  }
+  // Close pairs: where the exact answer and a float depth buffer may differ (two depths within
+  // a float step, or a crossing line snapped to the grid), their shared pixels show what GL_LESS
+  // shows: the nearest float depth, the first submitted among equals, of the pixel's polygon
+  // and the two. (The pixel's own polygon is nearest in exact terms: a polygon can beat it
+  // only by rounding, and so only if close to it, or to one close to it. Order does not
+  // matter: each pixel ends with the least of all its candidates.)
+  std::uint64_t settled = 0;
+  for (const ClosePair& cp : close) {
+    const ExactRegion shared = booleanOp(cp.whole_a, cp.whole_b, BooleanOp::Intersection);
+    forEachCentreIn(shared, frame.width, frame.height, [&](int y, int x0, int x1) {
+      const double row_a = depthRowStart(cp.plane_a, y), row_b = depthRowStart(cp.plane_b, y);
+      for (int x = x0; x <= x1; ++x) {
+        const std::size_t idx = fb.index(x, y);
+        float z = fb.depth[idx];
+        PolygonId id = fb.ids[idx];
+        std::uint32_t rgba = fb.rgba[idx];
+        auto consider = [&](float zc, PolygonId idc, std::uint32_t rgbac) {
+          if (zc < z || (zc == z && idc < id)) z = zc, id = idc, rgba = rgbac;
+        };
+        consider(depthInRow(row_a, cp.plane_a, x), cp.id_a, cp.rgba_a);
+        consider(depthInRow(row_b, cp.plane_b, x), cp.id_b, cp.rgba_b);
+        if (id == fb.ids[idx]) continue;
+        fb.ids[idx] = id, fb.depth[idx] = z, fb.rgba[idx] = rgba;
+        ++settled;
+      }
+    });
   }
   // See-through polygons over the finished picture, in submission order, as the z-buffer.
   for (const WindowPolygon& w : in.prepared.polygons)
@@ -358,6 +473,8 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("weiler-atherton: pairs", set.pairs);
   frame.stats.addCounter("weiler-atherton: clips", set.clips);
   frame.stats.addCounter("weiler-atherton: splits", set.splits);
+  frame.stats.addCounter("weiler-atherton: close pairs", close.size());
+  frame.stats.addCounter("weiler-atherton: pixels settled as a float depth buffer", settled);
   frame.stats.addStage("visible set", std::chrono::duration<double, std::milli>(t1 - t0).count());
   frame.stats.addStage("fill", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
 }
@@ -369,7 +486,7 @@ namespace hsr {
 VisibleSet visibleSet(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   if (options.polygon_mode != PolygonMode::Fill) throw Error("visibleSet: the polygon mode must be fill");
   const detail::PreparedScene ps = detail::prepare(scene, camera, options, {.window_polygons = true});
-  return detail::weilerAthertonVisibleSet(ps.polygons, ps.width, ps.height, nullptr);
+  return detail::weilerAthertonVisibleSet(ps.polygons, ps.width, ps.height, nullptr, nullptr);
 }
 
 }  // namespace hsr
