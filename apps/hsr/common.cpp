@@ -99,6 +99,12 @@ void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm) {
                  "hsr: warning: {} left {} orderings unresolved (its split budget was spent); "
                  "those polygons were painted in the order reached and may hide nearer ones\n",
                  algorithm, c.value);
+  for (const hsr::Counter& c : f.stats.counters)
+    if (c.value > 0 && c.name.ends_with(": left to the depth test"))
+      fmt::print(stderr,
+                 "hsr: warning: {} reached its work limit; {} polygons were finished with a depth test "
+                 "per pixel instead of exact clipping\n",
+                 algorithm, c.value);
 }
 
 void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,

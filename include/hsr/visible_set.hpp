@@ -37,6 +37,9 @@ struct VisiblePolygon {
   double dzdx = 0, dzdy = 0, z0 = 0;  // its depth plane: window depth z = z0 + dzdy y + dzdx x (pixels)
   double area = 0;              // visible area in square pixels
   std::uint32_t rgba = 0;       // its shaded colour, as the frame's pixels hold it
+  bool resolved = true;         // false: what was left of it when the work limit was reached
+                                // (see VisibleSet::unresolved); such regions may overlap and
+                                // hide one another: draw them with a depth test
 };
 
 struct VisibleSet {
@@ -46,6 +49,11 @@ struct VisibleSet {
   std::uint64_t pairs = 0;               // clip polygon / other polygon pairs looked at
   std::uint64_t clips = 0;               // Boolean operations run
   std::uint64_t splits = 0;              // pieces split along where two polygons cross
+  std::uint64_t work = 0;                // edges handed to the clipper (both operands, summed)
+  // Polygons left unresolved: the work limit (1,024 clipped edges per polygon, plus 2^18) was
+  // reached, as on a soup of large triangles all overlapping in a small picture. Meshes stay
+  // far below it. 0 means the set is exact.
+  std::uint64_t unresolved = 0;
 };
 
 // The visible set of `scene` seen by `camera`, with the pipeline's culling, clipping and facing

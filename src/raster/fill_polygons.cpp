@@ -165,7 +165,7 @@ void forEachCentreIn(const ExactRegion& region, int width, int height,
 }
 
 std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
-                             const FrameView& fb, FragmentCounts& counts) {
+                             const FrameView& fb, FragmentCounts& counts, DepthFunc func) {
   std::size_t written = 0;
   ScreenTriangle st{};
   st.id = id;
@@ -173,8 +173,10 @@ std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth,
   forEachCentreIn(region, fb.width, fb.height, [&](int y, int x0, int x1) {
     const double row = depthRowStart(depth, y);
     for (int x = x0; x <= x1; ++x) {
-      writeFragment<DepthFunc::Always>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true, counts);
-      ++written;
+      const std::size_t before = counts.written;
+      if (func == DepthFunc::Less) writeFragment<DepthFunc::Less>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true, counts);
+      else writeFragment<DepthFunc::Always>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true, counts);
+      written += counts.written - before;
     }
   });
   return written;

@@ -82,7 +82,7 @@ std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<con
                              std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts,
                              const PaintGroup* group = nullptr);
 
-// Paints, with no depth test (depth written), the pixel centres inside an exact region
+// Paints, with no depth test by default (depth written), the pixel centres inside an exact region
 // (hsr/clipping.hpp) given on the sub-pixel grid (x / (d * 256) pixels, as the pipeline snaps):
 // what the Weiler-Atherton algorithm's visible pieces are filled with. A centre on the
 // region's boundary counts as inside exactly when the fill rule would give it to a triangle
@@ -92,8 +92,9 @@ std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<con
 // the pixels fillPolygon covers. Each pixel's depth is the plane's (raster/depth.hpp), as every
 // other algorithm writes it. Cost: per row of the region's box, its edges and a sort of their
 // crossings. Returns the fragments written.
+// With `func` Less, a fragment is written only where it is nearer than what the pixel holds.
 std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
-                             const FrameView& fb, FragmentCounts& counts);
+                             const FrameView& fb, FragmentCounts& counts, DepthFunc func = DepthFunc::Always);
 
 // The pixel centres paintExactRegion paints, within a width x height picture, as spans:
 // span(y, x0, x1) for columns x0..x1 of row y.

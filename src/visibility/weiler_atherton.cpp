@@ -73,6 +73,12 @@ constexpr double kOnPlane = 1e-12;
 // are close within kFloatClose plus kTermError times the size of the plane's terms.
 constexpr double kFloatClose = 1e-6;
 constexpr double kTermError = 1e-14;
+// The work limit: edges handed to the clipper, kWorkPerPolygon per polygon plus kWorkAtLeast.
+// Meshes need about 100 per polygon (spheres:100000: 90); a soup of large triangles all
+// overlapping one another in a small picture needs thousands, each polygon cut to pieces by
+// the others. Past the limit the polygons left are drawn with a depth test (reported).
+constexpr std::uint64_t kWorkPerPolygon = 1024;
+constexpr std::uint64_t kWorkAtLeast = std::uint64_t{1} << 18;
 // The split line's two grid points lie this far (grid units, 2^16 pixels) either side of the
 // piece's centre: the line's direction is then rounded by under 2^-24 radians.
 constexpr double kSplitReach = 16777216.0;
@@ -191,7 +197,24 @@ GridRegion deeperSide(const ExactPolygon& piece, const Entry& p, const Entry& q)
 
 struct Counts {
   std::uint64_t pairs = 0, clips = 0, splits = 0, separated = 0, deeper = 0, apart = 0;
+  std::uint64_t work = 0;  // edges handed to the clipper, both operands, summed over clips
 };
+
+std::uint64_t edgesOf(const ExactRegion& r) {
+  std::uint64_t n = 0;
+  for (const ExactPolygon& p : r) {
+    n += p.outer.size();
+    for (const ExactRing& h : p.holes) n += h.size();
+  }
+  return n;
+}
+
+// One Boolean operation, its work counted.
+ExactRegion clip(const ExactRegion& a, const ExactRegion& b, BooleanOp op, Counts& c) {
+  c.clips++;
+  c.work += edgesOf(a) + edgesOf(b);
+  return booleanOp(a, b, op);
+}
 
 // Steps 3 and 4 for the clip polygon p and one other polygon q. Returns whether they are close
 // (kFloatClose) somewhere they overlap.
@@ -207,9 +230,9 @@ bool clipPair(Entry& p, Entry& q, Counts& c) {
     return false;
   }
   if (q.zmin > p.zmax + close) {  // Q deeper than P everywhere: its part inside P is hidden
-    c.deeper++, c.clips++;
+    c.deeper++;
     q.pristine = false;
-    q.region = booleanOp(q.region, p.region, BooleanOp::AMinusB);
+    q.region = clip(q.region, p.region, BooleanOp::AMinusB, c);
     updateBox(q);
     return false;
   }
@@ -217,8 +240,7 @@ bool clipPair(Entry& p, Entry& q, Counts& c) {
     c.separated++;
     return false;
   }
-  c.clips++;
-  const ExactRegion inside = booleanOp(q.region, p.region, BooleanOp::Intersection);
+  const ExactRegion inside = clip(q.region, p.region, BooleanOp::Intersection, c);
   if (inside.empty()) return false;
   double closest = INFINITY;
   bool crossing = false;
@@ -234,22 +256,20 @@ bool clipPair(Entry& p, Entry& q, Counts& c) {
         (p.id < q.id ? hidden_q : hidden_p).push_back(piece);
         continue;
       }
-      c.splits++, c.clips += 2;
+      c.splits++;
       const ExactRegion one{piece}, deeper = exactRegion(side);
-      for (const ExactPolygon& s : booleanOp(one, deeper, BooleanOp::Intersection)) hidden_q.push_back(s);
-      for (const ExactPolygon& s : booleanOp(one, deeper, BooleanOp::AMinusB)) hidden_p.push_back(s);
+      for (const ExactPolygon& s : clip(one, deeper, BooleanOp::Intersection, c)) hidden_q.push_back(s);
+      for (const ExactPolygon& s : clip(one, deeper, BooleanOp::AMinusB, c)) hidden_p.push_back(s);
     }
   }
   auto remove = [&](Entry& e, const ExactRegion& pieces, const ExactRegion& rest, const ExactRegion& whole_other) {
     if (pieces.empty()) return;
     e.pristine = false;
     if (rest.empty()) {
-      c.clips++;
-      e.region = booleanOp(e.region, whole_other, BooleanOp::AMinusB);  // all of the inside
+      e.region = clip(e.region, whole_other, BooleanOp::AMinusB, c);  // all of the inside
     } else {
       for (const ExactPolygon& piece : pieces) {
-        c.clips++;
-        e.region = booleanOp(e.region, ExactRegion{piece}, BooleanOp::AMinusB);
+        e.region = clip(e.region, ExactRegion{piece}, BooleanOp::AMinusB, c);
       }
     }
     updateBox(e);
@@ -384,9 +404,20 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
   Counts c;
   std::uint32_t stamp = 0;
   std::vector<std::uint32_t> seen(entries.size(), 0);  // the last candidate search that met each
+  const std::uint64_t work_limit = kWorkPerPolygon * entries.size() + kWorkAtLeast;
   for (const std::uint32_t pi : order) {
     Entry& p = entries[pi];
     if (p.done) continue;
+    if (c.work > work_limit) {  // spent: what is left goes out unresolved
+      VisiblePolygon& v = out.polygons.emplace_back();
+      v.id = p.id, v.rgba = p.rgba, v.resolved = false;
+      v.dzdx = p.plane.dzdx, v.dzdy = p.plane.dzdy, v.z0 = p.plane.z0;
+      v.area = area(p.region) / (double{kSubpixelOne} * kSubpixelOne);
+      v.region = std::move(p.region);
+      p.done = true;
+      out.unresolved++;
+      continue;
+    }
     // 2.-4. P clips every polygon still in the list whose cells it shares
     ++stamp;
     seen[pi] = stamp;
@@ -417,7 +448,7 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
     v.area = area(p.region) / (double{kSubpixelOne} * kSubpixelOne);
     v.region = std::move(p.region);
   }
-  out.pairs = c.pairs, out.clips = c.clips, out.splits = c.splits;
+  out.pairs = c.pairs, out.clips = c.clips, out.splits = c.splits, out.work = c.work;
   if (state_bytes) *state_bytes = cells.bytes() + entries.capacity() * sizeof(Entry);
   return out;
 }
@@ -430,9 +461,16 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   const auto t1 = std::chrono::steady_clock::now();
   const FrameView fb(frame);
   FragmentCounts fragments;
-  for (const VisiblePolygon& v : set.polygons) {
-    paintExactRegion(v.region, {v.dzdx, v.dzdy, v.z0}, v.id, v.rgba, fb, fragments);
-  }
+  // The visible set, each region where nothing is nearer: no depth test needed. Unresolved
+  // ones (the work limit was reached) after them, in submission order, with GL_LESS.
+  for (const VisiblePolygon& v : set.polygons)
+    if (v.resolved) paintExactRegion(v.region, {v.dzdx, v.dzdy, v.z0}, v.id, v.rgba, fb, fragments);
+  std::vector<const VisiblePolygon*> left;
+  for (const VisiblePolygon& v : set.polygons)
+    if (!v.resolved) left.push_back(&v);
+  std::stable_sort(left.begin(), left.end(), [](const VisiblePolygon* l, const VisiblePolygon* r) { return l->id < r->id; });
+  for (const VisiblePolygon* v : left)
+    paintExactRegion(v->region, {v->dzdx, v->dzdy, v->z0}, v->id, v->rgba, fb, fragments, DepthFunc::Less);
   // Close pairs: where the exact answer and a float depth buffer may differ (two depths within
   // a float step, or a crossing line snapped to the grid), their shared pixels show what GL_LESS
   // shows: the nearest float depth, the first submitted among equals, of the pixel's polygon
@@ -473,7 +511,9 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("weiler-atherton: pairs", set.pairs);
   frame.stats.addCounter("weiler-atherton: clips", set.clips);
   frame.stats.addCounter("weiler-atherton: splits", set.splits);
+  frame.stats.addCounter("weiler-atherton: edges clipped", set.work);
   frame.stats.addCounter("weiler-atherton: close pairs", close.size());
+  frame.stats.addCounter("weiler-atherton: left to the depth test", set.unresolved);
   frame.stats.addCounter("weiler-atherton: pixels settled as a float depth buffer", settled);
   frame.stats.addStage("visible set", std::chrono::duration<double, std::milli>(t1 - t0).count());
   frame.stats.addStage("fill", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
