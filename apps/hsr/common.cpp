@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <string_view>
+#include <utility>
 
 #include <fmt/core.h>
 #include <glm/vector_relational.hpp>
@@ -93,18 +95,18 @@ std::vector<std::string> splitList(const std::string& s) {
 // An object-order algorithm that ran out of its split budget painted some polygons in the
 // order reached: said on stderr even with --quiet, never silently.
 void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm) {
+  // Counters that say an algorithm's budget ran out, and what that means for the picture
+  static constexpr std::pair<std::string_view, std::string_view> kBudgets[] = {
+      {": unresolved",
+       "left {} orderings unresolved (its split budget was spent); those polygons were painted in the "
+       "order reached and may hide nearer ones"},
+      {": left to the depth test",
+       "reached its work limit; {} polygons were finished with a depth test per pixel instead of exact "
+       "clipping"}};
   for (const hsr::Counter& c : f.stats.counters)
-    if (c.value > 0 && c.name.ends_with(": unresolved"))
-      fmt::print(stderr,
-                 "hsr: warning: {} left {} orderings unresolved (its split budget was spent); "
-                 "those polygons were painted in the order reached and may hide nearer ones\n",
-                 algorithm, c.value);
-  for (const hsr::Counter& c : f.stats.counters)
-    if (c.value > 0 && c.name.ends_with(": left to the depth test"))
-      fmt::print(stderr,
-                 "hsr: warning: {} reached its work limit; {} polygons were finished with a depth test "
-                 "per pixel instead of exact clipping\n",
-                 algorithm, c.value);
+    for (const auto& [suffix, what] : kBudgets)
+      if (c.value > 0 && c.name.ends_with(suffix))
+        fmt::print(stderr, "hsr: warning: {} {}\n", algorithm, fmt::format(fmt::runtime(what), c.value));
 }
 
 void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,

@@ -70,6 +70,7 @@ U192 multiply(u128 a, std::uint64_t b) {
            static_cast<std::uint64_t>(hi >> 64) + static_cast<std::uint64_t>(mid >> 64)}};
 }
 int compareFractions(i128 p, std::int64_t q, i128 r, std::int64_t s) {
+  if (q == s) return sign(p - r);  // (grid points: both 1)
   const int sp = sign(p), sr = sign(r);
   if (sp != sr) return sp > sr ? 1 : -1;
   if (sp == 0) return 0;
@@ -132,11 +133,12 @@ Param along(const Vertex& v, Direction d) { return {v.x * d.x + v.y * d.y, v.d};
 int compare(Param l, Param r) { return compareFractions(l.num, l.den, r.num, r.den); }
 
 std::int64_t floorDiv(i128 x, std::int64_t d) {
+  if (d == 1) return static_cast<std::int64_t>(x);
   i128 q = x / d;
   if (q * d > x) --q;
   return static_cast<std::int64_t>(q);
 }
-std::int64_t ceilDiv(i128 x, std::int64_t d) { return -floorDiv(-x, d); }
+std::int64_t ceilDiv(i128 x, std::int64_t d) { return d == 1 ? static_cast<std::int64_t>(x) : -floorDiv(-x, d); }
 
 struct Edge {
   Vertex v0, v1;       // its ends
@@ -180,6 +182,12 @@ class Graph {
   std::vector<Piece> pieces;
   std::vector<Label> labels;
   std::vector<int> parent;  // union-find over nodes that turn out to be one point
+
+  // Empty again, keeping the memory: one Graph per thread serves every call (small clips are
+  // otherwise half allocation).
+  void reset() {
+    nodes.clear(), edges.clear(), rings.clear(), hits.clear(), pieces.clear(), labels.clear(), parent.clear();
+  }
 
   int find(int v) {
     while (parent[v] != v) v = parent[v] = parent[parent[v]];
@@ -346,13 +354,14 @@ class Graph {
 struct Passages {
   std::vector<int> start;                 // per node + 1
   std::vector<std::pair<int, int>> items;
+  std::vector<int> fill;                  // (working memory)
   void build(const Graph& g, Owner owner) {
     start.assign(g.nodes.size() + 1, 0);
     for (std::size_t p = 0; p < g.pieces.size(); ++p)
       if (g.owner(static_cast<int>(p)) == owner) ++start[g.pieces[p].to + 1];
     for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
     items.resize(start.back());
-    std::vector<int> fill(start.begin(), start.end() - 1);
+    fill.assign(start.begin(), start.end() - 1);
     for (std::size_t p = 0; p < g.pieces.size(); ++p)
       if (g.owner(static_cast<int>(p)) == owner)
         items[fill[g.pieces[p].to]++] = {static_cast<int>(p), g.nextInRing(static_cast<int>(p))};
@@ -383,16 +392,18 @@ bool insideBoundary(const Graph& g, const Vertex& p, Owner owner) {
 // meets the other boundary is inside or outside as a whole (a crossing-number test).
 void label(Graph& g) {
   g.labels.assign(g.pieces.size(), Label::Outside);
-  Passages passages[2];
+  thread_local Passages passages[2];
   passages[kA].build(g, kA);
   passages[kB].build(g, kB);
   // Shared pieces: the same two nodes on both boundaries
-  std::vector<std::pair<std::pair<int, int>, int>> keys;
+  thread_local std::vector<std::pair<std::pair<int, int>, int>> keys;
+  keys.clear();
   for (std::size_t p = 0; p < g.pieces.size(); ++p)
     if (g.owner(static_cast<int>(p)) == kB)
       keys.push_back({{std::min(g.pieces[p].from, g.pieces[p].to), std::max(g.pieces[p].from, g.pieces[p].to)}, static_cast<int>(p)});
   std::sort(keys.begin(), keys.end());
-  std::vector<std::int8_t> shared(g.pieces.size(), 0);  // +1 same way, -1 opposite
+  thread_local std::vector<std::int8_t> shared;  // +1 same way, -1 opposite
+  shared.assign(g.pieces.size(), 0);
   for (std::size_t p = 0; p < g.pieces.size(); ++p) {
     const Piece& P = g.pieces[p];
     if (g.owner(static_cast<int>(p)) != kA) continue;
@@ -461,8 +472,9 @@ struct Kept {
 };
 
 // 3. Keep the pieces the operation asks for.
-std::vector<Kept> keep(const Graph& g, BooleanOp op) {
-  std::vector<Kept> kept;
+const std::vector<Kept>& keep(const Graph& g, BooleanOp op) {
+  thread_local std::vector<Kept> kept;
+  kept.clear();
   for (std::size_t i = 0; i < g.pieces.size(); ++i) {
     const int p = static_cast<int>(i);
     const Owner o = g.owner(p);
@@ -502,15 +514,17 @@ struct RingOut {
 // turning clockwise from the way back, so that each ring keeps its region on its left and
 // closes on the nearest corner.
 std::vector<RingOut> walk(const Graph& g, const std::vector<Kept>& kept) {
-  std::vector<int> start(g.nodes.size() + 1, 0);
+  thread_local std::vector<int> start, leaving, fill;
+  thread_local std::vector<char> used;
+  start.assign(g.nodes.size() + 1, 0);
   for (const Kept& k : kept) ++start[k.from + 1];
   for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  std::vector<int> leaving(kept.size());
+  leaving.resize(kept.size());
   {
-    std::vector<int> fill(start.begin(), start.end() - 1);
+    fill.assign(start.begin(), start.end() - 1);
     for (std::size_t k = 0; k < kept.size(); ++k) leaving[fill[kept[k].from]++] = static_cast<int>(k);
   }
-  std::vector<char> used(kept.size(), 0);
+  used.assign(kept.size(), 0);
   std::vector<RingOut> rings;
   for (std::size_t first = 0; first < kept.size(); ++first) {
     if (used[first]) continue;
@@ -544,7 +558,8 @@ std::vector<RingOut> walk(const Graph& g, const std::vector<Kept>& kept) {
 // where a ring runs straight on (in that order: a point passed twice may be passed straight once).
 std::vector<RingOut> tidy(std::vector<RingOut> rings, std::size_t node_count) {
   std::vector<RingOut> loops;
-  std::vector<int> seen(node_count, -1);
+  thread_local std::vector<int> seen;
+  seen.assign(node_count, -1);
   for (RingOut& r : rings) {
     // A stack of points; when a point comes round again, the points since its first visit
     // close a ring of their own.
@@ -787,7 +802,8 @@ std::string invalidRegionReason(const GridRegion& region) {
 }
 
 ExactRegion booleanOp(const ExactRegion& a, const ExactRegion& b, BooleanOp op) {
-  Graph g;
+  thread_local Graph g;
+  g.reset();
   g.build(a, b);
   label(g);
   return assemble(tidy(walk(g, keep(g, op)), g.nodes.size()), g.nodes);
