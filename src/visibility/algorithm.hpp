@@ -67,7 +67,10 @@ struct ClosePair {
   PolygonId id_a, id_b;
   std::uint32_t rgba_a, rgba_b;
 };
+// With `frame`, each visible region is painted into it as it is found; with `trace`, the steps
+// are recorded (`hsr explain`).
 VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
-                                    std::size_t* state_bytes, std::vector<ClosePair>* close);
+                                    std::size_t* state_bytes, std::vector<ClosePair>* close, Frame* frame,
+                                    Trace* trace);
 
 }  // namespace hsr::detail

@@ -86,7 +86,7 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .source = "Weiler & Atherton 1977; the notes' \"Weiler-Atherton\"",
         .precision = Precision::kObject,
         .input = InputKind::kWindowPolygons,
-        .capabilities = kExactSharedCoverage | kOutline | kTransparency},
+        .capabilities = kExactSharedCoverage | kOutline | kTransparency | kExplain},
        &drawWeilerAtherton},
   };
   return table;

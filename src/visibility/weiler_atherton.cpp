@@ -50,6 +50,9 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <optional>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/frame.hpp"
@@ -216,9 +219,16 @@ ExactRegion clip(const ExactRegion& a, const ExactRegion& b, BooleanOp op, Count
   return booleanOp(a, b, op);
 }
 
+// What one pair came to, for the teaching view: Q's inside list and where it went.
+struct PairEvent {
+  enum Kind { kNothing, kDeeper, kInside } kind = kNothing;
+  ExactRegion behind, in_front;  // the inside pieces hidden behind P, and those in front of it
+  bool split = false;            // a piece crossed P and was split
+};
+
 // Steps 3 and 4 for the clip polygon p and one other polygon q. Returns whether they are close
-// (kFloatClose) somewhere they overlap.
-bool clipPair(Entry& p, Entry& q, Counts& c) {
+// (kFloatClose) somewhere they overlap. `event`, when given, says what happened.
+bool clipPair(Entry& p, Entry& q, Counts& c, PairEvent* event) {
   c.pairs++;
   const double close = kFloatClose + kTermError * std::max(p.terms, q.terms);
   if (q.x0 >= p.x1 || q.x1 <= p.x0 || q.y0 >= p.y1 || q.y1 <= p.y0) {
@@ -231,6 +241,7 @@ bool clipPair(Entry& p, Entry& q, Counts& c) {
   }
   if (q.zmin > p.zmax + close) {  // Q deeper than P everywhere: its part inside P is hidden
     c.deeper++;
+    if (event) event->kind = PairEvent::kDeeper;
     q.pristine = false;
     q.region = clip(q.region, p.region, BooleanOp::AMinusB, c);
     updateBox(q);
@@ -240,6 +251,7 @@ bool clipPair(Entry& p, Entry& q, Counts& c) {
     c.separated++;
     return false;
   }
+  const std::uint64_t splits_before = c.splits;
   const ExactRegion inside = clip(q.region, p.region, BooleanOp::Intersection, c);
   if (inside.empty()) return false;
   double closest = INFINITY;
@@ -274,6 +286,7 @@ bool clipPair(Entry& p, Entry& q, Counts& c) {
     }
     updateBox(e);
   };
+  if (event) *event = {PairEvent::kInside, hidden_q, hidden_p, c.splits != splits_before};
   remove(q, hidden_q, hidden_p, p.region);  // (when all of the inside is behind: Q − P)
   remove(p, hidden_p, hidden_q, q.region);  // (when all of it is in front: P − Q; Q is as it was)
   return crossing || closest < close;
@@ -385,10 +398,34 @@ std::vector<Entry> makeEntries(const std::vector<WindowPolygon>& polygons, int w
   return entries;
 }
 
+
+// Step names: what `hsr explain weiler-atherton` shows.
+constexpr std::string_view kStepSort = "sort";
+constexpr std::string_view kStepClipPolygon = "clip polygon";
+constexpr std::string_view kStepInside = "inside list";
+constexpr std::string_view kStepVisible = "visible";
+constexpr std::string_view kStepDone = "done";
+
+void addOutlines(const ExactRegion& r, std::vector<TraceOutline>& out) {
+  auto ring = [&](const ExactRing& g) {
+    TraceOutline o;
+    for (const ExactPoint& v : g) o.emplace_back(static_cast<float>(v.xd() / kSubpixelOne), static_cast<float>(v.yd() / kSubpixelOne));
+    out.push_back(std::move(o));
+  };
+  for (const ExactPolygon& p : r) {
+    ring(p.outer);
+    for (const ExactRing& h : p.holes) ring(h);
+  }
+}
+
 }  // namespace
 
 VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
-                                    std::size_t* state_bytes, std::vector<ClosePair>* close) {
+                                    std::size_t* state_bytes, std::vector<ClosePair>* close, Frame* frame,
+                                    Trace* trace) {
+  std::optional<FrameView> fb;
+  if (frame) fb.emplace(*frame);
+  FragmentCounts fragments;
   std::vector<Entry> entries = makeEntries(polygons, width, height);
   VisibleSet out;
   out.width = width, out.height = height;
@@ -402,6 +439,12 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
   });
   Cells cells(entries, width, height);
   Counts c;
+  if (trace && frame && trace->wants(kStepSort, 0, 1))
+    trace->record({kStepSort,
+                   "Sort the " + std::to_string(entries.size()) +
+                       " polygons by their nearest depth. The front one will be the first clip polygon.",
+                   frame, {}});
+  std::uint64_t taken = 0, reported = 0;
   std::uint32_t stamp = 0;
   std::vector<std::uint32_t> seen(entries.size(), 0);  // the last candidate search that met each
   const std::uint64_t work_limit = kWorkPerPolygon * entries.size() + kWorkAtLeast;
@@ -419,6 +462,16 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
       continue;
     }
     // 2.-4. P clips every polygon still in the list whose cells it shares
+    if (trace && frame && trace->wants(kStepClipPolygon, taken, entries.size())) {
+      std::vector<TraceOutline> o;
+      addOutlines(p.region, o);
+      trace->record({kStepClipPolygon,
+                     "Take the front polygon of the list, " + std::to_string(p.id) +
+                         " (outlined), as the clip polygon: every polygon still in the list that it may "
+                         "overlap is clipped against it.",
+                     frame, std::move(o)});
+    }
+    ++taken;
     ++stamp;
     seen[pi] = stamp;
     cells.forCells(p, [&](std::vector<std::uint32_t>& cell) {
@@ -432,9 +485,29 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
         ++k;
         if (seen[qi] == stamp) continue;
         seen[qi] = stamp;
-        if (!p.done && clipPair(p, entries[qi], c) && close) {
-          const Entry& q = entries[qi];
+        if (p.done) continue;
+        Entry& q = entries[qi];
+        PairEvent event;
+        if (clipPair(p, q, c, trace ? &event : nullptr) && close)
           close->push_back({p.whole, q.whole, p.plane, q.plane, p.id, q.id, p.rgba, q.rgba});
+        if (trace && frame && event.kind == PairEvent::kInside && trace->wants(kStepInside, reported++, entries.size())) {
+          std::vector<TraceOutline> o;
+          addOutlines(p.region, o);
+          addOutlines(event.behind, o);
+          addOutlines(event.in_front, o);
+          std::string caption = "Clip polygon " + std::to_string(q.id) + " against " + std::to_string(p.id) +
+                                ": its part outside goes to the outside list. Of its part inside (outlined), ";
+          if (event.in_front.empty()) caption += "all lies behind " + std::to_string(p.id) + ": removed.";
+          else if (event.behind.empty())
+            caption += "all lies in front of " + std::to_string(p.id) +
+                       ": the notes recurse with it as the clip polygon, and " + std::to_string(p.id) +
+                       " loses what lies under it; the piece stays in the list.";
+          else
+            caption += std::string(event.split ? "it crosses " + std::to_string(p.id) +
+                                                     " and was split along the line where their planes meet: "
+                                               : "some lies behind, some in front: ") +
+                       "the part behind is removed, " + std::to_string(p.id) + " loses the part under the one in front.";
+          trace->record({kStepInside, std::move(caption), frame, std::move(o)});
         }
       }
     });
@@ -447,6 +520,19 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
     v.dzdx = p.plane.dzdx, v.dzdy = p.plane.dzdy, v.z0 = p.plane.z0;
     v.area = area(p.region) / (double{kSubpixelOne} * kSubpixelOne);
     v.region = std::move(p.region);
+    if (fb) paintExactRegion(v.region, p.plane, v.id, v.rgba, *fb, fragments);  // nothing is nearer there
+    if (trace && frame && trace->wants(kStepVisible, out.polygons.size() - 1, entries.size())) {
+      std::vector<TraceOutline> o;
+      addOutlines(v.region, o);
+      trace->record({kStepVisible,
+                     "What is left of " + std::to_string(v.id) + " (outlined, " + std::to_string(static_cast<int>(v.area)) +
+                         " square pixels) is visible: nothing still in the list lies in front of it there.",
+                     frame, std::move(o)});
+    }
+  }
+  if (frame) {
+    frame->stats.fragments_tested += fragments.tested;
+    frame->stats.fragments_written += fragments.written;
   }
   out.pairs = c.pairs, out.clips = c.clips, out.splits = c.splits, out.work = c.work;
   if (state_bytes) *state_bytes = cells.bytes() + entries.capacity() * sizeof(Entry);
@@ -457,14 +543,13 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   const auto t0 = std::chrono::steady_clock::now();
   std::size_t bytes = 0;
   std::vector<ClosePair> close;
-  const VisibleSet set = weilerAthertonVisibleSet(in.prepared.polygons, frame.width, frame.height, &bytes, &close);
+  const VisibleSet set =
+      weilerAthertonVisibleSet(in.prepared.polygons, frame.width, frame.height, &bytes, &close, &frame, in.trace);
   const auto t1 = std::chrono::steady_clock::now();
   const FrameView fb(frame);
   FragmentCounts fragments;
-  // The visible set, each region where nothing is nearer: no depth test needed. Unresolved
-  // ones (the work limit was reached) after them, in submission order, with GL_LESS.
-  for (const VisiblePolygon& v : set.polygons)
-    if (v.resolved) paintExactRegion(v.region, {v.dzdx, v.dzdy, v.z0}, v.id, v.rgba, fb, fragments);
+  // The visible set was painted as it was found (no depth test: nothing is nearer there).
+  // Unresolved polygons (the work limit was reached) after it, in submission order, with GL_LESS.
   std::vector<const VisiblePolygon*> left;
   for (const VisiblePolygon& v : set.polygons)
     if (!v.resolved) left.push_back(&v);
@@ -503,6 +588,12 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
     if (w.transparent) fillPolygon(w, fb, DepthFunc::Less, true, fragments);
   const PixelBox viewport{0, 0, frame.width - 1, frame.height - 1};
   for (const ScreenLine& o : in.prepared.outline) drawOutlinePen(o, viewport, fb);
+  if (in.trace && in.trace->wants(kStepDone, 0, 1))
+    in.trace->record({kStepDone,
+                      "Done: " + std::to_string(set.polygons.size()) + " polygons are visible, after " +
+                          std::to_string(set.clips) + " clips and " + std::to_string(set.splits) +
+                          " splits; every pixel shows the polygon whose visible part covers its centre.",
+                      &frame, {}});
   frame.stats.fragments_tested += fragments.tested;
   frame.stats.fragments_written += fragments.written;
   frame.stats.state_bytes += frameBufferBytes(frame) + bytes;
@@ -526,7 +617,7 @@ namespace hsr {
 VisibleSet visibleSet(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   if (options.polygon_mode != PolygonMode::Fill) throw Error("visibleSet: the polygon mode must be fill");
   const detail::PreparedScene ps = detail::prepare(scene, camera, options, {.window_polygons = true});
-  return detail::weilerAthertonVisibleSet(ps.polygons, ps.width, ps.height, nullptr, nullptr);
+  return detail::weilerAthertonVisibleSet(ps.polygons, ps.width, ps.height, nullptr, nullptr, nullptr, nullptr);
 }
 
 }  // namespace hsr

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "cross/compare_with_zbuffer.hpp"
 #include "cross/figures.hpp"
 #include "cross/random_scenes.hpp"
+#include "hsr/explain.hpp"
 #include "hsr/io.hpp"
 #include "hsr/render.hpp"
 #include "hsr/visible_set.hpp"
@@ -133,6 +135,38 @@ TEST(WeilerAtherton, CyclicAndPenetratingScenesSplitAndAgree) {
     EXPECT_EQ(c.ids_differ, 0u) << spec;
     testing::printFigures(std::string("weiler-atherton ") + spec + ": " + grouped(set.polygons.size()) + " visible polygons, " +
                           grouped(set.clips) + " clips, " + grouped(set.splits) + " splits; " + testing::describe(c));
+  }
+}
+
+// The teaching view: the sort, each clip polygon, the inside lists (behind, in front, split)
+// and each visible part, ending on the frame render() gives.
+TEST(WeilerAtherton, ExplainShowsClipPolygonsAndInsideLists) {
+  const testing::ScratchDir scratch("hsr_explain_wa");
+  for (const char* spec : {"cyclic", "penetrating"}) {
+    SCOPED_TRACE(spec);
+    const Scene scene = loadScene(spec);
+    const Camera cam = frameScene(scene, 200, 150);
+    RenderOptions o;
+    o.algorithm = "weiler-atherton";
+    const Explanation e = explain(scene, cam, o, scratch / spec);
+    ASSERT_GE(e.steps.size(), 4u);
+    EXPECT_EQ(e.steps.front().name, "sort");
+    EXPECT_EQ(e.steps.back().name, "done");
+    std::map<std::string, int> count;
+    bool split = false, in_front = false;
+    for (const ExplainedStep& s : e.steps) {
+      count[s.name]++;
+      split = split || s.caption.find("split") != std::string::npos;
+      in_front = in_front || s.caption.find("in front") != std::string::npos;
+    }
+    EXPECT_GT(count["clip polygon"], 0);
+    EXPECT_GT(count["inside list"], 0);
+    EXPECT_GT(count["visible"], 0);
+    if (std::string(spec) == "penetrating") EXPECT_TRUE(split);
+    if (std::string(spec) == "cyclic") EXPECT_TRUE(in_front);  // the sticks hide one another in turn
+    const Frame f = render(scene, cam, o);
+    EXPECT_EQ(e.frame.ids, f.ids);
+    EXPECT_EQ(e.frame.color, f.color);
   }
 }
 
