@@ -89,14 +89,18 @@ void checkView(const Scene& scene, const Camera& camera, const RenderOptions& o,
                       << shared << " square grid units";
     }
   }
-  if (union_check) EXPECT_EQ(sum, mpq_class(exactArea(snappedUnion(scene, camera, o)))) << what << ": areas add up to the union";
+  if (union_check) {
+    EXPECT_EQ(sum, mpq_class(exactArea(snappedUnion(scene, camera, o)))) << what << ": areas add up to the union";
+  }
   RenderOptions z = o;
   z.algorithm = "zbuffer";
   const Frame f = render(scene, camera, z);
   std::uint64_t covered = 0;
   for (const PolygonId id : f.ids) covered += id != kNoPolygon;
   const double area = sum.get_d() / (double{detail::kSubpixelOne} * detail::kSubpixelOne);
-  if (covered >= 20000) EXPECT_NEAR(area, static_cast<double>(covered), 0.001 * static_cast<double>(covered)) << what;
+  if (covered >= 20000) {
+    EXPECT_NEAR(area, static_cast<double>(covered), 0.001 * static_cast<double>(covered)) << what;
+  }
 }
 
 TEST(WeilerAtherton, VisibleRegionsNeverOverlapAndAddUp) {
@@ -129,7 +133,9 @@ TEST(WeilerAtherton, CyclicAndPenetratingScenesSplitAndAgree) {
     const Scene scene = loadScene(spec);
     const Camera camera = frameScene(scene, 640, 480);
     const VisibleSet set = visibleSet(scene, camera);
-    if (std::string(spec) == "penetrating") EXPECT_GT(set.splits, 0u) << spec;
+    if (std::string(spec) == "penetrating") {
+      EXPECT_GT(set.splits, 0u) << spec;
+    }
     const testing::Comparison c = testing::compareWithZBuffer(scene, camera, "weiler-atherton");
     EXPECT_EQ(c.wrong, 0u) << spec << ": " << c.first_wrong;
     EXPECT_EQ(c.ids_differ, 0u) << spec;
@@ -162,8 +168,12 @@ TEST(WeilerAtherton, ExplainShowsClipPolygonsAndInsideLists) {
     EXPECT_GT(count["clip polygon"], 0);
     EXPECT_GT(count["inside list"], 0);
     EXPECT_GT(count["visible"], 0);
-    if (std::string(spec) == "penetrating") EXPECT_TRUE(split);
-    if (std::string(spec) == "cyclic") EXPECT_TRUE(in_front);  // the sticks hide one another in turn
+    if (std::string(spec) == "penetrating") {
+      EXPECT_TRUE(split);
+    }
+    if (std::string(spec) == "cyclic") {
+      EXPECT_TRUE(in_front);  // the sticks hide one another in turn
+    }
     const Frame f = render(scene, cam, o);
     EXPECT_EQ(e.frame.ids, f.ids);
     EXPECT_EQ(e.frame.color, f.color);
