@@ -91,7 +91,7 @@ std::vector<NamedScene> determinismScenes() {
   }
   // Odd sizes, so that the 64x64 tiles of the z-buffer are cut at the right and bottom.
   constexpr int kW = 301, kH = 227;
-  for (const char* spec : {"demo", "cyclic", "penetrating", "spheres:2000", "soup:3000:7"}) {
+  for (const char* spec : {"demo", "solids", "cyclic", "penetrating", "spheres:2000", "soup:3000:7"}) {
     Scene s = makeBuiltinScene(spec);
     const Camera c = frameScene(s, kW, kH);
     out.push_back({spec, std::move(s), c});
@@ -176,7 +176,7 @@ TEST(Determinism, SixRendersAtOneAndTwoThreadsHashTheSame) {
     }
     testing::printFigures("row 17 " + std::string(algo.name) + ": " +
                           testing::grouped(scenes.size()) + " scenes (" +
-                          testing::grouped(20 * testing::countScale()) + " row-4, 5 built-in, " +
+                          testing::grouped(20 * testing::countScale()) + " row-4, 6 built-in, " +
                           testing::grouped(models) + " models, row 9's sphere; " +
                           testing::grouped(triangles) + " triangles) x 3 option sets x 6 renders = " +
                           testing::grouped(renders) + " renders, " + testing::grouped(differing) +

@@ -270,6 +270,57 @@ Scene makeDemo() {
   return scene;
 }
 
+// Six convex polyhedra (Roberts' case): spread along the three-quarter view of frameBounds
+// so that they overlap on the picture, apart enough in depth that none touches another (their
+// centres are further apart than the sum of their circumradii). Each is an object.
+Scene makeSolids() {
+  Scene scene;
+  const glm::vec3 forward = glm::normalize(glm::vec3(0.55f, 0.45f, 1.0f));  // towards the eye
+  const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), forward));
+  const glm::vec3 up = glm::cross(forward, right);
+  const auto at = [&](float a, float b, float c) { return a * right + b * up + c * forward; };
+  const std::uint32_t slate = scene.addMaterial({{0.45f, 0.55f, 0.75f}, 1.0f});
+  const std::uint32_t teal = scene.addMaterial({{0.20f, 0.80f, 0.78f}, 1.0f});
+  const std::uint32_t gold = scene.addMaterial({{0.98f, 0.80f, 0.20f}, 1.0f});
+  const std::uint32_t red = scene.addMaterial({{0.95f, 0.30f, 0.25f}, 1.0f});
+  const std::uint32_t violet = scene.addMaterial({{0.70f, 0.40f, 0.95f}, 1.0f});
+  const std::uint32_t green = scene.addMaterial({{0.30f, 0.85f, 0.35f}, 1.0f});
+  scene.beginObject("cube");
+  addCube(scene, 0.7f, at(0.0f, 0.0f, -2.4f), slate);
+  scene.beginObject("dodecahedron");
+  addDodecahedron(scene, 0.9f, at(0.9f, 0.5f, -0.2f), teal);
+  scene.beginObject("octahedron");
+  {
+    const float r = 0.85f;
+    std::vector<glm::vec3> v{{r, 0, 0}, {-r, 0, 0}, {0, r, 0}, {0, -r, 0}, {0, 0, r}, {0, 0, -r}};
+    std::vector<glm::vec3> n;
+    for (int i = 0; i < 8; ++i) n.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+    addConvexPolyhedron(scene, v, n, at(-0.8f, -0.3f, 0.0f), gold);
+  }
+  scene.beginObject("tetrahedron");
+  {
+    const float k = 0.7f / std::sqrt(3.0f);
+    std::vector<glm::vec3> v{{k, k, k}, {k, -k, -k}, {-k, k, -k}, {-k, -k, k}};
+    std::vector<glm::vec3> n;
+    for (const glm::vec3& q : v) n.push_back(-q);
+    addConvexPolyhedron(scene, v, n, at(0.1f, -0.5f, 1.4f), red);
+  }
+  scene.beginObject("hexagonal prism");
+  {
+    std::vector<glm::vec3> v, n{{0, 1, 0}, {0, -1, 0}};
+    for (int k = 0; k < 6; ++k) {
+      const double a = k * kPi / 3, m = a + kPi / 6;
+      for (float y : {0.8f, -0.8f})
+        v.emplace_back(static_cast<float>(0.5 * std::cos(a)), y, static_cast<float>(0.5 * std::sin(a)));
+      n.emplace_back(static_cast<float>(std::cos(m)), 0.0f, static_cast<float>(std::sin(m)));
+    }
+    addConvexPolyhedron(scene, v, n, at(-1.6f, 1.0f, -1.2f), violet);
+  }
+  scene.beginObject("small cube");
+  addCube(scene, 0.35f, at(1.3f, -0.9f, 0.9f), green);
+  return scene;
+}
+
 Scene makeCyclic() {
   Scene scene;
   const std::uint32_t gold = scene.addMaterial({{0.98f, 0.80f, 0.20f}, 1.0f});
@@ -423,6 +474,7 @@ Scene makeSoup(std::uint64_t n, std::uint64_t seed) {
 const std::vector<BuiltinScene>& builtinScenes() {
   static const std::vector<BuiltinScene> kScenes = {
       {"demo", "the notes' cases side by side: penetrating, cyclic, convex, non-convex, glass"},
+      {"solids", "six convex polyhedra overlapping in the view, apart in depth: Roberts' case"},
       {"cyclic", "three sticks overlapping in a cycle: no depth order exists"},
       {"penetrating", "two quads crossing each other: each is in front on one side"},
       {"spheres:N", "a grid of UV spheres, about N triangles, depth complexity about 4"},
@@ -444,6 +496,9 @@ Scene makeBuiltinScene(std::string_view spec, std::uint64_t max_triangles) {
   if (name == "demo") {
     takesNoParameters();
     scene = makeDemo();
+  } else if (name == "solids") {
+    takesNoParameters();
+    scene = makeSolids();
   } else if (name == "cyclic") {
     takesNoParameters();
     scene = makeCyclic();

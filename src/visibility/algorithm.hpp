@@ -8,6 +8,7 @@
 
 #include "core/trace.hpp"
 #include "hsr/render.hpp"
+#include "hsr/roberts.hpp"
 #include "hsr/visible_set.hpp"
 #include "pipeline/pipeline.hpp"
 
@@ -57,6 +58,7 @@ void drawOctree(const AlgorithmInput& input, Frame& frame);           // octree.
 void drawRaycast(const AlgorithmInput& input, Frame& frame);          // raycast.cpp
 void drawABuffer(const AlgorithmInput& input, Frame& frame);          // abuffer.cpp
 void drawWeilerAtherton(const AlgorithmInput& input, Frame& frame);   // weiler_atherton.cpp
+void drawRoberts(const AlgorithmInput& input, Frame& frame);          // roberts.cpp
 
 // The Weiler-Atherton visible set of the pipeline's window polygons (weiler_atherton.cpp);
 // `state_bytes`, when given, gets the memory its list and cells held; `close`, when given, the
@@ -72,5 +74,10 @@ struct ClosePair {
 VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
                                     std::size_t* state_bytes, std::vector<ClosePair>* close, Frame* frame,
                                     Trace* trace);
+
+// Roberts' visible edges of the pipeline's window polygons (roberts.cpp); with `frame`, the
+// visible faces are filled into it; with `trace`, the steps are recorded (`hsr explain`).
+RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPolygon>& polygons,
+                                int width, int height, Frame* frame, Trace* trace);
 
 }  // namespace hsr::detail

@@ -88,6 +88,13 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .input = InputKind::kWindowPolygons,
         .capabilities = kExactSharedCoverage | kOutline | kTransparency | kExplain},
        &drawWeilerAtherton},
+      {{.name = "roberts",
+        .summary = "Roberts: back faces off each convex solid, every edge tested against the other solids' volumes",
+        .source = "Roberts 1963; the notes' \"Roberts Algorithm\"",
+        .precision = Precision::kObject,
+        .input = InputKind::kWindowPolygons,
+        .capabilities = kOutline | kTransparency | kExplain},
+       &drawRoberts},
   };
   return table;
 }
