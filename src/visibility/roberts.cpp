@@ -179,6 +179,7 @@ struct Face {
 // convex piece of a face of a decomposed object.
 struct Volume {
   std::vector<dvec3> vertices;
+  std::vector<dvec2> outline;  // convex hull of the vertices on the picture
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
   std::vector<std::uint32_t> faces;  // the faces it is made of
   std::uint32_t object = 0;
@@ -234,6 +235,19 @@ struct Scaled {
 bool section(const Face& f, const Volume& v, const Scaled& sc, double lift, std::vector<double>& s,
              std::vector<dvec2>& hull) {
   const DepthPlane& p = f.w->depth;
+  // The plane over the volume's box: wholly behind it, nothing; wholly in front, the
+  // section is the volume's outline.
+  double lo = INFINITY, hi = -INFINITY;
+  for (const double x : {v.x0, v.x1})
+    for (const double y : {v.y0, v.y1}) {
+      const double z = sc.depth(p, x, y) - lift;
+      lo = std::min(lo, z), hi = std::max(hi, z);
+    }
+  if (v.zmin >= hi) return false;
+  if (v.zmax < lo) {
+    hull = v.outline;
+    return hull.size() >= 3 && hullArea(hull) > kTiny;
+  }
   s.resize(v.vertices.size());
   bool any_in_front = false;
   for (std::size_t i = 0; i < v.vertices.size(); ++i) {
@@ -507,7 +521,30 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
   }
   // Each piece of a flat face takes its corners' depths from the face's plane (the same plane
   // its section tests use): a triangle of a concave face then lies exactly in it.
-  for (Volume& v : volumes) boxOf(v, v.vertices);
+  for (Volume& v : volumes) {
+    // A solid lists each corner once and each edge once (its faces share them).
+    if (v.solid >= 0) {
+      std::vector<dvec3> corners = v.vertices;
+      std::sort(corners.begin(), corners.end(), [](const dvec3& l, const dvec3& r) { return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z); });
+      corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+      auto index = [&](const dvec3& q) {
+        return static_cast<std::uint32_t>(std::lower_bound(corners.begin(), corners.end(), q, [](const dvec3& l, const dvec3& r) {
+                                            return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z);
+                                          }) - corners.begin());
+      };
+      for (auto& [a, b] : v.edges) {
+        std::uint32_t ia = index(v.vertices[a]), ib = index(v.vertices[b]);
+        a = std::min(ia, ib), b = std::max(ia, ib);
+      }
+      std::sort(v.edges.begin(), v.edges.end());
+      v.edges.erase(std::unique(v.edges.begin(), v.edges.end()), v.edges.end());
+      v.vertices = std::move(corners);
+    }
+    boxOf(v, v.vertices);
+    std::vector<dvec2> xy;
+    for (const dvec3& q : v.vertices) xy.emplace_back(q.x, q.y);
+    convexHull(xy, v.outline);
+  }
   std::erase_if(volumes, [](const Volume& v) { return v.vertices.empty(); });
   out.faces = faces.size();
   out.volumes = volumes.size();
