@@ -9,7 +9,8 @@
 // Such a solid is used whole when the view volume does not cut it (its front faces are all in
 // the view, none touched by the clipper). Every other object, and a solid the view cuts, is
 // decomposed: each of its polygons, as the pipeline clips it (a concave one as its
-// triangles), is taken as a flat solid of its own; the result says which and why. See-through
+// triangles), is taken as a flat solid of its own; the result says which and why. Back faces
+// are removed from the solids, and from every closed object the view does not cut. See-through
 // polygons hide nothing and are not drawn here (the picture blends them afterwards).
 //
 // Coordinates: window pixels as the pipeline gives them (y down, pixel centres at integers),
@@ -48,7 +49,8 @@ struct RobertsDrawing {
   std::vector<RobertsSegment> segments;
   std::vector<RobertsObject> objects;  // every object with an opaque polygon in the view
   std::uint64_t solids = 0;            // objects used whole
-  std::uint64_t back_faces = 0;        // faces the solids' back-face test removed
+  std::uint64_t back_faces = 0;        // faces the back-face test removed (solids, and closed
+                                       // objects the view does not cut)
   std::uint64_t faces = 0;             // faces left: the solids' front faces and every face
                                        // of the decomposed objects
   std::uint64_t volumes = 0;           // volumes edges are tested against (solids and flat faces)

@@ -8,7 +8,9 @@
 //      (the notes' test, N . (eye - P) > 0 for a front face, made after the perspective
 //      transformation as the pipeline's facing is: the face's snapped outline turns
 //      counter-clockwise seen from the eye). A convex solid's back faces are hidden by its own
-//      front faces, so they need no further test.
+//      front faces, so they need no further test. So are those of any closed object the view
+//      does not cut (the eye is then outside it), which go too; its other faces are then
+//      taken one by one.
 //   3. Edges. Test each edge of the remaining faces against the volume of every other solid.
 //      A point P of the edge is hidden by a solid V when the line of sight from P to the eye
 //      passes through V: P - a z lies in V for some a > 0. Here the test runs in window space,
@@ -82,7 +84,9 @@ constexpr double kConvexTolerance = 1e-6;
 
 // Why the object is not a convex polyhedron, or empty when it is; `outward` gets +1 when its
 // faces wind counter-clockwise seen from outside, -1 when from inside.
-std::string notConvexReason(const Scene& scene, const Object& object, int* outward) {
+// `closed`, when the object is closed (whatever else it is), gets +1 when its faces wind
+// counter-clockwise seen from outside (positive volume), -1 when from inside.
+std::string notConvexReason(const Scene& scene, const Object& object, int* outward, int* closed) {
   const PolygonId first = object.first_polygon, end = object.first_polygon + object.polygon_count;
   if (object.polygon_count < 4) return "open: fewer than four faces";
   const double tol =
@@ -102,6 +106,16 @@ std::string notConvexReason(const Scene& scene, const Object& object, int* outwa
   for (const auto& [k, n] : directed)
     if (!directed.contains({k[3], k[4], k[5], k[0], k[1], k[2]}))
       return "open: an edge has no neighbour";
+  {
+    const dvec3 c(object.bounds.center());
+    double volume6 = 0;  // six times the signed volume
+    for (PolygonId id = first; id < end; ++id) {
+      const auto vi = scene.polygon(id);
+      for (std::size_t i = 1; i + 1 < vi.size(); ++i)
+        volume6 += glm::dot(pos(vi[0]) - c, glm::cross(pos(vi[i]) - c, pos(vi[i + 1]) - c));
+    }
+    if (volume6 != 0) *closed = volume6 > 0 ? 1 : -1;
+  }
   // Flat, convex faces, with the whole object on one side of each: the same side for all.
   std::vector<std::uint32_t> vertices;
   for (PolygonId id = first; id < end; ++id)
@@ -427,21 +441,19 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
   std::vector<std::string> reasons;
   for (std::uint32_t o = 0; o < scene.objects.size(); ++o) {
     if (by_object[o].empty()) continue;
-    int outward = 0;
-    std::string why = notConvexReason(scene, scene.objects[o], &outward);
-    if (why.empty()) {
-      // Whole in the view: every face present once and untouched by the clipper. (A face that
-      // is missing is culled, edge-on, or wholly outside the view: its neighbours would show
-      // the cut. The solid's shadow in the view is that of the front faces there.)
-      std::vector<std::uint8_t> seen(scene.objects[o].polygon_count, 0);
-      for (const WindowPolygon* w : by_object[o]) {
-        if (seen[w->id - scene.objects[o].first_polygon]++ || w->piece != 0)
-          why = "cut by the view volume";
-        for (const dvec3& q : w->vertices)
-          if (!(q.x > xmin && q.x < xmax && q.y > ymin && q.y < ymax && q.z > 0 && q.z < 1))
-            why = "cut by the view volume";
-      }
+    int outward = 0, closed = 0;
+    std::string why = notConvexReason(scene, scene.objects[o], &outward, &closed);
+    // Whole in the view: every face present once and untouched by the clipper. (A face that
+    // is missing is culled, edge-on, or wholly outside the view: its neighbours would show the
+    // cut. The solid's shadow in the view is that of the front faces there.)
+    bool cut = false;
+    std::vector<std::uint8_t> seen(scene.objects[o].polygon_count, 0);
+    for (const WindowPolygon* w : by_object[o]) {
+      cut = cut || seen[w->id - scene.objects[o].first_polygon]++ || w->piece != 0;
+      for (const dvec3& q : w->vertices)
+        cut = cut || !(q.x > xmin && q.x < xmax && q.y > ymin && q.y < ymax && q.z > 0 && q.z < 1);
     }
+    if (why.empty() && cut) why = "cut by the view volume";
     RobertsObject& ro = out.objects.emplace_back();
     ro.object = o;
     ro.solid = why.empty();
@@ -449,6 +461,11 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
     if (ro.solid) {
       solid_of[o] = static_cast<int>(out.solids++);
       outward_of[o] = outward;
+    } else if (closed != 0 && !cut) {
+      // A closed object the view does not cut is seen from outside (an eye inside it would
+      // have it cut by the view volume all round): its back faces are hidden by its own front
+      // faces, convex or not, and go as a solid's do; the rest is taken face by face.
+      outward_of[o] = closed;
     }
   }
   // ---- 2. Back faces, and the faces and volumes the tests use.
@@ -483,7 +500,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
       const GridPoint p = f.ring[i], q = f.ring[(i + 1) % f.ring.size()];
       twice_area += p.x * q.y - q.x * p.y;
     }
-    if (f.solid >= 0 && (twice_area < 0 ? 1 : -1) * outward_of[o] <= 0) {
+    if (outward_of[o] != 0 && (twice_area < 0 ? 1 : -1) * outward_of[o] <= 0) {
       out.back_faces++;  // its outward normal points away from the eye
       if (trace) back_outlines.push_back(outlineOf(xy));
       continue;
@@ -525,12 +542,17 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
     // A solid lists each corner once and each edge once (its faces share them).
     if (v.solid >= 0) {
       std::vector<dvec3> corners = v.vertices;
-      std::sort(corners.begin(), corners.end(), [](const dvec3& l, const dvec3& r) { return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z); });
+      std::sort(corners.begin(), corners.end(), [](const dvec3& l, const dvec3& r) {
+        return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z);
+      });
       corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
       auto index = [&](const dvec3& q) {
-        return static_cast<std::uint32_t>(std::lower_bound(corners.begin(), corners.end(), q, [](const dvec3& l, const dvec3& r) {
-                                            return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z);
-                                          }) - corners.begin());
+        return static_cast<std::uint32_t>(std::lower_bound(corners.begin(), corners.end(), q,
+                                                           [](const dvec3& l, const dvec3& r) {
+                                                             return std::tie(l.x, l.y, l.z) <
+                                                                    std::tie(r.x, r.y, r.z);
+                                                           }) -
+                                          corners.begin());
       };
       for (auto& [a, b] : v.edges) {
         std::uint32_t ia = index(v.vertices[a]), ib = index(v.vertices[b]);
