@@ -356,28 +356,21 @@ TEST(Roberts, PicturesAgreeWithTheZBuffer) {
   testing::printFigures("solids from 8 sides: roberts: " + grouped(differ) + " of " +
                         grouped(drawn) +
                         " drawn pixels show another polygon than the z-buffer (cull back)");
-  for (const char* model : testing::kMesaTestModels) {
-    if (std::string(model).find("Engine") != std::string::npos) continue;  // see above
-    SCOPED_TRACE(model);
-    const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
-    const Camera camera = frameScene(scene, 640, 480);
-    for (const CullMode cull : {CullMode::None, CullMode::Back}) {
-      RenderOptions o;
-      o.cull = cull;
-      const Frame z = render(scene, camera, o);
-      o.algorithm = "roberts";
-      const Frame f = render(scene, camera, o);
-      const testing::Comparison c = testing::compareFrames(z, f, "roberts");
-      testing::printFigures(
-          std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") +
-          ": roberts: " + testing::describe(c) + " (" +
-          testing::percent(c.drawn - c.ids_differ, c.drawn) + " agree), " +
-          grouped(f.stats.counter("roberts: face-volume tests")) + " face-volume tests, " +
-          grouped(f.stats.counter("roberts: visible segments")) + " segments");
-      EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
-      EXPECT_LE(c.ids_differ, c.drawn / 1000);
-    }
-  }
+  testing::forEachMesaModelView(
+      [](const std::string& label, const Scene& scene, const Camera& camera, RenderOptions& o) {
+        if (label.find("Engine") != std::string::npos) return;  // see above
+        const Frame z = render(scene, camera, o);
+        o.algorithm = "roberts";
+        const Frame f = render(scene, camera, o);
+        const testing::Comparison c = testing::compareFrames(z, f, "roberts");
+        testing::printFigures(label + ": roberts: " + testing::describe(c) + " (" +
+                              testing::percent(c.drawn - c.ids_differ, c.drawn) + " agree), " +
+                              grouped(f.stats.counter("roberts: face-volume tests")) +
+                              " face-volume tests, " +
+                              grouped(f.stats.counter("roberts: visible segments")) + " segments");
+        EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
+        EXPECT_LE(c.ids_differ, c.drawn / 1000);
+      });
 }
 
 }  // namespace
