@@ -438,7 +438,6 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
     if (!w.transparent) by_object[scene.object(w.id)].push_back(&w);
   const double xmin = -0.5, ymin = -0.5, xmax = width - 0.5, ymax = height - 0.5;
   std::vector<int> solid_of(scene.objects.size(), -1), outward_of(scene.objects.size(), 0);
-  std::vector<std::string> reasons;
   for (std::uint32_t o = 0; o < scene.objects.size(); ++o) {
     if (by_object[o].empty()) continue;
     int outward = 0, closed = 0;
@@ -471,7 +470,6 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
   // ---- 2. Back faces, and the faces and volumes the tests use.
   std::vector<Face> faces;
   std::vector<Volume> volumes(out.solids);
-  std::vector<std::uint32_t> removed;  // back faces, for the teaching view
   std::vector<TraceOutline> back_outlines, all_outlines;
   for (const WindowPolygon& w : polygons) {
     if (w.transparent) continue;
