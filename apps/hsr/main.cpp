@@ -26,6 +26,7 @@
 #include "hsr/render.hpp"
 #include "args.hpp"
 #include "bsp_verb.hpp"
+#include "svg_verb.hpp"
 #include "common.hpp"
 
 namespace fs = std::filesystem;
@@ -195,6 +196,7 @@ int main(int argc, char** argv) {
                "  hsr explain zbuffer-textbook demo -o out/explain\n"
                "  hsr bsp build spheres:100000 -o out/spheres.bsp\n"
                "  hsr bsp render out/spheres.bsp --orbit 12 -o out/orbit\n"
+               "  hsr svg solids --hidden dashed --page A4-landscape -o out/solids.svg\n"
                "  hsr scenes"};
   app.require_subcommand(0, 1);
   Args a;
@@ -224,6 +226,8 @@ int main(int argc, char** argv) {
   CLI::App* scenes = app.add_subcommand("scenes", "list built-in scenes and algorithms");
   hsr::cli::BspVerb bsp;
   hsr::cli::addBspVerb(app, bsp);
+  hsr::cli::SvgVerb svg;
+  hsr::cli::addSvgVerb(app, svg);
 
   try {
     app.parse(argc, argv);
@@ -257,6 +261,8 @@ int main(int argc, char** argv) {
       status = runScenes();
     else if (*bsp.verb)
       status = hsr::cli::runBsp(bsp);
+    else if (*svg.verb)
+      status = hsr::cli::runSvg(svg);
     else if (*compare)
       status = runCompare(a, given);
     else if (*explain)

@@ -36,6 +36,10 @@ struct RobertsSegment {
                                           // (kNoPolygon on a silhouette or an open border); for a
                                           // junction, the face of the other object
   bool junction = false;                  // where two objects penetrate: the line the faces meet on
+  PolygonId neighbour = kNoPolygon;       // across an edge: the polygon of the same object that
+                                          // shares it, visible or not (a back face removed, or
+                                          // `face` itself where a non-planar polygon's pieces
+                                          // meet); kNoPolygon on an open border and a junction
 };
 
 struct RobertsObject {
@@ -47,6 +51,8 @@ struct RobertsObject {
 struct RobertsDrawing {
   int width = 0, height = 0;
   std::vector<RobertsSegment> segments;
+  std::vector<RobertsSegment> hidden;  // on request: the parts of the same edges that are hidden,
+                                       // the back faces' edges included (whole)
   std::vector<RobertsObject> objects;  // every object with an opaque polygon in the view
   std::uint64_t solids = 0;            // objects used whole
   std::uint64_t back_faces = 0;        // faces the back-face test removed (solids, and closed
@@ -64,7 +70,8 @@ struct RobertsDrawing {
 // otherwise). Cost: for each face, one test per volume whose screen box overlaps it and that
 // comes nearer than it, found through a grid of screen cells; each test O(v) for a volume of
 // v vertices and edges.
+// With `hidden_parts`, RobertsDrawing::hidden is filled too.
 RobertsDrawing robertsDrawing(const Scene& scene, const Camera& camera,
-                              const RenderOptions& options = {});
+                              const RenderOptions& options = {}, bool hidden_parts = false);
 
 }  // namespace hsr

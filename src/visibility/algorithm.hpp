@@ -76,8 +76,10 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
                                     Trace* trace);
 
 // Roberts' visible edges of the pipeline's window polygons (roberts.cpp); with `frame`, the
-// visible faces are filled into it; with `trace`, the steps are recorded (`hsr explain`).
+// visible faces are filled into it; with `trace`, the steps are recorded (`hsr explain`); with
+// `hidden_parts`, the hidden parts of the edges are kept too (RobertsDrawing::hidden).
 RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPolygon>& polygons,
-                                int width, int height, Frame* frame, Trace* trace);
+                                int width, int height, Frame* frame, Trace* trace,
+                                bool hidden_parts = false);
 
 }  // namespace hsr::detail

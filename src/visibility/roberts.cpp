@@ -427,7 +427,8 @@ constexpr std::string_view kStepDone = "done";
 }  // namespace
 
 RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPolygon>& polygons,
-                                int width, int height, Frame* frame, Trace* trace) {
+                                int width, int height, Frame* frame, Trace* trace,
+                                bool hidden_parts) {
   RobertsDrawing out;
   out.width = width, out.height = height;
   Scaled sc;
@@ -471,6 +472,12 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
   std::vector<Face> faces;
   std::vector<Volume> volumes(out.solids);
   std::vector<TraceOutline> back_outlines, all_outlines;
+  struct BackFace {  // kept for their edges when the hidden parts are asked for
+    PolygonId id;
+    std::uint32_t object;
+    std::vector<dvec3> v;
+  };
+  std::vector<BackFace> back_faces;
   for (const WindowPolygon& w : polygons) {
     if (w.transparent) continue;
     const std::uint32_t o = scene.object(w.id);
@@ -501,6 +508,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
     if (outward_of[o] != 0 && (twice_area < 0 ? 1 : -1) * outward_of[o] <= 0) {
       out.back_faces++;  // its outward normal points away from the eye
       if (trace) back_outlines.push_back(outlineOf(xy));
+      if (hidden_parts) back_faces.push_back({w.id, o, std::move(f.v)});
       continue;
     }
     boxOf(f, f.v);
@@ -653,29 +661,52 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
   struct EdgeRef {
     std::uint32_t face;
     PolygonId other;
+    PolygonId neighbour = kNoPolygon;  // the other polygon on the edge, visible or not
   };
   std::map<std::array<double, 7>, EdgeRef> edges;  // object, then the ends in order
   std::vector<std::pair<std::array<double, 7>, EdgeRef*>> order;
-  for (std::uint32_t fi = 0; fi < faces.size(); ++fi) {
-    const Face& f = faces[fi];
-    for (std::size_t i = 0; i < f.v.size(); ++i) {
-      dvec3 a = f.v[i], b = f.v[(i + 1) % f.v.size()];
+  auto forEdges = [&](std::uint32_t object, const std::vector<dvec3>& v, auto&& f) {
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      dvec3 a = v[i], b = v[(i + 1) % v.size()];
       if (onBorder({a.x, a.y}, {b.x, b.y})) continue;
       if (std::tie(b.x, b.y, b.z) < std::tie(a.x, a.y, a.z)) std::swap(a, b);
-      const std::array<double, 7> key{static_cast<double>(f.object), a.x, a.y, a.z, b.x, b.y, b.z};
-      auto [it, inserted] = edges.try_emplace(key, EdgeRef{fi, kNoPolygon});
-      if (!inserted && it->second.other == kNoPolygon && faces[it->second.face].w->id != f.w->id)
-        it->second.other = f.w->id;
+      f(std::array<double, 7>{static_cast<double>(object), a.x, a.y, a.z, b.x, b.y, b.z});
     }
+  };
+  for (std::uint32_t fi = 0; fi < faces.size(); ++fi) {
+    const Face& f = faces[fi];
+    forEdges(f.object, f.v, [&](const std::array<double, 7>& key) {
+      auto [it, inserted] = edges.try_emplace(key, EdgeRef{fi, kNoPolygon});
+      if (inserted || it->second.neighbour != kNoPolygon) return;
+      it->second.neighbour = f.w->id;
+      if (faces[it->second.face].w->id != f.w->id) it->second.other = f.w->id;
+    });
   }
+  // The back faces' edges: a silhouette's neighbour, or hidden whole (once each)
+  std::map<std::array<double, 7>, std::pair<PolygonId, PolygonId>> back_edges;
+  for (const BackFace& bf : back_faces)
+    forEdges(bf.object, bf.v, [&](const std::array<double, 7>& key) {
+      if (auto it = edges.find(key); it != edges.end()) {
+        if (it->second.neighbour == kNoPolygon) it->second.neighbour = bf.id;
+        return;
+      }
+      auto [it, inserted] = back_edges.try_emplace(key, bf.id, kNoPolygon);
+      if (!inserted && it->second.second == kNoPolygon) it->second.second = bf.id;
+    });
   // `meets`: for a junction line, the face g it lies on too: g's own volume is not tested (the
   // line is on its section's border, where g's plane and f's meet).
   std::vector<std::pair<double, double>> hidden;
-  auto addVisible = [&](dvec2 a, dvec2 b, std::uint32_t fi, PolygonId other, int meets,
-                        std::vector<TraceOutline>* o) {
+  auto addHidden = [&](dvec2 a, dvec2 b, PolygonId face, PolygonId other, PolygonId neighbour,
+                       bool junction) {
+    out.hidden.push_back(
+        {a.x / kGrid, a.y / kGrid, b.x / kGrid, b.y / kGrid, face, other, junction, neighbour});
+  };
+  auto addVisible = [&](dvec2 a, dvec2 b, std::uint32_t fi, PolygonId other, PolygonId neighbour,
+                        int meets, std::vector<TraceOutline>* o) {
     const bool junction = meets >= 0;
     out.edges += !junction;
     hidden.clear();
+    const PolygonId id = faces[fi].w->id;
     const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y),
                  y1 = std::max(a.y, b.y);
     for (const Section& sec : sections[fi]) {  // the largest first: most often one hides it all
@@ -689,24 +720,40 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
         continue;
       double t0, t1;
       if (!insideStretch(a, b, sec.hull, &t0, &t1)) continue;
-      if (t0 <= 0 && t1 >= 1) return;  // hidden all along
+      if (t0 <= 0 && t1 >= 1) {  // hidden all along
+        if (hidden_parts) addHidden(a, b, id, other, neighbour, junction);
+        return;
+      }
       hidden.emplace_back(t0, t1);
     }
     std::sort(hidden.begin(), hidden.end());
     const double len = glm::length(b - a);
     double t = 0;
-    auto emit = [&](double u0, double u1) {
+    auto emit = [&](double u0, double u1, bool shown) {
       if ((u1 - u0) * len <= kTiny) return;
       const dvec2 p = a + (b - a) * u0, q = a + (b - a) * u1;
+      if (!shown) return addHidden(p, q, id, other, neighbour, junction);
       out.segments.push_back(
-          {p.x / kGrid, p.y / kGrid, q.x / kGrid, q.y / kGrid, faces[fi].w->id, other, junction});
+          {p.x / kGrid, p.y / kGrid, q.x / kGrid, q.y / kGrid, id, other, junction, neighbour});
       if (o) o->push_back(outlineOf({p, q}));
     };
     for (const auto& [h0, h1] : hidden) {
-      if (h0 > t) emit(t, h0);
+      if (h0 > t) emit(t, h0, true);
       t = std::max(t, h1);
     }
-    if (t < 1) emit(t, 1);
+    if (t < 1) emit(t, 1, true);
+    if (!hidden_parts) return;
+    double run0 = 0, run1 = -1;  // the hidden runs: the union of the stretches, within the edge
+    for (const auto& [h0, h1] : hidden) {
+      const double u0 = std::max(h0, 0.0), u1 = std::min(h1, 1.0);
+      if (u1 <= u0) continue;
+      if (u0 > run1) {
+        if (run1 > run0) emit(run0, run1, false);
+        run0 = u0;
+      }
+      run1 = std::max(run1, u1);
+    }
+    if (run1 > run0) emit(run0, run1, false);
   };
   // ---- 4. Junction lines: face f of one object through face g of another, or through a face
   // of its own object that it shares no corner with (neighbours in a mesh meet on an edge).
@@ -764,6 +811,12 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
     std::vector<TraceOutline> o;
     if (hidden_whole[fi]) {
       out.edges += by_face[fi].size();
+      if (hidden_parts) {
+        for (const auto& [key, ref] : by_face[fi])
+          addHidden({key[1], key[2]}, {key[4], key[5]}, f.w->id, ref.other, ref.neighbour, false);
+        for (const Junction& j : junctions[fi])
+          addHidden(j.a, j.b, f.w->id, faces[j.g].w->id, kNoPolygon, true);
+      }
       if (show)
         trace->record({kStepFace,
                        "Face " + std::to_string(f.w->id) +
@@ -774,9 +827,11 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
       continue;
     }
     for (const auto& [key, ref] : by_face[fi])
-      addVisible({key[1], key[2]}, {key[4], key[5]}, fi, ref.other, -1, show ? &o : nullptr);
+      addVisible({key[1], key[2]}, {key[4], key[5]}, fi, ref.other, ref.neighbour, -1,
+                 show ? &o : nullptr);
     for (const Junction& j : junctions[fi])
-      addVisible(j.a, j.b, fi, faces[j.g].w->id, static_cast<int>(j.g), show ? &o : nullptr);
+      addVisible(j.a, j.b, fi, faces[j.g].w->id, kNoPolygon, static_cast<int>(j.g),
+                 show ? &o : nullptr);
     if (!fb) continue;
     ExactRegion region;
     const GridRegion whole{{f.ring, {}}};
@@ -793,9 +848,9 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
       if (region.empty()) break;
       if (sec.shown.empty()) continue;
       const GridRing ring = snappedInside(sec.shown);
-      const GridRegion hidden{{ring, {}}};
-      if (ring.size() < 3 || !invalidRegionReason(hidden).empty()) continue;
-      region = booleanOp(region, exactRegion(hidden), BooleanOp::AMinusB);
+      const GridRegion covered{{ring, {}}};
+      if (ring.size() < 3 || !invalidRegionReason(covered).empty()) continue;
+      region = booleanOp(region, exactRegion(covered), BooleanOp::AMinusB);
     }
     paintExactRegion(region, f.w->depth, f.w->id, f.w->rgba, *fb, fragments, DepthFunc::Less);
     if (show) {
@@ -812,6 +867,9 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
            frame, std::move(o)});
     }
   }
+  // The edges only back faces share: hidden whole (their solid's front faces hide them)
+  for (const auto& [key, ids] : back_edges)
+    addHidden({key[1], key[2]}, {key[4], key[5]}, ids.first, kNoPolygon, ids.second, false);
   if (frame) {
     frame->stats.fragments_tested += fragments.tested;
     frame->stats.fragments_written += fragments.written;
@@ -869,12 +927,13 @@ void drawRoberts(const AlgorithmInput& in, Frame& frame) {
 namespace hsr {
 
 RobertsDrawing robertsDrawing(const Scene& scene, const Camera& camera,
-                              const RenderOptions& options) {
+                              const RenderOptions& options, bool hidden_parts) {
   if (options.polygon_mode != PolygonMode::Fill)
     throw Error("robertsDrawing: the polygon mode must be fill");
   const detail::PreparedScene ps =
       detail::prepare(scene, camera, options, {.window_polygons = true});
-  return detail::robertsDrawingOf(scene, ps.polygons, ps.width, ps.height, nullptr, nullptr);
+  return detail::robertsDrawingOf(scene, ps.polygons, ps.width, ps.height, nullptr, nullptr,
+                                  hidden_parts);
 }
 
 }  // namespace hsr

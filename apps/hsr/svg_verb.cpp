@@ -1,0 +1,127 @@
+// `hsr svg SCENE -o FILE.svg`: the visible outlines, creases and intersection lines of SCENE as
+// pen strokes (hsr/line_drawing.hpp), with the hidden parts dashed on request, on a page in
+// millimetres on request.
+
+#include "svg_verb.hpp"
+
+#include <cmath>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "common.hpp"
+#include "hsr/error.hpp"
+#include "hsr/io.hpp"
+#include "hsr/line_drawing.hpp"
+#include "hsr/output.hpp"
+
+namespace hsr::cli {
+
+void addSvgVerb(CLI::App& app, SvgVerb& v) {
+  v.verb = app.add_subcommand(
+      "svg", "draw SCENE's visible lines (outlines, creases, intersections) exactly as SVG");
+  addViewOptions(v.verb, v.args);
+  v.verb->add_option("-o", v.output, "output SVG (default out/SCENE.svg)");
+  v.verb->add_option("--hidden", v.hidden, "the hidden parts of the same lines: none or dashed")
+      ->capture_default_str();
+  v.verb->add_option("--dash", v.dash,
+                     "the hidden lines' dash pattern (SVG stroke-dasharray: mm on a page, else "
+                     "pixels; default 2,1 on a page, 6,3 without)");
+  v.verb
+      ->add_option("--crease-angle", v.crease_angle,
+                   "draw the edge where two polygons meet at more than this (degrees)")
+      ->capture_default_str();
+  v.verb->add_option("--page", v.page,
+                     "fit the drawing on a page, sizes in mm: A4, A3, letter (add -landscape)");
+  v.verb->add_option("--margin", v.margin, "page margin (mm)")->capture_default_str();
+  v.verb->add_option("--stroke", v.stroke, "pen width on a page (mm)")->capture_default_str();
+  v.verb->add_option("--stats", v.stats_file, "write the counts, lengths and times as JSON");
+  v.verb->add_flag("-q,--quiet", v.quiet, "no summary");
+}
+
+int runSvg(SvgVerb& v) {
+  const Args& a = v.args;
+  if (v.verb->count("--algorithm") > 0)
+    throw hsr::Error(
+        "hsr svg computes its lines exactly from Roberts' visible segments; --algorithm does not "
+        "apply");
+  if (v.hidden != "none" && v.hidden != "dashed")
+    throw hsr::Error("--hidden " + printable(v.hidden) + ": none or dashed");
+  hsr::SvgPage page;
+  if (!v.page.empty()) page = hsr::svgPageNamed(v.page);
+  if (v.verb->count("--margin") > 0 || v.verb->count("--stroke") > 0) {
+    if (v.page.empty()) throw hsr::Error("--margin and --stroke apply to a page (--page)");
+    if (!(v.margin >= 0) || 2 * v.margin >= std::min(page.width_mm, page.height_mm))
+      throw hsr::Error(fmt::format("--margin {}: must leave room on the page", v.margin));
+    if (!(v.stroke > 0) || !std::isfinite(v.stroke))
+      throw hsr::Error("--stroke must be a positive width");
+  }
+  page.margin_mm = v.margin;
+  page.stroke_mm = v.stroke;
+  page.dash = v.dash.empty() ? (v.page.empty() ? "6,3" : "2,1") : v.dash;
+  for (const char c : page.dash)
+    if (!(std::isdigit(static_cast<unsigned char>(c)) || c == '.' || c == ',' || c == ' '))
+      throw hsr::Error("--dash " + printable(v.dash) +
+                       ": numbers separated by commas, such as 2,1");
+  const std::string out = v.output.empty() ? "out/" + sceneLabel(a.scene) + ".svg" : v.output;
+  OutputPlan plan(a.scene);
+  plan.file("-o", out);
+  if (v.verb->count("--stats") > 0) plan.file("--stats", v.stats_file);
+
+  const hsr::Scene scene = hsr::loadScene(a.scene, importLimits(a));
+  const hsr::Camera camera = makeCamera(a, scene);
+  warnIfDepthUnresolvable(camera);
+  warnIfEyeInside(scene, camera);
+  hsr::LineDrawingOptions lines;
+  lines.crease_angle_deg = v.crease_angle;
+  lines.hidden = v.hidden == "dashed";
+  const hsr::LineDrawing d = hsr::lineDrawing(scene, camera, makeOptions(a), lines);
+  hsr::writeFileAtomically(out, {hsr::lineDrawingSvg(d, page)});
+  std::vector<std::string> written{out};
+  auto layerJson = [](const hsr::LineLayerStats& s) {
+    return nlohmann::json{{"segments", s.segments},
+                          {"strokes", s.strokes},
+                          {"length_px", s.length},
+                          {"pen_up_px", s.pen_up},
+                          {"pen_up_unordered_px", s.pen_up_unordered}};
+  };
+  if (v.verb->count("--stats") > 0) {
+    const nlohmann::json j{{"scene", a.scene},
+                           {"width", d.width},
+                           {"height", d.height},
+                           {"visible", layerJson(d.visible_stats)},
+                           {"hidden", layerJson(d.hidden_stats)},
+                           {"segments",
+                            {{"outline", d.outline_segments},
+                             {"crease", d.crease_segments},
+                             {"intersection", d.intersection_segments},
+                             {"smooth_left_out", d.smooth_segments}}},
+                           {"visibility_ms", d.visibility_ms},
+                           {"strokes_ms", d.strokes_ms}};
+    hsr::writeFileAtomically(v.stats_file, {j.dump(2) + "\n"});
+    written.push_back(v.stats_file);
+  }
+  if (!v.quiet) {
+    fmt::print("hsr svg {}: {}x{} view, lines exact (Roberts' visible segments)\n", a.scene,
+               d.width, d.height);
+    auto layer = [](const char* name, const hsr::LineLayerStats& s) {
+      fmt::print(
+          "  {:<8} {:>7} strokes from {:>7} segments, {:>10.0f} px long; pen-up travel {:.0f} px "
+          "({:.0f} px unordered)\n",
+          name, s.strokes, s.segments, s.length, s.pen_up, s.pen_up_unordered);
+    };
+    layer("visible", d.visible_stats);
+    if (lines.hidden) layer("hidden", d.hidden_stats);
+    fmt::print(
+        "  lines    {} outline, {} crease, {} intersection segments; {} edges within {} degrees "
+        "left out\n",
+        d.outline_segments, d.crease_segments, d.intersection_segments, d.smooth_segments,
+        v.crease_angle);
+    fmt::print("  time     visibility {:.1f} ms, strokes {:.1f} ms\n", d.visibility_ms,
+               d.strokes_ms);
+    for (const std::string& w : written) fmt::print("  wrote {}\n", w);
+  }
+  return 0;
+}
+
+}  // namespace hsr::cli

@@ -1,0 +1,26 @@
+#pragma once
+// `hsr svg`: a scene's hidden-line drawing as SVG, exact and plotter-ready.
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "args.hpp"
+
+namespace hsr::cli {
+
+struct SvgVerb {
+  CLI::App* verb = nullptr;
+  Args args;
+  std::string output, hidden = "none", dash, page, stats_file;
+  double crease_angle = 30, margin = 10, stroke = 0.35;
+  bool quiet = false;
+};
+
+// Adds the verb to `app`.
+void addSvgVerb(CLI::App& app, SvgVerb& v);
+
+// Runs it; throws hsr::Error on bad input.
+int runSvg(SvgVerb& v);
+
+}  // namespace hsr::cli

@@ -1,0 +1,92 @@
+#pragma once
+// Hidden-line drawings: the visible parts of a scene's outlines (silhouettes and open borders),
+// creases and intersection lines, as pen strokes, and an SVG of them for plotters, laser
+// cutters and technical illustration (`hsr svg`).
+//
+// Exact, not sampled: the lines are Roberts' visible segments of the edges (hsr/roberts.hpp),
+// computed in object space on the pipeline's polygons, with the hidden parts of the same edges
+// on request. An edge is drawn when it is
+//   - an outline: its two polygons fold over each other in the picture (one faces the eye,
+//     the other away: a silhouette), or it has one polygon (an open border), or its other
+//     polygon is culled or clipped away;
+//   - a crease: its two polygons meet at an angle above `crease_angle_deg` (so a smooth
+//     mesh does not show every triangle);
+//   - an intersection line: where a polygon passes through another (Roberts' junction lines).
+// Where the pieces of a non-planar polygon meet is no edge of the model and is not drawn.
+// Coordinates are window pixels (y down, pixel centres at integers), as the pictures'.
+//
+// Strokes: segments merged into the longest polylines (no duplicates, no zero-length pieces,
+// collinear runs joined; a line both visible and hidden is drawn visible only) and ordered so
+// the pen travels little between them; the stats compare that travel with the unordered one.
+// Cost: Roberts' (see hsr/roberts.hpp), then O(n log n) for n segments.
+// Tests: tests/visibility/line_drawing_test.cpp.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "hsr/camera.hpp"
+#include "hsr/render.hpp"
+#include "hsr/scene.hpp"
+
+namespace hsr {
+
+enum class LineKind : std::uint8_t { kOutline = 0, kCrease = 1, kIntersection = 2 };
+const char* lineKindName(LineKind kind);  // "outline", "crease", "intersection"
+
+struct LineStroke {
+  std::vector<glm::dvec2> points;  // a polyline in window pixels, at least two points
+  LineKind kind = LineKind::kOutline;
+};
+
+struct LineLayerStats {
+  std::uint64_t segments = 0;   // Roberts' segments drawn in the layer
+  std::uint64_t strokes = 0;    // polylines they became
+  double length = 0;            // pixels
+  double pen_up = 0;            // pen-up travel between strokes, in the order drawn (pixels)
+  double pen_up_unordered = 0;  // the same, in the order the strokes were first chained
+};
+
+struct LineDrawingOptions {
+  double crease_angle_deg = 30;  // polygons meeting at more than this show their edge
+  bool hidden = false;           // also the hidden parts of the same lines (LineDrawing::hidden)
+};
+
+struct LineDrawing {
+  int width = 0, height = 0;
+  std::vector<LineStroke> visible, hidden;
+  LineLayerStats visible_stats, hidden_stats;
+  std::uint64_t outline_segments = 0, crease_segments = 0, intersection_segments = 0;
+  std::uint64_t smooth_segments = 0;  // edges left out: polygons meeting within the crease angle
+  double visibility_ms = 0, strokes_ms = 0;
+};
+
+// The drawing of `scene` seen by `camera`, with the pipeline's culling and clipping as
+// `options` says (polygon mode fill; options.algorithm is ignored). Throws hsr::Error on a
+// negative or non-finite crease angle.
+LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOptions& options = {},
+                        const LineDrawingOptions& lines = {});
+
+// How the SVG is laid out. With a page, the drawing (its lines' bounds) is scaled to fill the
+// page inside its margins, centred, and sizes are in millimetres; without, one unit is one
+// pixel of the view and the document is the view (rendered at its size, pixels match the
+// pictures').
+struct SvgPage {
+  double width_mm = 0, height_mm = 0;  // 0: no page, the view's size in pixels
+  double margin_mm = 10;
+  double stroke_mm = 0.35;   // a common plotter pen (with a page)
+  std::string dash = "2,1";  // the hidden layer's dash pattern, in stroke units: mm on
+                             // a page, pixels without
+};
+
+// A page by name: "A4", "A3", "letter" (portrait); with "-landscape" appended, turned.
+// Throws hsr::Error on an unknown name.
+SvgPage svgPageNamed(const std::string& name);
+
+// The drawing as an SVG document: a group per layer (id "visible", and "hidden" with
+// class="hidden" and the dash pattern when it has strokes), each stroke one <path>.
+std::string lineDrawingSvg(const LineDrawing& drawing, const SvgPage& page = {});
+
+}  // namespace hsr

@@ -1,0 +1,161 @@
+// Hidden-line drawings (hsr/line_drawing.hpp): which of Roberts' exact visible segments are
+// lines of the drawing, then pen strokes.
+//
+//   1. Visible and hidden parts of every edge: Roberts' algorithm on the pipeline's polygons
+//      (roberts.cpp), with the hidden parts kept.
+//   2. Which edges are lines. Each segment knows its polygon and the polygon across its edge.
+//      An outline: no polygon across (an open border, or the other one culled or clipped),
+//      or the two fold over each other in the picture (both lie on one side of the edge: a
+//      silhouette, whatever the windings say). A crease: the two meet at more than the crease
+//      angle, their normals turned towards the eye. A junction line: an intersection line.
+//      Where a non-planar polygon's pieces meet, and where two polygons meet within the
+//      crease angle, there is no line.
+//   3. Strokes (geometry/strokes.hpp): merged, chained and ordered, the visible layer winning
+//      where a line is both.
+
+#include "hsr/line_drawing.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+
+#include "geometry/strokes.hpp"
+#include "hsr/error.hpp"
+#include "hsr/roberts.hpp"
+#include "pipeline/pipeline.hpp"
+#include "visibility/algorithm.hpp"
+
+namespace hsr {
+
+const char* lineKindName(LineKind kind) {
+  switch (kind) {
+    case LineKind::kOutline:
+      return "outline";
+    case LineKind::kCrease:
+      return "crease";
+    case LineKind::kIntersection:
+      return "intersection";
+  }
+  return "?";
+}
+
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+
+// Strokes merge ends this close (pixels): far below what any pen shows, far above the
+// rounding of Roberts' junction lines.
+constexpr double kStrokeTolerance = 1e-6;
+
+// Step 2 for each segment, from the polygons' pieces in the window and their eye-space planes.
+class Classifier {
+ public:
+  Classifier(const std::vector<detail::WindowPolygon>& polygons, bool ortho,
+             double crease_angle_deg)
+      : ortho_(ortho), cos_crease_(std::cos(crease_angle_deg * 3.14159265358979323846 / 180.0)) {
+    for (const detail::WindowPolygon& w : polygons) by_id_[w.id].push_back(&w);
+  }
+
+  // The line a segment is part of, or none (-1).
+  int kindOf(const RobertsSegment& s) const {
+    if (s.junction) return static_cast<int>(LineKind::kIntersection);
+    if (s.neighbour == kNoPolygon) return static_cast<int>(LineKind::kOutline);
+    if (s.neighbour == s.face) return -1;  // inside a non-planar polygon
+    const auto f = by_id_.find(s.face), g = by_id_.find(s.neighbour);
+    if (f == by_id_.end() || g == by_id_.end()) return static_cast<int>(LineKind::kOutline);
+    // A fold: both polygons on one side of the edge in the picture
+    const dvec2 a(s.x0, s.y0), b(s.x1, s.y1);
+    const int side_f = sideOf(f->second, a, b), side_g = sideOf(g->second, a, b);
+    if (side_f != 0 && side_f == side_g) return static_cast<int>(LineKind::kOutline);
+    // A crease: normals turned towards the eye, at more than the crease angle
+    const dvec3 nf = towardsEye(*f->second.front()), ng = towardsEye(*g->second.front());
+    const double lf = glm::length(nf), lg = glm::length(ng);
+    if (!(lf > 0) || !(lg > 0)) return static_cast<int>(LineKind::kOutline);
+    return glm::dot(nf, ng) / (lf * lg) < cos_crease_ ? static_cast<int>(LineKind::kCrease) : -1;
+  }
+
+ private:
+  // Which side of the line through a and b the polygon lies on: the sign of its vertex
+  // farthest from it (0 when it lies on the line).
+  static int sideOf(const std::vector<const detail::WindowPolygon*>& pieces, dvec2 a, dvec2 b) {
+    const dvec2 d = b - a;
+    double best = 0;
+    for (const detail::WindowPolygon* w : pieces)
+      for (const dvec3& q : w->vertices) {
+        const double c = d.x * (q.y - a.y) - d.y * (q.x - a.x);
+        if (std::abs(c) > std::abs(best)) best = c;
+      }
+    return best > 0 ? 1 : best < 0 ? -1 : 0;
+  }
+  // The polygon's eye-space normal on the side the eye is (in perspective the eye is the
+  // origin; in parallel it is far towards +z).
+  dvec3 towardsEye(const detail::WindowPolygon& w) const {
+    const dvec3 n(w.eye_plane);
+    const double at_eye = ortho_ ? n.z : w.eye_plane.w;
+    return at_eye < 0 ? -n : n;
+  }
+
+  bool ortho_;
+  double cos_crease_;
+  std::unordered_map<PolygonId, std::vector<const detail::WindowPolygon*>> by_id_;
+};
+
+LineLayerStats layerStats(const detail::StrokeStats& s) {
+  return {s.segments, s.strokes, s.length, s.pen_up, s.pen_up_unordered};
+}
+
+}  // namespace
+
+LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                        const LineDrawingOptions& lines) {
+  if (!std::isfinite(lines.crease_angle_deg) || lines.crease_angle_deg < 0 ||
+      lines.crease_angle_deg > 180)
+    throw Error("line drawing: the crease angle must be between 0 and 180 degrees, not " +
+                std::to_string(lines.crease_angle_deg));
+  if (options.polygon_mode != PolygonMode::Fill)
+    throw Error("line drawing: the polygon mode must be fill");
+  const auto t0 = std::chrono::steady_clock::now();
+  LineDrawing out;
+  // ---- 1. Visible and hidden parts of every edge
+  const detail::PreparedScene ps =
+      detail::prepare(scene, camera, options, {.window_polygons = true});
+  const RobertsDrawing r = detail::robertsDrawingOf(scene, ps.polygons, ps.width, ps.height,
+                                                    nullptr, nullptr, lines.hidden);
+  out.width = ps.width, out.height = ps.height;
+  const auto t1 = std::chrono::steady_clock::now();
+  // ---- 2. Which edges are lines
+  const Classifier classify(ps.polygons, camera.ortho, lines.crease_angle_deg);
+  std::vector<detail::StrokeSegment> visible, hidden;
+  for (const RobertsSegment& s : r.segments) {
+    const int kind = classify.kindOf(s);
+    if (kind < 0) {
+      out.smooth_segments++;
+      continue;
+    }
+    (kind == 0   ? out.outline_segments
+     : kind == 1 ? out.crease_segments
+                 : out.intersection_segments)++;
+    visible.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
+  }
+  for (const RobertsSegment& s : r.hidden)
+    if (const int kind = classify.kindOf(s); kind >= 0)
+      hidden.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
+  // ---- 3. Strokes
+  std::vector<detail::Stroke> vs, hs;
+  detail::StrokeStats vstats, hstats;
+  detail::mergeStrokes(visible, hidden, kStrokeTolerance, &vs, &hs, &vstats, &hstats);
+  for (auto [from, to] : {std::pair{&vs, &out.visible}, std::pair{&hs, &out.hidden}})
+    for (detail::Stroke& s : *from)
+      to->push_back({std::move(s.points), static_cast<LineKind>(s.kind)});
+  out.visible_stats = layerStats(vstats);
+  out.hidden_stats = layerStats(hstats);
+  const auto t2 = std::chrono::steady_clock::now();
+  out.visibility_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+  out.strokes_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+  return out;
+}
+
+}  // namespace hsr
