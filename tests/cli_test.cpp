@@ -201,6 +201,27 @@ TEST(Cli, BspBuildInfoRenderAndOrbit) {
   expectCleanError("render demo --algorithm bsp --bsp-candidates 0", "candidates");
 }
 
+TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {
+  const ScratchDir d("hsr_cli_svg");
+  const std::string out = (d / "solids.svg").string(), stats = (d / "s.json").string();
+  const CliRun r = runCli("svg solids --size 200x150 --hidden dashed --page A4-landscape -o " + out +
+                          " --stats " + stats);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("strokes"), std::string::npos) << r.out;
+  std::ifstream in(out);
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(svg.find("width=\"297mm\""), std::string::npos);
+  EXPECT_NE(svg.find("<g id=\"hidden\" class=\"hidden\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(stats));
+  expectCleanError("svg solids --hidden dotted -o " + out, "--hidden");
+  expectCleanError("svg solids --page B7 -o " + out, "B7");
+  expectCleanError("svg solids --crease-angle -3 -o " + out, "crease angle");
+  expectCleanError("svg solids --algorithm zbuffer -o " + out, "--algorithm");
+  expectCleanError("svg solids --polygon-mode line -o " + out, "polygon mode");
+  expectCleanError("svg solids --margin 200 --page A4 -o " + out, "--margin");
+  expectCleanError("svg solids --dash '2;rm' -o " + out, "--dash");
+}
+
 TEST(Cli, NoArgumentRendersTheDemo) {
   const ScratchDir scratch("hsr_cli_test");
   const fs::path d = scratch.path() / "noarg";

@@ -49,6 +49,10 @@ using glm::dvec3;
 // Strokes merge ends this close (pixels): far below what any pen shows, far above the
 // rounding of Roberts' junction lines.
 constexpr double kStrokeTolerance = 1e-6;
+// Roberts' pieces shorter than its grid unit (1/256 pixel) are left out: where a face's
+// sections meet, rounding leaves gaps of 1e-8 pixel between hidden stretches, and stretches
+// as short at their ends.
+constexpr double kShortest = 1.0 / 256;
 
 // Step 2 for each segment, from the polygons' pieces in the window and their eye-space planes.
 class Classifier {
@@ -129,7 +133,11 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
   // ---- 2. Which edges are lines
   const Classifier classify(ps.polygons, camera.ortho, lines.crease_angle_deg);
   std::vector<detail::StrokeSegment> visible, hidden;
+  auto tiny = [](const RobertsSegment& s) {
+    return std::hypot(s.x1 - s.x0, s.y1 - s.y0) < kShortest;
+  };
   for (const RobertsSegment& s : r.segments) {
+    if (tiny(s)) continue;
     const int kind = classify.kindOf(s);
     if (kind < 0) {
       out.smooth_segments++;
@@ -141,7 +149,7 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
     visible.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
   }
   for (const RobertsSegment& s : r.hidden)
-    if (const int kind = classify.kindOf(s); kind >= 0)
+    if (const int kind = classify.kindOf(s); kind >= 0 && !tiny(s))
       hidden.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
   // ---- 3. Strokes
   std::vector<detail::Stroke> vs, hs;

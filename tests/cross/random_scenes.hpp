@@ -242,4 +242,35 @@ inline Scene agreementScene(std::uint64_t seed) {
   return s;
 }
 
+// A box turned about y by `turn` radians: six quads, counter-clockwise seen from outside.
+inline void addBox(Scene& s, glm::vec3 c, glm::vec3 h, float turn, std::uint32_t material) {
+  const float cs = std::cos(turn), sn = std::sin(turn);
+  std::uint32_t v[8];
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 p(i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z);
+    v[i] = s.addVertex(c + glm::vec3(p.x * cs + p.z * sn, p.y, -p.x * sn + p.z * cs));
+  }
+  s.addPolygon({v[0], v[4], v[6], v[2]}, material);  // -x
+  s.addPolygon({v[1], v[3], v[7], v[5]}, material);  // +x
+  s.addPolygon({v[0], v[1], v[5], v[4]}, material);  // -y
+  s.addPolygon({v[2], v[6], v[7], v[3]}, material);  // +y
+  s.addPolygon({v[0], v[2], v[3], v[1]}, material);  // -z
+  s.addPolygon({v[4], v[5], v[7], v[6]}, material);  // +z
+}
+
+// Seeded boxes, some passing through others (junction lines).
+inline Scene randomBoxes(std::uint64_t seed) {
+  Rng rng(seed * 0x9E3779B97F4A7C15ull + 7);
+  Scene s;
+  for (int k = 0; k < 8; ++k) {
+    s.addMaterial(
+        {{rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f)}, 1.0f});
+    s.beginObject("box " + std::to_string(k));
+    addBox(s, {rng.uniform(-1.5f, 1.5f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.5f, 1.5f)},
+           {rng.uniform(0.2f, 0.7f), rng.uniform(0.2f, 0.7f), rng.uniform(0.2f, 0.7f)},
+           rng.uniform(0.0f, 3.0f), static_cast<std::uint32_t>(k));
+  }
+  return s;
+}
+
 }  // namespace hsr::testing
