@@ -220,6 +220,16 @@ TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {
   expectCleanError("svg solids --polygon-mode line -o " + out, "polygon mode");
   expectCleanError("svg solids --margin 200 --page A4 -o " + out, "--margin");
   expectCleanError("svg solids --dash '2;rm' -o " + out, "--dash");
+  expectCleanError("svg solids --style sketch -o " + out, "--style");
+  expectCleanError("svg solids --style filled --hidden dashed -o " + out, "--hidden");
+  // Filled, with a PDF beside
+  const std::string pdf = (d / "solids.pdf").string();
+  const CliRun f = runCli("svg solids --size 200x150 --style filled -q -o " + out + " --pdf " + pdf);
+  ASSERT_EQ(f.code, 0) << f.err;
+  std::ifstream fin(out);
+  const std::string fsvg((std::istreambuf_iterator<char>(fin)), std::istreambuf_iterator<char>());
+  EXPECT_NE(fsvg.find("<g id=\"visible-set\""), std::string::npos);
+  EXPECT_GT(fs::file_size(pdf), 100u);
 }
 
 TEST(Cli, NoArgumentRendersTheDemo) {

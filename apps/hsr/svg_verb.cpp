@@ -4,6 +4,7 @@
 
 #include "svg_verb.hpp"
 
+#include <chrono>
 #include <cmath>
 
 #include <fmt/core.h>
@@ -14,6 +15,7 @@
 #include "hsr/io.hpp"
 #include "hsr/line_drawing.hpp"
 #include "hsr/output.hpp"
+#include "hsr/visible_set.hpp"
 
 namespace hsr::cli {
 
@@ -22,6 +24,11 @@ void addSvgVerb(CLI::App& app, SvgVerb& v) {
       "svg", "draw SCENE's visible lines (outlines, creases, intersections) exactly as SVG");
   addViewOptions(v.verb, v.args);
   v.verb->add_option("-o", v.output, "output SVG (default out/SCENE.svg)");
+  v.verb
+      ->add_option("--style", v.style,
+                   "lines (the visible lines), or filled (the visible set: each polygon's visible "
+                   "region, flat-shaded)")
+      ->capture_default_str();
   v.verb->add_option("--hidden", v.hidden, "the hidden parts of the same lines: none or dashed")
       ->capture_default_str();
   v.verb->add_option("--dash", v.dash,
@@ -35,9 +42,60 @@ void addSvgVerb(CLI::App& app, SvgVerb& v) {
                      "fit the drawing on a page, sizes in mm: A4, A3, letter (add -landscape)");
   v.verb->add_option("--margin", v.margin, "page margin (mm)")->capture_default_str();
   v.verb->add_option("--stroke", v.stroke, "pen width on a page (mm)")->capture_default_str();
+  v.verb->add_option("--pdf", v.pdf, "also write the drawing as PDF (through cairo)");
   v.verb->add_option("--stats", v.stats_file, "write the counts, lengths and times as JSON");
   v.verb->add_flag("-q,--quiet", v.quiet, "no summary");
 }
+
+namespace {
+
+// --style filled: the visible set as filled regions.
+int runFilled(const SvgVerb& v, const hsr::Scene& scene, const hsr::Camera& camera,
+              const hsr::SvgPage& page, const std::string& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const hsr::VisibleSet set = hsr::visibleSet(scene, camera, makeOptions(v.args));
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (set.unresolved > 0)
+    fmt::print(
+        stderr,
+        "hsr: warning: {} polygons were left unresolved (the visible set's work limit): their "
+        "regions may overlap\n",
+        set.unresolved);
+  if (set.see_through > 0)
+    fmt::print(stderr,
+               "hsr: warning: {} see-through polygons are not drawn: the visible set holds the "
+               "opaque ones\n",
+               set.see_through);
+  hsr::writeFileAtomically(out, {hsr::visibleSetSvg(set, page)});
+  std::vector<std::string> written{out};
+  if (!v.pdf.empty()) {
+    hsr::writeFileAtomically(v.pdf, {hsr::visibleSetPdf(set, page)});
+    written.push_back(v.pdf);
+  }
+  if (v.verb->count("--stats") > 0) {
+    const nlohmann::json j{{"scene", v.args.scene},
+                           {"width", set.width},
+                           {"height", set.height},
+                           {"style", "filled"},
+                           {"polygons", set.polygons.size()},
+                           {"unresolved", set.unresolved},
+                           {"visibility_ms", ms}};
+    hsr::writeFileAtomically(v.stats_file, {j.dump(2) + "\n"});
+    written.push_back(v.stats_file);
+  }
+  if (!v.quiet) {
+    fmt::print("hsr svg {}: {}x{} view, filled: the visible set (Weiler-Atherton), exact\n",
+               v.args.scene, set.width, set.height);
+    fmt::print("  regions  {} visible polygons of {}, {} Boolean operations\n", set.polygons.size(),
+               set.polygons_in, set.clips);
+    fmt::print("  time     {:.1f} ms\n", ms);
+    for (const std::string& w : written) fmt::print("  wrote {}\n", w);
+  }
+  return 0;
+}
+
+}  // namespace
 
 int runSvg(SvgVerb& v) {
   const Args& a = v.args;
@@ -47,6 +105,13 @@ int runSvg(SvgVerb& v) {
         "apply");
   if (v.hidden != "none" && v.hidden != "dashed")
     throw hsr::Error("--hidden " + printable(v.hidden) + ": none or dashed");
+  if (v.style != "lines" && v.style != "filled")
+    throw hsr::Error("--style " + printable(v.style) + ": lines or filled");
+  const bool filled = v.style == "filled";
+  if (filled)
+    for (const char* option : {"--hidden", "--crease-angle", "--dash"})
+      if (v.verb->count(option) > 0)
+        throw hsr::Error(std::string(option) + " applies to lines; --style filled draws no lines");
   hsr::SvgPage page;
   if (!v.page.empty()) page = hsr::svgPageNamed(v.page);
   if (v.verb->count("--margin") > 0 || v.verb->count("--stroke") > 0) {
@@ -67,17 +132,23 @@ int runSvg(SvgVerb& v) {
   OutputPlan plan(a.scene);
   plan.file("-o", out);
   if (v.verb->count("--stats") > 0) plan.file("--stats", v.stats_file);
+  if (v.verb->count("--pdf") > 0) plan.file("--pdf", v.pdf);
 
   const hsr::Scene scene = hsr::loadScene(a.scene, importLimits(a));
   const hsr::Camera camera = makeCamera(a, scene);
   warnIfDepthUnresolvable(camera);
   warnIfEyeInside(scene, camera);
+  if (filled) return runFilled(v, scene, camera, page, out);
   hsr::LineDrawingOptions lines;
   lines.crease_angle_deg = v.crease_angle;
   lines.hidden = v.hidden == "dashed";
   const hsr::LineDrawing d = hsr::lineDrawing(scene, camera, makeOptions(a), lines);
   hsr::writeFileAtomically(out, {hsr::lineDrawingSvg(d, page)});
   std::vector<std::string> written{out};
+  if (!v.pdf.empty()) {
+    hsr::writeFileAtomically(v.pdf, {hsr::lineDrawingPdf(d, page)});
+    written.push_back(v.pdf);
+  }
   auto layerJson = [](const hsr::LineLayerStats& s) {
     return nlohmann::json{{"segments", s.segments},
                           {"strokes", s.strokes},

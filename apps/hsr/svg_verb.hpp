@@ -12,7 +12,7 @@ namespace hsr::cli {
 struct SvgVerb {
   CLI::App* verb = nullptr;
   Args args;
-  std::string output, hidden = "none", dash, page, stats_file;
+  std::string output, style = "lines", hidden = "none", dash, page, stats_file, pdf;
   double crease_angle = 30, margin = 10, stroke = 0.35;
   bool quiet = false;
 };

@@ -33,6 +33,8 @@
 
 namespace hsr {
 
+struct VisibleSet;
+
 enum class LineKind : std::uint8_t { kOutline = 0, kCrease = 1, kIntersection = 2 };
 const char* lineKindName(LineKind kind);  // "outline", "crease", "intersection"
 
@@ -88,5 +90,17 @@ SvgPage svgPageNamed(const std::string& name);
 // The drawing as an SVG document: a group per layer (id "visible", and "hidden" with
 // class="hidden" and the dash pattern when it has strokes), each stroke one <path>.
 std::string lineDrawingSvg(const LineDrawing& drawing, const SvgPage& page = {});
+
+// The visible set (hsr/visible_set.hpp) as an SVG of filled regions, flat-shaded in the
+// pictures' colours, holes kept (even-odd rule), nothing hidden in the file: a path per visible
+// polygon (id "p" and the polygon's id) in one group (id "visible-set"). See-through polygons,
+// which are not in the set, are not drawn.
+std::string visibleSetSvg(const VisibleSet& set, const SvgPage& page = {});
+
+// The same two as PDF documents of one page, through cairo: the strokes (the hidden layer
+// dashed), or the filled regions. Units: millimetres on a page, else a view pixel as a CSS
+// pixel (0.75 point). Throws hsr::Error when cairo fails.
+std::string lineDrawingPdf(const LineDrawing& drawing, const SvgPage& page = {});
+std::string visibleSetPdf(const VisibleSet& set, const SvgPage& page = {});
 
 }  // namespace hsr

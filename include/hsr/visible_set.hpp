@@ -46,6 +46,7 @@ struct VisibleSet {
   int width = 0, height = 0;
   std::vector<VisiblePolygon> polygons;  // at most one per scene polygon, in the order decided
   std::uint64_t polygons_in = 0;         // opaque polygons that entered
+  std::uint64_t see_through = 0;         // see-through polygons (pieces) in the view, left out
   std::uint64_t pairs = 0;               // clip polygon / other polygon pairs looked at
   std::uint64_t clips = 0;               // Boolean operations run
   std::uint64_t splits = 0;              // pieces split along where two polygons cross

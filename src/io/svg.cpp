@@ -11,8 +11,13 @@
 
 #include "hsr/error.hpp"
 #include "hsr/line_drawing.hpp"
+#include "hsr/visible_set.hpp"
+#include "io/doc_frame.hpp"
 
 namespace hsr {
+
+using detail::DocFrame;
+using detail::docFrame;
 
 SvgPage svgPageNamed(const std::string& name) {
   std::string base = name;
@@ -39,39 +44,27 @@ SvgPage svgPageNamed(const std::string& name) {
   return page;
 }
 
+namespace {
+
+void header(std::string& out, const DocFrame& f, int view_w, int view_h, const std::string& what) {
+  fmt::format_to(std::back_inserter(out),
+                 "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                 "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}{2}\" height=\"{1}{2}\" "
+                 "viewBox=\"0 0 {0} {1}\">\n"
+                 "<!-- hsr {3} of a {4}x{5} view -->\n",
+                 f.width, f.height, f.on_page ? "mm" : "", what, view_w, view_h);
+}
+
+}  // namespace
+
 std::string lineDrawingSvg(const LineDrawing& d, const SvgPage& page) {
-  const bool on_page = page.width_mm > 0 && page.height_mm > 0;
-  // Window pixels (centres at integers) to the document's units: the view's pixel squares
-  // fill [0, W] x [0, H], scaled and centred inside the margins on a page.
-  double scale = 1, ox = 0.5, oy = 0.5;
-  if (on_page) {
-    // The lines' bounds (the view's when there are none) fill the page inside its margins
-    glm::dvec2 lo(-0.5), hi(d.width - 0.5, d.height - 0.5);
-    if (!d.visible.empty() || !d.hidden.empty()) {
-      lo = glm::dvec2(INFINITY), hi = glm::dvec2(-INFINITY);
-      for (const auto* layer : {&d.visible, &d.hidden})
-        for (const LineStroke& s : *layer)
-          for (const glm::dvec2& q : s.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
-    }
-    const glm::dvec2 size = glm::max(hi - lo, glm::dvec2(1e-9));
-    const double w = std::max(page.width_mm - 2 * page.margin_mm, 1e-3);
-    const double h = std::max(page.height_mm - 2 * page.margin_mm, 1e-3);
-    scale = std::min(w / size.x, h / size.y);
-    ox = (page.width_mm - scale * size.x) / 2 - scale * lo.x;
-    oy = (page.height_mm - scale * size.y) / 2 - scale * lo.y;
-  }
-  const double doc_w = on_page ? page.width_mm : d.width,
-               doc_h = on_page ? page.height_mm : d.height;
-  const double stroke = on_page ? page.stroke_mm : 1.0;
+  const DocFrame f = docFrame(d, page);
+  const double stroke = f.on_page ? page.stroke_mm : 1.0;
   std::string out;
   out.reserve(256 + 24 * (d.visible_stats.length > 0 ? d.visible.size() + d.hidden.size() : 0));
-  fmt::format_to(
-      std::back_inserter(out),
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}{2}\" height=\"{1}{2}\" "
-      "viewBox=\"0 0 {0} {1}\">\n"
-      "<!-- hsr hidden-line drawing of a {3}x{4} view: {5} visible strokes, {6} hidden -->\n",
-      doc_w, doc_h, on_page ? "mm" : "", d.width, d.height, d.visible.size(), d.hidden.size());
+  header(out, f, d.width, d.height,
+         fmt::format("hidden-line drawing: {} visible strokes, {} hidden", d.visible.size(),
+                     d.hidden.size()));
   auto layer = [&](const std::vector<LineStroke>& strokes, const char* id, bool dashed) {
     fmt::format_to(std::back_inserter(out),
                    "<g id=\"{}\"{} fill=\"none\" stroke=\"black\" stroke-width=\"{}\" "
@@ -85,7 +78,7 @@ std::string lineDrawingSvg(const LineDrawing& d, const SvgPage& page) {
       const std::size_t n = closed ? s.points.size() - 1 : s.points.size();
       for (std::size_t i = 0; i < n; ++i)
         fmt::format_to(std::back_inserter(out), "{}{:.4f},{:.4f}", i == 0 ? "M" : " L",
-                       ox + scale * s.points[i].x, oy + scale * s.points[i].y);
+                       f.at(s.points[i]).x, f.at(s.points[i]).y);
       out += closed ? " Z\"/>\n" : "\"/>\n";
     }
     out += "</g>\n";
@@ -93,6 +86,36 @@ std::string lineDrawingSvg(const LineDrawing& d, const SvgPage& page) {
   layer(d.visible, "visible", false);
   if (!d.hidden.empty()) layer(d.hidden, "hidden", true);
   out += "</svg>\n";
+  return out;
+}
+
+std::string visibleSetSvg(const VisibleSet& set, const SvgPage& page) {
+  const DocFrame f = docFrame(set, page);
+  std::string out;
+  header(out, f, set.width, set.height,
+         fmt::format("visible set: {} polygons", set.polygons.size()));
+  out += "<g id=\"visible-set\" stroke=\"none\" fill-rule=\"evenodd\">\n";
+  for (const VisiblePolygon& v : set.polygons) {
+    if (v.region.empty()) continue;
+    fmt::format_to(std::back_inserter(out), "<path id=\"p{}\" fill=\"#{:02x}{:02x}{:02x}\" d=\"",
+                   v.id, v.rgba & 0xFF, (v.rgba >> 8) & 0xFF, (v.rgba >> 16) & 0xFF);
+    bool first = true;
+    auto ring = [&](const ExactRing& r) {
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        const glm::dvec2 q = f.at(detail::pixelOf(r[i]));
+        fmt::format_to(std::back_inserter(out), "{}{}{:.4f},{:.4f}", first ? "" : " ",
+                       i == 0 ? "M" : "L", q.x, q.y);
+        first = false;
+      }
+      out += " Z";
+    };
+    for (const ExactPolygon& p : v.region) {
+      ring(p.outer);
+      for (const ExactRing& h : p.holes) ring(h);
+    }
+    out += "\"/>\n";
+  }
+  out += "</g>\n</svg>\n";
   return out;
 }
 

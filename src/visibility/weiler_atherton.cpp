@@ -430,6 +430,8 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
   VisibleSet out;
   out.width = width, out.height = height;
   out.polygons_in = entries.size();
+  out.see_through = static_cast<std::uint64_t>(
+      std::count_if(polygons.begin(), polygons.end(), [](const WindowPolygon& w) { return w.transparent; }));
   // 1. Sort by nearest depth (ties: lower id first, the z-buffer's winner among equals).
   std::vector<std::uint32_t> order(entries.size());
   std::iota(order.begin(), order.end(), 0u);

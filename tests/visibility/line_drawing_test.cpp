@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -29,6 +30,7 @@
 #include "hsr/line_drawing.hpp"
 #include "hsr/render.hpp"
 #include "hsr/roberts.hpp"
+#include "hsr/visible_set.hpp"
 #include "pipeline/pipeline.hpp"
 #include "png_read.hpp"
 #include "test_util.hpp"
@@ -155,7 +157,7 @@ Shares compareWithIds(const Scene& scene, const Camera& camera, const RenderOpti
     for (int x = 0; x < w; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * w + x;
       ink[i] = pic.rgb[3 * i] < 200;  // a pen's line, anti-aliased
-      for (const auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
         if (x + dx >= w || y + dy >= h) continue;
         const std::size_t j = static_cast<std::size_t>(y + dy) * w + (x + dx);
         if (z.ids[i] == z.ids[j]) continue;
@@ -395,6 +397,70 @@ TEST(LineDrawing, SvgHasItsLayersAndItsPageAndAPathPerStroke) {
   RenderOptions lines;
   lines.polygon_mode = PolygonMode::Line;
   EXPECT_THROW(lineDrawing(scene, frameScene(scene, 40, 30), lines), Error);
+}
+
+// --style filled: the visible set as filled regions, rendered by rsvg-convert at the view's
+// size, shows the z-buffer's colour on every pixel whose 3x3 neighbourhood is one polygon
+// (scenes without see-through polygons, which the visible set leaves out and says how many).
+TEST(LineDrawing, FilledVisibleSetShowsTheZBuffersColours) {
+  std::uint64_t inner = 0, same = 0;
+  auto check = [&](const Scene& scene, const Camera& camera, const std::string& label) {
+    const VisibleSet set = visibleSet(scene, camera);
+    ASSERT_EQ(set.unresolved, 0u) << label;
+    const Frame z = render(scene, camera);
+    std::uint32_t background = 0;
+    for (std::size_t i = 0; i < z.ids.size(); ++i)
+      if (z.ids[i] == kNoPolygon) background = z.color[i];
+    const testing::ScratchDir dir("hsr_filled");
+    std::ofstream(dir / "f.svg") << visibleSetSvg(set);
+    char bg[16];
+    std::snprintf(bg, sizeof bg, "#%02x%02x%02x", background & 0xFF, (background >> 8) & 0xFF, (background >> 16) & 0xFF);
+    const std::string cmd = "rsvg-convert -b '" + std::string(bg) + "' " + (dir / "f.svg").string() + " -o " +
+                            (dir / "f.png").string();
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const testing::DecodedPng pic = testing::decodePng(dir / "f.png");
+    ASSERT_EQ(pic.width, z.width);
+    ASSERT_EQ(pic.height, z.height);
+    std::uint64_t in = 0, ok = 0;
+    for (int y = 1; y + 1 < z.height; ++y)
+      for (int x = 1; x + 1 < z.width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * z.width + x;
+        bool uniform = true;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) uniform = uniform && z.ids[i + dy * z.width + dx] == z.ids[i];
+        if (!uniform || z.ids[i] == kNoPolygon) continue;
+        ++in;
+        bool match = true;
+        for (int ch = 0; ch < 3; ++ch)
+          match = match && std::abs(static_cast<int>(pic.rgb[3 * i + ch]) - static_cast<int>((z.color[i] >> (8 * ch)) & 0xFF)) <= 1;
+        ok += match;
+      }
+    EXPECT_GT(in, 0u) << label;
+    EXPECT_GE(ok, in * 0.999) << label << ": pixels inside a polygon with another colour";
+    inner += in, same += ok;
+  };
+  for (const char* spec : {"solids", "penetrating", "cyclic"}) {  // ("demo" has see-through polygons)
+    const Scene scene = loadScene(spec);
+    check(scene, frameScene(scene, 320, 240), spec);
+  }
+  for (int i = 0; i < 2; ++i) {
+    const Scene scene = testing::randomBoxes(static_cast<std::uint64_t>(200 + i));
+    check(scene, frameScene(scene, 320, 240), "randomBoxes(" + std::to_string(200 + i) + ")");
+  }
+  EXPECT_GT(visibleSet(loadScene("demo"), frameScene(loadScene("demo"), 80, 60)).see_through, 0u);
+  const Scene spider = loadScene((std::filesystem::path(HSR_TEST_MODELS) / "OBJ/spider.obj").string());
+  check(spider, frameScene(spider, 320, 240), "spider.obj");
+  // The PDF writers give one-page documents of the page's size
+  const Scene scene = loadScene("solids");
+  const SvgPage a4 = svgPageNamed("A4-landscape");
+  const std::string lines = lineDrawingPdf(lineDrawing(scene, frameScene(scene, 200, 150), {}, {kCreaseDeg, true}), a4);
+  const std::string fills = visibleSetPdf(visibleSet(scene, frameScene(scene, 200, 150)), a4);
+  for (const std::string* pdf : {&lines, &fills}) {
+    EXPECT_EQ(pdf->rfind("%PDF-", 0), 0u);
+    EXPECT_NE(pdf->find("/MediaBox [ 0 0 841.8"), std::string::npos);
+  }
+  testing::printFigures("filled visible set vs z-buffer colours: " + grouped(same) + " of " + grouped(inner) +
+                        " pixels inside a polygon agree (" + share(same, inner) + ")");
 }
 
 }  // namespace
