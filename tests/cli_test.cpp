@@ -221,6 +221,11 @@ TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {
   expectCleanError("svg solids --margin 200 --page A4 -o " + out, "--margin");
   expectCleanError("svg solids --dash '2;rm' -o " + out, "--dash");
   expectCleanError("svg solids --style sketch -o " + out, "--style");
+  expectCleanError("svg solids --fallback raster -o " + out, "--time-limit");
+  expectCleanError("svg solids --time-limit 0.000000001 -o " + out, "time limit");
+  const CliRun t = runCli("svg solids --size 200x150 --time-limit 0.000000001 --fallback raster -o " + out);
+  EXPECT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.out.find("NOT exact"), std::string::npos) << t.out;
   expectCleanError("svg solids --style filled --hidden dashed -o " + out, "--hidden");
   // Filled, with a PDF beside
   const std::string pdf = (d / "solids.pdf").string();

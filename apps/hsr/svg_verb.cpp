@@ -43,6 +43,15 @@ void addSvgVerb(CLI::App& app, SvgVerb& v) {
   v.verb->add_option("--margin", v.margin, "page margin (mm)")->capture_default_str();
   v.verb->add_option("--stroke", v.stroke, "pen width on a page (mm)")->capture_default_str();
   v.verb->add_option("--pdf", v.pdf, "also write the drawing as PDF (through cairo)");
+  v.verb->add_option(
+      "--time-limit", v.time_limit,
+      "seconds the exact lines may take (0: no limit); past it, stop with a message, or "
+      "see --fallback");
+  v.verb
+      ->add_option("--fallback", v.fallback,
+                   "past the time limit: none (stop), or raster (lines from the z-buffer's ids, "
+                   "said so)")
+      ->capture_default_str();
   v.verb->add_option("--stats", v.stats_file, "write the counts, lengths and times as JSON");
   v.verb->add_flag("-q,--quiet", v.quiet, "no summary");
 }
@@ -107,9 +116,16 @@ int runSvg(SvgVerb& v) {
     throw hsr::Error("--hidden " + printable(v.hidden) + ": none or dashed");
   if (v.style != "lines" && v.style != "filled")
     throw hsr::Error("--style " + printable(v.style) + ": lines or filled");
+  if (v.fallback != "none" && v.fallback != "raster")
+    throw hsr::Error("--fallback " + printable(v.fallback) + ": none or raster");
+  if (!(v.time_limit >= 0) || !std::isfinite(v.time_limit))
+    throw hsr::Error("--time-limit must be a number of seconds (0: no limit)");
+  if (v.verb->count("--fallback") > 0 && v.time_limit == 0)
+    throw hsr::Error("--fallback applies past a time limit (--time-limit S)");
   const bool filled = v.style == "filled";
   if (filled)
-    for (const char* option : {"--hidden", "--crease-angle", "--dash"})
+    for (const char* option :
+         {"--hidden", "--crease-angle", "--dash", "--time-limit", "--fallback"})
       if (v.verb->count(option) > 0)
         throw hsr::Error(std::string(option) + " applies to lines; --style filled draws no lines");
   hsr::SvgPage page;
@@ -142,6 +158,8 @@ int runSvg(SvgVerb& v) {
   hsr::LineDrawingOptions lines;
   lines.crease_angle_deg = v.crease_angle;
   lines.hidden = v.hidden == "dashed";
+  lines.time_limit_s = v.time_limit;
+  lines.raster_fallback = v.fallback == "raster";
   const hsr::LineDrawing d = hsr::lineDrawing(scene, camera, makeOptions(a), lines);
   hsr::writeFileAtomically(out, {hsr::lineDrawingSvg(d, page)});
   std::vector<std::string> written{out};
@@ -167,14 +185,19 @@ int runSvg(SvgVerb& v) {
                              {"crease", d.crease_segments},
                              {"intersection", d.intersection_segments},
                              {"smooth_left_out", d.smooth_segments}}},
+                           {"exact", d.exact},
                            {"visibility_ms", d.visibility_ms},
                            {"strokes_ms", d.strokes_ms}};
     hsr::writeFileAtomically(v.stats_file, {j.dump(2) + "\n"});
     written.push_back(v.stats_file);
   }
   if (!v.quiet) {
-    fmt::print("hsr svg {}: {}x{} view, lines exact (Roberts' visible segments)\n", a.scene,
-               d.width, d.height);
+    fmt::print("hsr svg {}: {}x{} view, {}\n", a.scene, d.width, d.height,
+               d.exact
+                   ? "lines exact (Roberts' visible segments)"
+                   : fmt::format("NOT exact: the exact lines passed the time limit of {} s; these "
+                                 "are lines from the z-buffer's ids (pixel edges), no hidden layer",
+                                 v.time_limit));
     auto layer = [](const char* name, const hsr::LineLayerStats& s) {
       fmt::print(
           "  {:<8} {:>7} strokes from {:>7} segments, {:>10.0f} px long; pen-up travel {:.0f} px "

@@ -12,8 +12,9 @@ namespace hsr::cli {
 struct SvgVerb {
   CLI::App* verb = nullptr;
   Args args;
-  std::string output, style = "lines", hidden = "none", dash, page, stats_file, pdf;
-  double crease_angle = 30, margin = 10, stroke = 0.35;
+  std::string output, style = "lines", hidden = "none", dash, page, stats_file, pdf,
+                      fallback = "none";
+  double crease_angle = 30, margin = 10, stroke = 0.35, time_limit = 0;
   bool quiet = false;
 };
 

@@ -19,7 +19,7 @@
 // collinear runs joined; a line both visible and hidden is drawn visible only) and ordered so
 // the pen travels little between them; the stats compare that travel with the unordered one.
 // Cost: Roberts' (see hsr/roberts.hpp), then O(n log n) for n segments.
-// Tests: tests/visibility/line_drawing_test.cpp.
+// Tests: tests/line_drawing_test.cpp.
 
 #include <cstdint>
 #include <string>
@@ -54,6 +54,13 @@ struct LineLayerStats {
 struct LineDrawingOptions {
   double crease_angle_deg = 30;  // polygons meeting at more than this show their edge
   bool hidden = false;           // also the hidden parts of the same lines (LineDrawing::hidden)
+  // A time limit for the exact computation in seconds (0: none). When it would run longer, it
+  // stops: hsr::Error says so, or with `raster_fallback` the drawing is made instead from the
+  // z-buffer's ids (LineDrawing::exact false): the boundaries between pixels of different
+  // polygons where a line belongs, by the same rules, as staircase strokes along pixel edges,
+  // and no hidden layer (a picture keeps nothing of what it hides).
+  double time_limit_s = 0;
+  bool raster_fallback = false;
 };
 
 struct LineDrawing {
@@ -63,11 +70,13 @@ struct LineDrawing {
   std::uint64_t outline_segments = 0, crease_segments = 0, intersection_segments = 0;
   std::uint64_t smooth_segments = 0;  // edges left out: polygons meeting within the crease angle
   double visibility_ms = 0, strokes_ms = 0;
+  bool exact = true;  // false: drawn from the z-buffer's ids after the time limit (see above)
 };
 
 // The drawing of `scene` seen by `camera`, with the pipeline's culling and clipping as
 // `options` says (polygon mode fill; options.algorithm is ignored). Throws hsr::Error on a
-// negative or non-finite crease angle.
+// crease angle outside [0, 180], a negative time limit, or a time limit reached without the
+// raster fallback.
 LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOptions& options = {},
                         const LineDrawingOptions& lines = {});
 

@@ -63,8 +63,11 @@ std::string lineDrawingSvg(const LineDrawing& d, const SvgPage& page) {
   std::string out;
   out.reserve(256 + 24 * (d.visible_stats.length > 0 ? d.visible.size() + d.hidden.size() : 0));
   header(out, f, d.width, d.height,
-         fmt::format("hidden-line drawing: {} visible strokes, {} hidden", d.visible.size(),
-                     d.hidden.size()));
+         fmt::format("hidden-line drawing ({}): {} visible strokes, {} hidden",
+                     d.exact ? "exact, from Roberts' visible segments"
+                             : "NOT exact: lines from the z-buffer's ids, the exact drawing passed "
+                               "the time limit",
+                     d.visible.size(), d.hidden.size()));
   auto layer = [&](const std::vector<LineStroke>& strokes, const char* id, bool dashed) {
     fmt::format_to(std::back_inserter(out),
                    "<g id=\"{}\"{} fill=\"none\" stroke=\"black\" stroke-width=\"{}\" "

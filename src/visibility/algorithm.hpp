@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/deadline.hpp"
 #include "core/trace.hpp"
 #include "hsr/render.hpp"
 #include "hsr/roberts.hpp"
@@ -77,9 +78,10 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
 
 // Roberts' visible edges of the pipeline's window polygons (roberts.cpp); with `frame`, the
 // visible faces are filled into it; with `trace`, the steps are recorded (`hsr explain`); with
-// `hidden_parts`, the hidden parts of the edges are kept too (RobertsDrawing::hidden).
+// `hidden_parts`, the hidden parts of the edges are kept too (RobertsDrawing::hidden); with
+// `deadline`, it throws DeadlinePassed (core/deadline.hpp) once that has passed.
 RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPolygon>& polygons,
                                 int width, int height, Frame* frame, Trace* trace,
-                                bool hidden_parts = false);
+                                bool hidden_parts = false, const Deadline* deadline = nullptr);
 
 }  // namespace hsr::detail

@@ -428,7 +428,7 @@ constexpr std::string_view kStepDone = "done";
 
 RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPolygon>& polygons,
                                 int width, int height, Frame* frame, Trace* trace,
-                                bool hidden_parts) {
+                                bool hidden_parts, const Deadline* deadline) {
   RobertsDrawing out;
   out.width = width, out.height = height;
   Scaled sc;
@@ -612,6 +612,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
     return true;
   };
   for (std::uint32_t fi = 0; fi < faces.size(); ++fi) {
+    checkDeadline(deadline, fi);
     const Face& f = faces[fi];
     ++stamp;
     cells.forCells(f.x0, f.y0, f.x1, f.y1, [&](const std::vector<std::uint32_t>& cell) {
@@ -674,6 +675,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
     }
   };
   for (std::uint32_t fi = 0; fi < faces.size(); ++fi) {
+    checkDeadline(deadline, fi);
     const Face& f = faces[fi];
     forEdges(f.object, f.v, [&](const std::array<double, 7>& key) {
       auto [it, inserted] = edges.try_emplace(key, EdgeRef{fi, kNoPolygon});
@@ -760,6 +762,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
   // Faces that cross each have a section by the other's volume (each comes in front of the
   // other's plane), so the pairs are found among the sections; each is taken once.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::uint64_t checked = 0;  // steps of the loops below, for the deadline
   for (std::uint32_t fi = 0; fi < faces.size(); ++fi)
     for (const Section& sec : sections[fi])
       for (std::uint32_t gi : volumes[sec.volume].faces)
@@ -774,6 +777,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
   };
   std::vector<std::vector<Junction>> junctions(faces.size());
   for (const auto& [fi, gi] : pairs) {
+    checkDeadline(deadline, checked++);
     const Face &f = faces[fi], &g = faces[gi];
     // Where the planes meet: depth(f) - depth(g) = 0, a line in x, y (grid units).
     const DepthPlane &pf = f.w->depth, &pg = g.w->depth;
@@ -806,6 +810,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
   FragmentCounts fragments;
   std::uint64_t step = 0;
   for (std::uint32_t fi : by_id) {
+    checkDeadline(deadline, checked++);
     const Face& f = faces[fi];
     const bool show = trace && frame && trace->wants(kStepFace, step++, faces.size());
     std::vector<TraceOutline> o;

@@ -134,8 +134,8 @@ struct Shares {
 
 // The drawing rendered by rsvg-convert at the view's size, against the z-buffer's ids.
 Shares compareWithIds(const Scene& scene, const Camera& camera, const RenderOptions& o,
-                      const std::string& label) {
-  const LineDrawing d = lineDrawing(scene, camera, o, {kCreaseDeg, false});
+                      const std::string& label, const LineDrawingOptions& lines = {kCreaseDeg, false}) {
+  const LineDrawing d = lineDrawing(scene, camera, o, lines);
   const testing::ScratchDir dir("hsr_lines");
   const auto svg = dir / "d.svg", png = dir / "d.png";
   std::ofstream(svg) << lineDrawingSvg(d);
@@ -461,6 +461,30 @@ TEST(LineDrawing, FilledVisibleSetShowsTheZBuffersColours) {
   }
   testing::printFigures("filled visible set vs z-buffer colours: " + grouped(same) + " of " + grouped(inner) +
                         " pixels inside a polygon agree (" + share(same, inner) + ")");
+}
+
+// Past the time limit the exact drawing stops: an error, or with the raster fallback lines
+// from the z-buffer's ids, said so, which pass the same comparison with the ids.
+TEST(LineDrawing, TimeLimitStopsOrFallsBackToLinesFromTheIds) {
+  const Scene scene = loadScene("solids");
+  const Camera camera = frameScene(scene, 400, 300);
+  LineDrawingOptions lines{kCreaseDeg, true};
+  lines.time_limit_s = 1e-9;
+  EXPECT_THROW(lineDrawing(scene, camera, {}, lines), Error);
+  lines.raster_fallback = true;
+  const LineDrawing d = lineDrawing(scene, camera, {}, lines);
+  EXPECT_FALSE(d.exact);
+  EXPECT_FALSE(d.visible.empty());
+  EXPECT_TRUE(d.hidden.empty());
+  EXPECT_NE(lineDrawingSvg(d).find("NOT exact"), std::string::npos);
+  lines.hidden = false;
+  const Shares s = compareWithIds(scene, camera, {}, "solids, raster fallback", lines);
+  EXPECT_GT(s.ink, 0u);
+  // A limit the exact drawing keeps is no change
+  lines.time_limit_s = 60;
+  EXPECT_TRUE(lineDrawing(scene, camera, {}, lines).exact);
+  lines.time_limit_s = -1;
+  EXPECT_THROW(lineDrawing(scene, camera, {}, lines), Error);
 }
 
 }  // namespace

@@ -12,16 +12,26 @@
 //      crease angle, there is no line.
 //   3. Strokes (geometry/strokes.hpp): merged, chained and ordered, the visible layer winning
 //      where a line is both.
+// With a time limit that step 1 would pass, and the raster fallback asked for:
+//   4. Lines from the z-buffer's ids: between two pixels showing different polygons, a unit
+//      segment along their shared pixel edge where a line belongs (background beside a polygon,
+//      polygons of different objects or sharing no corner, or neighbours whose normals turned
+//      towards the eye part by more than the crease angle), then step 3.
 
 #include "hsr/line_drawing.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
+#include <tuple>
 #include <unordered_map>
 
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include "geometry/strokes.hpp"
+#include "core/deadline.hpp"
 #include "hsr/error.hpp"
 #include "hsr/roberts.hpp"
 #include "pipeline/pipeline.hpp"
@@ -111,6 +121,79 @@ LineLayerStats layerStats(const detail::StrokeStats& s) {
   return {s.segments, s.strokes, s.length, s.pen_up, s.pen_up_unordered};
 }
 
+void addCount(LineDrawing& out, int kind) {
+  (kind == 0   ? out.outline_segments
+   : kind == 1 ? out.crease_segments
+               : out.intersection_segments)++;
+}
+
+// ---- 4. Lines from the z-buffer's ids
+std::vector<detail::StrokeSegment> rasterLines(const Scene& scene, const Camera& camera,
+                                               const RenderOptions& options,
+                                               double crease_angle_deg, LineDrawing& out) {
+  RenderOptions zo = options;
+  zo.algorithm = "zbuffer";
+  zo.outline = false;
+  const Frame z = render(scene, camera, zo);
+  const double cos_crease = std::cos(crease_angle_deg * 3.14159265358979323846 / 180.0);
+  // The polygons shown: their corners (object and position) and normals turned towards the eye
+  struct Shown {
+    std::vector<std::tuple<std::uint32_t, float, float, float>> corners;  // sorted
+    dvec3 normal{0.0};
+  };
+  std::unordered_map<PolygonId, Shown> shown;
+  const dvec3 eye(camera.eye), towards_eye = -glm::normalize(dvec3(camera.target) - eye);
+  for (const PolygonId id : z.ids) {
+    if (id == kNoPolygon || shown.count(id)) continue;
+    Shown& sh = shown[id];
+    const auto v = scene.polygon(id);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const dvec3 a(scene.position(v[i])), b(scene.position(v[(i + 1) % v.size()]));
+      sh.normal +=
+          dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+      const glm::vec3 q = scene.position(v[i]);
+      sh.corners.emplace_back(scene.object(id), q.x, q.y, q.z);
+    }
+    std::sort(sh.corners.begin(), sh.corners.end());
+    const dvec3 at_eye = camera.ortho ? towards_eye : eye - dvec3(scene.position(v[0]));
+    if (glm::dot(sh.normal, at_eye) < 0) sh.normal = -sh.normal;
+  }
+  std::unordered_map<std::uint64_t, int> kinds;  // by pair of ids
+  auto kindOf = [&](PolygonId a, PolygonId b) {
+    if (a == kNoPolygon || b == kNoPolygon) return static_cast<int>(LineKind::kOutline);
+    const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+    if (const auto it = kinds.find(key); it != kinds.end()) return it->second;
+    const Shown &sa = shown.at(a), &sb = shown.at(b);
+    std::vector<std::tuple<std::uint32_t, float, float, float>> common;
+    std::set_intersection(sa.corners.begin(), sa.corners.end(), sb.corners.begin(),
+                          sb.corners.end(), std::back_inserter(common));
+    const double la = glm::length(sa.normal), lb = glm::length(sb.normal);
+    int kind = static_cast<int>(LineKind::kOutline);  // another object, or no corner shared
+    if (!common.empty() && la > 0 && lb > 0)
+      kind = glm::dot(sa.normal, sb.normal) / (la * lb) < cos_crease
+                 ? static_cast<int>(LineKind::kCrease)
+                 : -1;
+    return kinds[key] = kind;
+  };
+  std::vector<detail::StrokeSegment> segments;
+  for (int y = 0; y < z.height; ++y)
+    for (int x = 0; x < z.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * z.width + x;
+      if (x + 1 < z.width && z.ids[i] != z.ids[i + 1])
+        if (const int k = kindOf(z.ids[i], z.ids[i + 1]); k >= 0)
+          segments.push_back(
+              {{x + 0.5, y - 0.5}, {x + 0.5, y + 0.5}, static_cast<std::uint8_t>(k)}),
+              addCount(out, k);
+      if (y + 1 < z.height && z.ids[i] != z.ids[i + z.width])
+        if (const int k = kindOf(z.ids[i], z.ids[i + z.width]); k >= 0)
+          segments.push_back(
+              {{x - 0.5, y + 0.5}, {x + 0.5, y + 0.5}, static_cast<std::uint8_t>(k)}),
+              addCount(out, k);
+    }
+  out.width = z.width, out.height = z.height;
+  return segments;
+}
+
 }  // namespace
 
 LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOptions& options,
@@ -121,13 +204,43 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
                 std::to_string(lines.crease_angle_deg));
   if (options.polygon_mode != PolygonMode::Fill)
     throw Error("line drawing: the polygon mode must be fill");
+  if (!(lines.time_limit_s >= 0) || !std::isfinite(lines.time_limit_s))
+    throw Error("line drawing: the time limit must be a number of seconds, 0 for none");
   const auto t0 = std::chrono::steady_clock::now();
+  detail::Deadline deadline;
+  if (lines.time_limit_s > 0)
+    deadline.at = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                           std::chrono::duration<double>(lines.time_limit_s));
   LineDrawing out;
   // ---- 1. Visible and hidden parts of every edge
   const detail::PreparedScene ps =
       detail::prepare(scene, camera, options, {.window_polygons = true});
-  const RobertsDrawing r = detail::robertsDrawingOf(scene, ps.polygons, ps.width, ps.height,
-                                                    nullptr, nullptr, lines.hidden);
+  RobertsDrawing r;
+  try {
+    r = detail::robertsDrawingOf(scene, ps.polygons, ps.width, ps.height, nullptr, nullptr,
+                                 lines.hidden, lines.time_limit_s > 0 ? &deadline : nullptr);
+  } catch (const detail::DeadlinePassed&) {
+    if (!lines.raster_fallback)
+      throw Error(fmt::format(
+          "line drawing: the exact drawing did not finish within the time limit of {} s "
+          "({} polygons in view); the raster fallback draws lines from the z-buffer's ids",
+          lines.time_limit_s, ps.polygons.size()));
+    // ---- 4. Lines from the z-buffer's ids, then 3.
+    out.exact = false;
+    const std::vector<detail::StrokeSegment> segments =
+        rasterLines(scene, camera, options, lines.crease_angle_deg, out);
+    const auto t1 = std::chrono::steady_clock::now();
+    std::vector<detail::Stroke> vs, hs;
+    detail::StrokeStats vstats, hstats;
+    detail::mergeStrokes(segments, {}, kStrokeTolerance, &vs, &hs, &vstats, &hstats);
+    for (detail::Stroke& s : vs)
+      out.visible.push_back({std::move(s.points), static_cast<LineKind>(s.kind)});
+    out.visible_stats = layerStats(vstats);
+    out.visibility_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    out.strokes_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+    return out;
+  }
   out.width = ps.width, out.height = ps.height;
   const auto t1 = std::chrono::steady_clock::now();
   // ---- 2. Which edges are lines
@@ -143,9 +256,7 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
       out.smooth_segments++;
       continue;
     }
-    (kind == 0   ? out.outline_segments
-     : kind == 1 ? out.crease_segments
-                 : out.intersection_segments)++;
+    addCount(out, kind);
     visible.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
   }
   for (const RobertsSegment& s : r.hidden)
