@@ -128,13 +128,29 @@ class Required {
   std::map<std::pair<PolygonId, PolygonId>, bool> smooth_;
 };
 
+// The built-in `solids` and `demo` from four sides at 400x300, cull none and back in turn:
+// f(scene, camera, options, label).
+template <class F>
+void forEachBuiltinView(F&& f) {
+  for (const char* spec : {"solids", "demo"}) {
+    const Scene scene = loadScene(spec);
+    const Camera base = frameScene(scene, 400, 300);
+    for (int k = 0; k < 4; ++k) {
+      RenderOptions o;
+      o.cull = k % 2 ? CullMode::Back : CullMode::None;
+      f(scene, orbitView(base, k, 4), o, std::string(spec) + " view " + std::to_string(k));
+    }
+  }
+}
+
 struct Shares {
   std::uint64_t ink = 0, ink_on_boundary = 0, ink_on_required = 0, required = 0, required_inked = 0;
 };
 
 // The drawing rendered by rsvg-convert at the view's size, against the z-buffer's ids.
 Shares compareWithIds(const Scene& scene, const Camera& camera, const RenderOptions& o,
-                      const std::string& label, const LineDrawingOptions& lines = {kCreaseDeg, false}) {
+                      const std::string& label,
+                      const LineDrawingOptions& lines = {kCreaseDeg, false}) {
   const LineDrawing d = lineDrawing(scene, camera, o, lines);
   const testing::ScratchDir dir("hsr_lines");
   const auto svg = dir / "d.svg", png = dir / "d.png";
@@ -198,16 +214,9 @@ TEST(LineDrawing, InkLiesOnTheZBuffersIdBoundariesAndEveryOutlineOrCreaseIsInked
     all.required += s.required, all.required_inked += s.required_inked;
     ++views;
   };
-  for (const char* spec : {"solids", "demo"}) {
-    const Scene scene = loadScene(spec);
-    const Camera base = frameScene(scene, 400, 300);
-    for (int k = 0; k < 4; ++k) {
-      RenderOptions o;
-      o.cull = k % 2 ? CullMode::Back : CullMode::None;
-      add(compareWithIds(scene, orbitView(base, k, 4), o,
-                         std::string(spec) + " view " + std::to_string(k)));
-    }
-  }
+  forEachBuiltinView(
+      [&](const Scene& scene, const Camera& camera, const RenderOptions& o,
+          const std::string& label) { add(compareWithIds(scene, camera, o, label)); });
   for (int i = 0; i < 4 * testing::countScale(); ++i) {
     const Scene scene = testing::randomBoxes(static_cast<std::uint64_t>(i));
     add(compareWithIds(scene, frameScene(scene, 400, 300), {},
@@ -308,16 +317,11 @@ void checkDepths(const Scene& scene, const Camera& camera, const RenderOptions& 
 TEST(LineDrawing, NoVisibleLineIsHiddenAndNoHiddenLineIsVisible) {
   DepthCheck c;
   int views = 0;
-  for (const char* spec : {"solids", "demo"}) {
-    const Scene scene = loadScene(spec);
-    const Camera base = frameScene(scene, 400, 300);
-    for (int k = 0; k < 4; ++k, ++views) {
-      RenderOptions o;
-      o.cull = k % 2 ? CullMode::Back : CullMode::None;
-      checkDepths(scene, orbitView(base, k, 4), o, std::string(spec) + " view " + std::to_string(k),
-                  c);
-    }
-  }
+  forEachBuiltinView([&](const Scene& scene, const Camera& camera, const RenderOptions& o,
+                         const std::string& label) {
+    checkDepths(scene, camera, o, label, c);
+    ++views;
+  });
   for (int i = 0; i < 4 * testing::countScale(); ++i, ++views) {
     const Scene scene = testing::randomBoxes(static_cast<std::uint64_t>(100 + i));
     checkDepths(scene, frameScene(scene, 400, 300), {},
@@ -414,9 +418,10 @@ TEST(LineDrawing, FilledVisibleSetShowsTheZBuffersColours) {
     const testing::ScratchDir dir("hsr_filled");
     std::ofstream(dir / "f.svg") << visibleSetSvg(set);
     char bg[16];
-    std::snprintf(bg, sizeof bg, "#%02x%02x%02x", background & 0xFF, (background >> 8) & 0xFF, (background >> 16) & 0xFF);
-    const std::string cmd = "rsvg-convert -b '" + std::string(bg) + "' " + (dir / "f.svg").string() + " -o " +
-                            (dir / "f.png").string();
+    std::snprintf(bg, sizeof bg, "#%02x%02x%02x", background & 0xFF, (background >> 8) & 0xFF,
+                  (background >> 16) & 0xFF);
+    const std::string cmd = "rsvg-convert -b '" + std::string(bg) + "' " +
+                            (dir / "f.svg").string() + " -o " + (dir / "f.png").string();
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     const testing::DecodedPng pic = testing::decodePng(dir / "f.png");
     ASSERT_EQ(pic.width, z.width);
@@ -427,19 +432,22 @@ TEST(LineDrawing, FilledVisibleSetShowsTheZBuffersColours) {
         const std::size_t i = static_cast<std::size_t>(y) * z.width + x;
         bool uniform = true;
         for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) uniform = uniform && z.ids[i + dy * z.width + dx] == z.ids[i];
+          for (int dx = -1; dx <= 1; ++dx)
+            uniform = uniform && z.ids[i + dy * z.width + dx] == z.ids[i];
         if (!uniform || z.ids[i] == kNoPolygon) continue;
         ++in;
         bool match = true;
         for (int ch = 0; ch < 3; ++ch)
-          match = match && std::abs(static_cast<int>(pic.rgb[3 * i + ch]) - static_cast<int>((z.color[i] >> (8 * ch)) & 0xFF)) <= 1;
+          match = match && std::abs(static_cast<int>(pic.rgb[3 * i + ch]) -
+                                    static_cast<int>((z.color[i] >> (8 * ch)) & 0xFF)) <= 1;
         ok += match;
       }
     EXPECT_GT(in, 0u) << label;
     EXPECT_GE(ok, in * 0.999) << label << ": pixels inside a polygon with another colour";
     inner += in, same += ok;
   };
-  for (const char* spec : {"solids", "penetrating", "cyclic"}) {  // ("demo" has see-through polygons)
+  for (const char* spec :
+       {"solids", "penetrating", "cyclic"}) {  // ("demo" has see-through polygons)
     const Scene scene = loadScene(spec);
     check(scene, frameScene(scene, 320, 240), spec);
   }
@@ -448,19 +456,22 @@ TEST(LineDrawing, FilledVisibleSetShowsTheZBuffersColours) {
     check(scene, frameScene(scene, 320, 240), "randomBoxes(" + std::to_string(200 + i) + ")");
   }
   EXPECT_GT(visibleSet(loadScene("demo"), frameScene(loadScene("demo"), 80, 60)).see_through, 0u);
-  const Scene spider = loadScene((std::filesystem::path(HSR_TEST_MODELS) / "OBJ/spider.obj").string());
+  const Scene spider =
+      loadScene((std::filesystem::path(HSR_TEST_MODELS) / "OBJ/spider.obj").string());
   check(spider, frameScene(spider, 320, 240), "spider.obj");
   // The PDF writers give one-page documents of the page's size
   const Scene scene = loadScene("solids");
   const SvgPage a4 = svgPageNamed("A4-landscape");
-  const std::string lines = lineDrawingPdf(lineDrawing(scene, frameScene(scene, 200, 150), {}, {kCreaseDeg, true}), a4);
+  const std::string lines =
+      lineDrawingPdf(lineDrawing(scene, frameScene(scene, 200, 150), {}, {kCreaseDeg, true}), a4);
   const std::string fills = visibleSetPdf(visibleSet(scene, frameScene(scene, 200, 150)), a4);
   for (const std::string* pdf : {&lines, &fills}) {
     EXPECT_EQ(pdf->rfind("%PDF-", 0), 0u);
     EXPECT_NE(pdf->find("/MediaBox [ 0 0 841.8"), std::string::npos);
   }
-  testing::printFigures("filled visible set vs z-buffer colours: " + grouped(same) + " of " + grouped(inner) +
-                        " pixels inside a polygon agree (" + share(same, inner) + ")");
+  testing::printFigures("filled visible set vs z-buffer colours: " + grouped(same) + " of " +
+                        grouped(inner) + " pixels inside a polygon agree (" + share(same, inner) +
+                        ")");
 }
 
 // Past the time limit the exact drawing stops: an error, or with the raster fallback lines
