@@ -30,6 +30,7 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "geometry/polygon.hpp"
 #include "geometry/strokes.hpp"
 #include "core/deadline.hpp"
 #include "hsr/error.hpp"
@@ -147,11 +148,10 @@ std::vector<detail::StrokeSegment> rasterLines(const Scene& scene, const Camera&
     if (id == kNoPolygon || shown.count(id)) continue;
     Shown& sh = shown[id];
     const auto v = scene.polygon(id);
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const dvec3 a(scene.position(v[i])), b(scene.position(v[(i + 1) % v.size()]));
-      sh.normal +=
-          dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-      const glm::vec3 q = scene.position(v[i]);
+    sh.normal =
+        detail::newellNormal(v.size(), [&](std::size_t i) { return dvec3(scene.position(v[i])); });
+    for (const std::uint32_t vi : v) {
+      const glm::vec3 q = scene.position(vi);
       sh.corners.emplace_back(scene.object(id), q.x, q.y, q.z);
     }
     std::sort(sh.corners.begin(), sh.corners.end());
