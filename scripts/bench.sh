@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Builds Release and runs every registered algorithm vs llvmpipe (bench/bench_algorithms.cpp)
-# and hsr's rays vs Embree (bench/bench_rays.cpp) with HSR_BENCH_THREADS=1 and 2
+# and hsr's rays vs Embree (bench/bench_rays.cpp) with HSR_BENCH_THREADS=1 and 2, and hsr's
+# line drawings vs Open CASCADE's hidden-line removal (bench/bench_lines.cpp; OCCT runs on one
+# thread, so the race runs once, at 1 thread, with hsr alone again at the others)
 # (plus any thread counts given as arguments, e.g. `scripts/bench.sh 4 8`), then prints the
 # ratio tables of all runs together. BUILD_DIR (default build) and JOBS (default 2)
 # may be set; extra Google Benchmark flags go in BENCH_ARGS.
@@ -9,7 +11,7 @@ cd "$(dirname "$0")/.."
 build_dir="${BUILD_DIR:-build}"
 jobs="${JOBS:-2}"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DHSR_BUILD_BENCH=ON >/dev/null
-cmake --build "$build_dir" --target hsr_bench hsr_bench_rays -j "$jobs"
+cmake --build "$build_dir" --target hsr_bench hsr_bench_rays hsr_bench_lines -j "$jobs"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 for t in 1 2 "$@"; do
@@ -18,6 +20,10 @@ for t in 1 2 "$@"; do
   HSR_BENCH_THREADS="$t" "$build_dir/hsr_bench" ${BENCH_ARGS:-} | tee "$out/threads-$t.txt"
   # shellcheck disable=SC2086
   HSR_BENCH_THREADS="$t" "$build_dir/hsr_bench_rays" ${BENCH_ARGS:-} | tee "$out/rays-$t.txt"
+  filter=""
+  [ "$t" != 1 ] && filter="--benchmark_filter=BM_hsr"
+  # shellcheck disable=SC2086
+  HSR_BENCH_THREADS="$t" "$build_dir/hsr_bench_lines" $filter ${BENCH_ARGS:-} | tee "$out/lines-$t.txt"
 done
 echo
 echo "=== speed ratios (llvmpipe time / algorithm time; > 1 means hsr is faster) ==="
@@ -33,5 +39,10 @@ done
 echo "=== rays vs Embree (Embree time / hsr time) and the builds ==="
 for t in 1 2 "$@"; do
   sed -n '/^rays vs Embree/,$p' "$out/rays-$t.txt"
+  echo
+done
+echo "=== line drawings vs Open CASCADE (OCCT time / hsr time) ==="
+for t in 1 2 "$@"; do
+  sed -n '/^full drawings/,$p' "$out/lines-$t.txt"
   echo
 done

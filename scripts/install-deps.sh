@@ -5,7 +5,8 @@ pkgs=(build-essential cmake pkg-config
       libglm-dev libgmp-dev libassimp-dev zlib1g-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtbb-dev libstb-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       libosmesa6-dev libembree-dev libcgal-dev libpolyclipping-dev libboost-dev assimp-testmodels
-      librsvg2-bin libcairo2-dev
+      librsvg2-bin libcairo2-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
+      libocct-visualization-dev
       clang-14 libclang-rt-14-dev)
 missing=()
 for p in "${pkgs[@]}"; do

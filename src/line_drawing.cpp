@@ -1,6 +1,7 @@
-// Hidden-line drawings (hsr/line_drawing.hpp): which of Roberts' exact visible segments are
-// lines of the drawing, then pen strokes.
-//
+// Hidden-line drawings (hsr/line_drawing.hpp): the exact visible parts of the lines, then pen
+// strokes. The default engine (LineEngine::kEdges) finds the lines first and then what hides
+// them (visibility/line_visibility.cpp, the same rules as step 2 below), then step 3. The
+// reference engine (kRoberts):
 //   1. Visible and hidden parts of every edge: Roberts' algorithm on the pipeline's polygons
 //      (roberts.cpp), with the hidden parts kept.
 //   2. Which edges are lines. Each segment knows its polygon and the polygon across its edge.
@@ -28,6 +29,7 @@
 #include <unordered_map>
 
 #include <fmt/format.h>
+#include <tbb/task_arena.h>
 #include <glm/geometric.hpp>
 
 #include "geometry/polygon.hpp"
@@ -35,7 +37,9 @@
 #include "core/deadline.hpp"
 #include "hsr/error.hpp"
 #include "hsr/roberts.hpp"
+#include "orchestrator.hpp"
 #include "pipeline/pipeline.hpp"
+#include "visibility/line_visibility.hpp"
 #include "visibility/algorithm.hpp"
 
 namespace hsr {
@@ -131,7 +135,9 @@ void addCount(LineDrawing& out, int kind) {
 // ---- 4. Lines from the z-buffer's ids
 std::vector<detail::StrokeSegment> rasterLines(const Scene& scene, const Camera& camera,
                                                const RenderOptions& options,
-                                               double crease_angle_deg, LineDrawing& out) {
+                                               const LineDrawingOptions& lines, LineDrawing& out) {
+  const double crease_angle_deg = lines.crease_angle_deg;
+  const bool wanted[3] = {lines.outlines, lines.creases, lines.intersections};
   RenderOptions zo = options;
   zo.algorithm = "zbuffer";
   zo.outline = false;
@@ -160,7 +166,7 @@ std::vector<detail::StrokeSegment> rasterLines(const Scene& scene, const Camera&
   }
   std::unordered_map<std::uint64_t, int> kinds;  // by pair of ids
   auto kindOf = [&](PolygonId a, PolygonId b) {
-    if (a == kNoPolygon || b == kNoPolygon) return static_cast<int>(LineKind::kOutline);
+    if (a == kNoPolygon || b == kNoPolygon) return lines.outlines ? 0 : -1;
     const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
     if (const auto it = kinds.find(key); it != kinds.end()) return it->second;
     const Shown &sa = shown.at(a), &sb = shown.at(b);
@@ -173,6 +179,7 @@ std::vector<detail::StrokeSegment> rasterLines(const Scene& scene, const Camera&
       kind = glm::dot(sa.normal, sb.normal) / (la * lb) < cos_crease
                  ? static_cast<int>(LineKind::kCrease)
                  : -1;
+    if (kind >= 0 && !wanted[kind]) kind = -1;
     return kinds[key] = kind;
   };
   std::vector<detail::StrokeSegment> segments;
@@ -212,13 +219,37 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
     deadline.at = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                            std::chrono::duration<double>(lines.time_limit_s));
   LineDrawing out;
+  const bool edges = lines.engine == LineEngine::kEdges;
+  tbb::task_arena arena(detail::workerThreads(options.threads));
   // ---- 1. Visible and hidden parts of every edge
-  const detail::PreparedScene ps =
-      detail::prepare(scene, camera, options, {.window_polygons = true});
+  detail::PreparedScene ps;
   RobertsDrawing r;
+  detail::LineVisibility lv;
   try {
-    r = detail::robertsDrawingOf(scene, ps.polygons, ps.width, ps.height, nullptr, nullptr,
-                                 lines.hidden, lines.time_limit_s > 0 ? &deadline : nullptr);
+    arena.execute([&] {
+      ps = detail::prepare(scene, camera, options, {.window_polygons = true, .triangles = !edges});
+      const auto tp = std::chrono::steady_clock::now();
+      out.stage_ms.emplace_back("pipeline",
+                                std::chrono::duration<double, std::milli>(tp - t0).count());
+      if (edges)
+        lv = detail::lineVisibility(scene, ps.polygons, ps.width, ps.height,
+                                    {.ortho = camera.ortho,
+                                     .crease_angle_deg = lines.crease_angle_deg,
+                                     .outlines = lines.outlines,
+                                     .creases = lines.creases,
+                                     .intersections = lines.intersections,
+                                     .hidden = lines.hidden,
+                                     .deadline = lines.time_limit_s > 0 ? &deadline : nullptr});
+      else
+        r = detail::robertsDrawingOf(scene, ps.polygons, ps.width, ps.height, nullptr, nullptr,
+                                     lines.hidden, lines.time_limit_s > 0 ? &deadline : nullptr);
+      if (edges)
+        for (const auto& [stage, ms] : lv.stages) out.stage_ms.emplace_back(stage, ms);
+      else
+        out.stage_ms.emplace_back("roberts", std::chrono::duration<double, std::milli>(
+                                                 std::chrono::steady_clock::now() - tp)
+                                                 .count());
+    });
   } catch (const detail::DeadlinePassed&) {
     if (!lines.raster_fallback)
       throw Error(fmt::format(
@@ -228,7 +259,7 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
     // ---- 4. Lines from the z-buffer's ids, then 3.
     out.exact = false;
     const std::vector<detail::StrokeSegment> segments =
-        rasterLines(scene, camera, options, lines.crease_angle_deg, out);
+        rasterLines(scene, camera, options, lines, out);
     const auto t1 = std::chrono::steady_clock::now();
     std::vector<detail::Stroke> vs, hs;
     detail::StrokeStats vstats, hstats;
@@ -243,25 +274,33 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
   }
   out.width = ps.width, out.height = ps.height;
   const auto t1 = std::chrono::steady_clock::now();
-  // ---- 2. Which edges are lines
-  const Classifier classify(ps.polygons, camera.ortho, lines.crease_angle_deg);
   std::vector<detail::StrokeSegment> visible, hidden;
-  auto tiny = [](const RobertsSegment& s) {
-    return std::hypot(s.x1 - s.x0, s.y1 - s.y0) < kShortest;
-  };
-  for (const RobertsSegment& s : r.segments) {
-    if (tiny(s)) continue;
-    const int kind = classify.kindOf(s);
-    if (kind < 0) {
-      out.smooth_segments++;
-      continue;
+  if (edges) {
+    visible = std::move(lv.visible), hidden = std::move(lv.hidden);
+    out.outline_segments = lv.pieces[0], out.crease_segments = lv.pieces[1];
+    out.intersection_segments = lv.pieces[2], out.smooth_segments = lv.smooth_edges;
+  } else {
+    // ---- 2. Which edges are lines
+    const Classifier classify(ps.polygons, camera.ortho, lines.crease_angle_deg);
+    const bool wanted[3] = {lines.outlines, lines.creases, lines.intersections};
+    auto tiny = [](const RobertsSegment& s) {
+      return std::hypot(s.x1 - s.x0, s.y1 - s.y0) < kShortest;
+    };
+    for (const RobertsSegment& s : r.segments) {
+      if (tiny(s)) continue;
+      const int kind = classify.kindOf(s);
+      if (kind < 0) {
+        out.smooth_segments++;
+        continue;
+      }
+      if (!wanted[kind]) continue;
+      addCount(out, kind);
+      visible.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
     }
-    addCount(out, kind);
-    visible.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
+    for (const RobertsSegment& s : r.hidden)
+      if (const int kind = classify.kindOf(s); kind >= 0 && wanted[kind] && !tiny(s))
+        hidden.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
   }
-  for (const RobertsSegment& s : r.hidden)
-    if (const int kind = classify.kindOf(s); kind >= 0 && !tiny(s))
-      hidden.push_back({{s.x0, s.y0}, {s.x1, s.y1}, static_cast<std::uint8_t>(kind)});
   // ---- 3. Strokes
   std::vector<detail::Stroke> vs, hs;
   detail::StrokeStats vstats, hstats;

@@ -38,6 +38,16 @@ void addSvgVerb(CLI::App& app, SvgVerb& v) {
       ->add_option("--crease-angle", v.crease_angle,
                    "draw the edge where two polygons meet at more than this (degrees)")
       ->capture_default_str();
+  v.verb
+      ->add_option("--lines", v.kinds,
+                   "which lines, comma-separated: outline, crease, intersection (outline alone: "
+                   "silhouettes and borders)")
+      ->capture_default_str();
+  v.verb
+      ->add_option("--engine", v.engine,
+                   "edges (classify the edges, then test the lines against the triangles in "
+                   "front), or roberts (Roberts' segments of every edge, the reference)")
+      ->capture_default_str();
   v.verb->add_option("--page", v.page,
                      "fit the drawing on a page, sizes in mm: A4, A3, letter (add -landscape)");
   v.verb->add_option("--margin", v.margin, "page margin (mm)")->capture_default_str();
@@ -110,8 +120,28 @@ int runSvg(SvgVerb& v) {
   const Args& a = v.args;
   if (v.verb->count("--algorithm") > 0)
     throw hsr::Error(
-        "hsr svg computes its lines exactly from Roberts' visible segments; --algorithm does not "
+        "hsr svg computes its lines exactly in object space (see --engine); --algorithm does not "
         "apply");
+  if (v.engine != "edges" && v.engine != "roberts")
+    throw hsr::Error("--engine " + printable(v.engine) + ": edges or roberts");
+  bool kind[3] = {false, false, false};
+  {
+    std::size_t from = 0;
+    while (from <= v.kinds.size()) {
+      const std::size_t comma = std::min(v.kinds.find(',', from), v.kinds.size());
+      const std::string k = v.kinds.substr(from, comma - from);
+      if (k == "outline")
+        kind[0] = true;
+      else if (k == "crease")
+        kind[1] = true;
+      else if (k == "intersection")
+        kind[2] = true;
+      else
+        throw hsr::Error("--lines " + printable(v.kinds) +
+                         ": outline, crease and intersection, comma-separated");
+      from = comma + 1;
+    }
+  }
   if (v.hidden != "none" && v.hidden != "dashed")
     throw hsr::Error("--hidden " + printable(v.hidden) + ": none or dashed");
   if (v.style != "lines" && v.style != "filled")
@@ -124,8 +154,8 @@ int runSvg(SvgVerb& v) {
     throw hsr::Error("--fallback applies past a time limit (--time-limit S)");
   const bool filled = v.style == "filled";
   if (filled)
-    for (const char* option :
-         {"--hidden", "--crease-angle", "--dash", "--time-limit", "--fallback"})
+    for (const char* option : {"--hidden", "--crease-angle", "--dash", "--time-limit", "--fallback",
+                               "--lines", "--engine"})
       if (v.verb->count(option) > 0)
         throw hsr::Error(std::string(option) + " applies to lines; --style filled draws no lines");
   hsr::SvgPage page;
@@ -160,6 +190,8 @@ int runSvg(SvgVerb& v) {
   lines.hidden = v.hidden == "dashed";
   lines.time_limit_s = v.time_limit;
   lines.raster_fallback = v.fallback == "raster";
+  lines.outlines = kind[0], lines.creases = kind[1], lines.intersections = kind[2];
+  lines.engine = v.engine == "roberts" ? hsr::LineEngine::kRoberts : hsr::LineEngine::kEdges;
   const hsr::LineDrawing d = hsr::lineDrawing(scene, camera, makeOptions(a), lines);
   hsr::writeFileAtomically(out, {hsr::lineDrawingSvg(d, page)});
   std::vector<std::string> written{out};
@@ -175,6 +207,8 @@ int runSvg(SvgVerb& v) {
                           {"pen_up_unordered_px", s.pen_up_unordered}};
   };
   if (v.verb->count("--stats") > 0) {
+    nlohmann::json stages = nlohmann::json::object();
+    for (const auto& [stage, ms] : d.stage_ms) stages[stage] = ms;
     const nlohmann::json j{{"scene", a.scene},
                            {"width", d.width},
                            {"height", d.height},
@@ -186,7 +220,9 @@ int runSvg(SvgVerb& v) {
                              {"intersection", d.intersection_segments},
                              {"smooth_left_out", d.smooth_segments}}},
                            {"exact", d.exact},
+                           {"engine", d.exact ? v.engine : "raster"},
                            {"visibility_ms", d.visibility_ms},
+                           {"visibility_stages_ms", stages},
                            {"strokes_ms", d.strokes_ms}};
     hsr::writeFileAtomically(v.stats_file, {j.dump(2) + "\n"});
     written.push_back(v.stats_file);
@@ -194,7 +230,9 @@ int runSvg(SvgVerb& v) {
   if (!v.quiet) {
     fmt::print("hsr svg {}: {}x{} view, {}\n", a.scene, d.width, d.height,
                d.exact
-                   ? "lines exact (Roberts' visible segments)"
+                   ? (v.engine == "roberts" ? "lines exact (Roberts' visible segments)"
+                                            : "lines exact (edges tested against the triangles in "
+                                              "front)")
                    : fmt::format("NOT exact: the exact lines passed the time limit of {} s; these "
                                  "are lines from the z-buffer's ids (pixel edges), no hidden layer",
                                  v.time_limit));
@@ -207,11 +245,14 @@ int runSvg(SvgVerb& v) {
     layer("visible", d.visible_stats);
     if (lines.hidden) layer("hidden", d.hidden_stats);
     fmt::print(
-        "  lines    {} outline, {} crease, {} intersection segments; {} edges within {} degrees "
+        "  lines    {} outline, {} crease, {} intersection pieces; {} {} within {} degrees "
         "left out\n",
         d.outline_segments, d.crease_segments, d.intersection_segments, d.smooth_segments,
-        v.crease_angle);
-    fmt::print("  time     visibility {:.1f} ms, strokes {:.1f} ms\n", d.visibility_ms,
+        v.engine == "roberts" ? "segments" : "edges", v.crease_angle);
+    std::string steps;
+    for (const auto& [stage, ms] : d.stage_ms)
+      steps += fmt::format("{}{} {:.1f}", steps.empty() ? "" : ", ", stage, ms);
+    fmt::print("  time     visibility {:.1f} ms ({}), strokes {:.1f} ms\n", d.visibility_ms, steps,
                d.strokes_ms);
     for (const std::string& w : written) fmt::print("  wrote {}\n", w);
   }

@@ -13,7 +13,7 @@ struct SvgVerb {
   CLI::App* verb = nullptr;
   Args args;
   std::string output, style = "lines", hidden = "none", dash, page, stats_file, pdf,
-                      fallback = "none";
+                      fallback = "none", engine = "edges", kinds = "outline,crease,intersection";
   double crease_angle = 30, margin = 10, stroke = 0.35, time_limit = 0;
   bool quiet = false;
 };

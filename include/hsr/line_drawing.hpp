@@ -3,9 +3,9 @@
 // creases and intersection lines, as pen strokes, and an SVG of them for plotters, laser
 // cutters and technical illustration (`hsr svg`).
 //
-// Exact, not sampled: the lines are Roberts' visible segments of the edges (hsr/roberts.hpp),
-// computed in object space on the pipeline's polygons, with the hidden parts of the same edges
-// on request. An edge is drawn when it is
+// Exact, not sampled: the visible parts of the edges are computed in object space on the
+// pipeline's polygons (LineEngine below), with the hidden parts of the same edges on request.
+// An edge is drawn when it is
 //   - an outline: its two polygons fold over each other in the picture (one faces the eye,
 //     the other away: a silhouette), or it has one polygon (an open border), or its other
 //     polygon is culled or clipped away;
@@ -18,11 +18,12 @@
 // Strokes: segments merged into the longest polylines (no duplicates, no zero-length pieces,
 // collinear runs joined; a line both visible and hidden is drawn visible only) and ordered so
 // the pen travels little between them; the stats compare that travel with the unordered one.
-// Cost: Roberts' (see hsr/roberts.hpp), then O(n log n) for n segments.
+// Cost: see LineEngine; then O(n log n) for n segments.
 // Tests: tests/line_drawing_test.cpp.
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -44,12 +45,21 @@ struct LineStroke {
 };
 
 struct LineLayerStats {
-  std::uint64_t segments = 0;   // Roberts' segments drawn in the layer
+  std::uint64_t segments = 0;   // pieces of lines drawn in the layer
   std::uint64_t strokes = 0;    // polylines they became
   double length = 0;            // pixels
   double pen_up = 0;            // pen-up travel between strokes, in the order drawn (pixels)
   double pen_up_unordered = 0;  // the same, in the order the strokes were first chained
 };
+
+// How the visible parts are found. Both are exact (object space, in floating point) and draw
+// the same lines; tests hold them to each other.
+//   kEdges: classify the edges first, then test only the lines against the triangles in front
+//     of them, found through a grid of screen cells (visibility/line_visibility.cpp): near
+//     linear in the scene, the default.
+//   kRoberts: Roberts' visible segments of every edge (hsr/roberts.hpp), then classified: the
+//     notes' algorithm, as a reference; its cost grows with the faces' sections.
+enum class LineEngine : std::uint8_t { kEdges, kRoberts };
 
 struct LineDrawingOptions {
   double crease_angle_deg = 30;  // polygons meeting at more than this show their edge
@@ -61,6 +71,9 @@ struct LineDrawingOptions {
   // and no hidden layer (a picture keeps nothing of what it hides).
   double time_limit_s = 0;
   bool raster_fallback = false;
+  // Which lines to draw (all three by default; outlines alone: a silhouette drawing)
+  bool outlines = true, creases = true, intersections = true;
+  LineEngine engine = LineEngine::kEdges;
 };
 
 struct LineDrawing {
@@ -68,8 +81,12 @@ struct LineDrawing {
   std::vector<LineStroke> visible, hidden;
   LineLayerStats visible_stats, hidden_stats;
   std::uint64_t outline_segments = 0, crease_segments = 0, intersection_segments = 0;
-  std::uint64_t smooth_segments = 0;  // edges left out: polygons meeting within the crease angle
+  std::uint64_t smooth_segments = 0;  // left out: polygons meeting within the crease angle
+                                      // (kEdges: edges; kRoberts: Roberts' segments)
   double visibility_ms = 0, strokes_ms = 0;
+  // visibility_ms by step: the pipeline, then (LineEngine::kEdges) edges, classify, occluders,
+  // intersections, hide; or (kRoberts) roberts
+  std::vector<std::pair<std::string, double>> stage_ms;
   bool exact = true;  // false: drawn from the z-buffer's ids after the time limit (see above)
 };
 

@@ -104,8 +104,9 @@ void outlinePolygon(const Context& ctx, PolygonId id, std::span<const std::uint3
   }
 }
 
-void processPolygon(const Context& ctx, PolygonId id, bool window_polygons, ChunkOut& out,
+void processPolygon(const Context& ctx, PolygonId id, const PrepareRequest& request, ChunkOut& out,
                     std::vector<Triangle>& tris) {
+  const bool window_polygons = request.window_polygons;
   const Scene& scene = ctx.scene;
   const std::span<const std::uint32_t> vi = scene.polygon(id);
   const std::uint64_t triangles = vi.size() >= 3 ? vi.size() - 2 : 0;
@@ -136,6 +137,7 @@ void processPolygon(const Context& ctx, PolygonId id, bool window_polygons, Chun
     return;
   }
   if (window_polygons) emitWindowPolygon(ctx, id, vi, info, out);
+  if (!request.triangles) return;
   // FILL: triangulate, then each triangle through clipping, projection and culling. Ear
   // clipping leaves out the zero-area corners of spikes and straight vertices.
   tris.clear();
@@ -233,9 +235,9 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
       const std::size_t k = scene.polygon(static_cast<PolygonId>(id)).size();
       expected += k >= 3 ? k - 2 : 0;
     }
-    part.triangles.reserve(expected);
+    part.triangles.reserve(request.triangles ? expected : 0);
     for (std::size_t id = c * kChunk; id < end; ++id)
-      processPolygon(ctx, static_cast<PolygonId>(id), request.window_polygons, part, tris);
+      processPolygon(ctx, static_cast<PolygonId>(id), request, part, tris);
   });
   std::vector<std::size_t> offset(chunks + 1, 0);
   for (std::size_t c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + parts[c].triangles.size();
@@ -261,10 +263,12 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   }
 }
 
-bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, const glm::dvec3& hi) {
+bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo,
+                       const glm::dvec3& hi) {
   glm::dvec4 c[8];
   for (int i = 0; i < 8; ++i)
-    c[i] = clip_from_world * glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
+    c[i] = clip_from_world *
+           glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
   for (int axis = 0; axis < 3; ++axis)
     for (const double sign : {-1.0, 1.0}) {
       bool all_out = true;
