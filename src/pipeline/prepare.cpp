@@ -236,6 +236,7 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
       expected += k >= 3 ? k - 2 : 0;
     }
     part.triangles.reserve(request.triangles ? expected : 0);
+    if (request.window_polygons) part.polygons.reserve(end - c * kChunk);
     for (std::size_t id = c * kChunk; id < end; ++id)
       processPolygon(ctx, static_cast<PolygonId>(id), request, part, tris);
   });
@@ -246,6 +247,9 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
     std::copy(parts[c].triangles.begin(), parts[c].triangles.end(),
               out.triangles.begin() + offset[c]);
   });
+  std::size_t polygons = 0;
+  for (const ChunkOut& p : parts) polygons += p.polygons.size();
+  out.polygons.reserve(polygons);
   for (ChunkOut& p : parts) {
     out.lines.insert(out.lines.end(), p.lines.begin(), p.lines.end());
     out.points.insert(out.points.end(), p.points.begin(), p.points.end());

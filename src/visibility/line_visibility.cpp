@@ -1,7 +1,7 @@
 // Which parts of a scene's lines are visible (line_visibility.hpp), in four steps:
 //
 //   1. Edges. Every edge of every polygon, found once with the polygons on either side of it
-//      (by its two corners' window positions, within one object).
+//      (by its two corners' window positions, within one object; EdgeMatcher).
 //   2. Which edges are lines, before any visibility test. An outline: one polygon only (an open
 //      border, or the other culled or clipped away), or the two fold over each other in the
 //      picture (both lie on one side of the edge: a silhouette). A crease: the two meet at more
@@ -88,62 +88,95 @@ std::uint64_t hashOf(const EdgeKey& k) {
 struct EdgeUse {
   EdgeKey key;                          // its corners are the edge's exact end points
   std::uint32_t first = 0, second = 0;  // window polygon indices
-  std::uint8_t uses = 0;
-  bool first_forward = true;  // `first` runs the edge from key.a to key.b
-  bool opposite = true;       // `second` runs it the other way
+  std::uint32_t hash = 0;               // where it belongs in the matcher's table
+  std::uint8_t uses = 0;                // 1: one polygon (an open border), 2: two
+  bool first_forward = true;            // `first` runs the edge from key.a to key.b
+  bool opposite = true;                 // `second` runs it the other way
 };
 
-// Open addressing with linear probing, grown to keep it at most three quarters full.
-class EdgeTable {
+// Pairs each edge's two polygons. The table (open addressing, linear probing) holds only the
+// edges still waiting for their second polygon: taken in order, a mesh's polygons meet their
+// neighbours soon, so that is the front of the mesh reached so far, small enough to stay in
+// the cache (a table of every edge would not, and its random accesses grew the time faster
+// than the scene). A pair found leaves the table for the list. A third polygon on an edge
+// starts it again, so a non-manifold edge ends as a pair and a border.
+class EdgeMatcher {
  public:
-  explicit EdgeTable(std::size_t expected) { resize(std::max<std::size_t>(16, expected)); }
+  explicit EdgeMatcher(std::size_t expected) {
+    grow(1024);
+    found_.reserve(expected);
+  }
   void add(std::uint32_t object, const dvec3& p, const dvec3& q, std::uint32_t polygon) {
     EdgeKey key{object, corner(p), corner(q)};
     const bool forward = key.a < key.b;
     if (!forward) std::swap(key.a, key.b);
     if (key.a == key.b) return;  // a zero-length edge draws nothing
-    EdgeUse& e = find(key);
-    if (e.uses == 0) {
-      e.key = key, e.first = polygon, e.uses = 1, e.first_forward = forward;
-      if (++size_ * 4 > slots_.size() * 3) resize(slots_.size() * 2);
-      return;
-    }
-    if (e.uses == 1) e.second = polygon, e.opposite = forward != e.first_forward;
-    if (e.uses < 255) e.uses++;
+    const std::uint32_t hash = static_cast<std::uint32_t>(hashOf(key) >> 32);
+    std::size_t i = hash & mask_;
+    for (; slots_[i].uses != 0; i = (i + 1) & mask_)
+      if (slots_[i].hash == hash && slots_[i].key == key) {
+        EdgeUse e = slots_[i];
+        e.second = polygon, e.opposite = forward != e.first_forward, e.uses = 2;
+        found_.push_back(e);
+        erase(i);
+        return;
+      }
+    slots_[i] = {key, polygon, 0, hash, 1, forward, true};
+    if (++waiting_ * 2 > slots_.size()) grow(slots_.size() * 2);
   }
-  const std::vector<EdgeUse>& slots() const { return slots_; }
+  // Every edge: the pairs, then those left with one polygon.
+  std::vector<EdgeUse> finish() {
+    for (const EdgeUse& e : slots_)
+      if (e.uses != 0) found_.push_back(e);
+    return std::move(found_);
+  }
 
  private:
-  EdgeUse& find(const EdgeKey& key) {
-    for (std::size_t i = hashOf(key) & mask_;; i = (i + 1) & mask_)
-      if (slots_[i].uses == 0 || slots_[i].key == key) return slots_[i];
+  // Backward-shift deletion: later entries of the run move up unless they belong after i.
+  void erase(std::size_t i) {
+    for (std::size_t j = i;;) {
+      j = (j + 1) & mask_;
+      if (slots_[j].uses == 0) break;
+      const std::size_t home = slots_[j].hash & mask_;
+      const bool stays = i <= j ? (i < home && home <= j) : (i < home || home <= j);
+      if (stays) continue;
+      slots_[i] = slots_[j];
+      i = j;
+    }
+    slots_[i].uses = 0;
+    --waiting_;
   }
-  void resize(std::size_t at_least) {
-    std::size_t capacity = 16;
-    while (capacity < at_least) capacity *= 2;
+  void grow(std::size_t capacity) {
     std::vector<EdgeUse> old(capacity);
     old.swap(slots_);
     mask_ = capacity - 1;
     for (const EdgeUse& e : old)
-      if (e.uses != 0) find(e.key) = e;
+      if (e.uses != 0) {
+        std::size_t i = e.hash & mask_;
+        while (slots_[i].uses != 0) i = (i + 1) & mask_;
+        slots_[i] = e;
+      }
   }
-  std::vector<EdgeUse> slots_;
-  std::size_t mask_ = 0, size_ = 0;
+  std::vector<EdgeUse> slots_, found_;
+  std::size_t mask_ = 0, waiting_ = 0;
 };
 
 dvec3 pointOf(const std::array<float, 3>& c) { return dvec3(c[0], c[1], c[2]); }
 
 // ---- Step 4's triangles
 
+// Window positions are the pipeline's floats, so the corners, boxes and depth ranges are
+// exact as floats (and the struct a third smaller: one-shot drawings pay for fresh memory).
 struct Occluder {
-  dvec3 v[3];                  // counter-clockwise in x, y
+  glm::vec3 v[3];              // counter-clockwise in x, y
   double ex[3], ey[3], ec[3];  // sides: ex x + ey y + ec is the distance inside (pixels)
   double dzdx = 0, dzdy = 0;   // depth plane: v[0].z + dzdx (x - v[0].x) + dzdy (y - v[0].y)
-  double zmin = 0, zmax = 0;
-  double xmin = 0, ymin = 0, xmax = 0, ymax = 0;
+  float zmin = 0, zmax = 0;
+  float xmin = 0, ymin = 0, xmax = 0, ymax = 0;
   PolygonId id = kNoPolygon;
   std::uint32_t object = 0;
 
+  dvec3 at(int k) const { return dvec3(v[k]); }
   double depthAt(double x, double y) const {
     return v[0].z + dzdx * (x - v[0].x) + dzdy * (y - v[0].y);
   }
@@ -153,19 +186,23 @@ bool makeOccluder(dvec3 a, dvec3 b, dvec3 c, PolygonId id, std::uint32_t object,
   double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   if (!(std::abs(area2) > kEdgeOn)) return false;
   if (area2 < 0) std::swap(b, c), area2 = -area2;
-  o.v[0] = a, o.v[1] = b, o.v[2] = c;
+  const dvec3 p[3] = {a, b, c};
   for (int k = 0; k < 3; ++k) {
-    const dvec3 &p = o.v[k], &q = o.v[(k + 1) % 3];
-    const double dx = q.x - p.x, dy = q.y - p.y, len = std::hypot(dx, dy);
+    const dvec3 &u = p[k], &w = p[(k + 1) % 3];
+    const double dx = w.x - u.x, dy = w.y - u.y, len = std::sqrt(dx * dx + dy * dy);
     o.ex[k] = -dy / len, o.ey[k] = dx / len;
-    o.ec[k] = -(o.ex[k] * p.x + o.ey[k] * p.y);
+    o.ec[k] = -(o.ex[k] * u.x + o.ey[k] * u.y);
+    o.v[k] = glm::vec3(u);
   }
   const dvec3 e1 = b - a, e2 = c - a;
   o.dzdx = (e1.z * e2.y - e2.z * e1.y) / area2;
   o.dzdy = (e2.z * e1.x - e1.z * e2.x) / area2;
-  o.zmin = std::min({a.z, b.z, c.z}), o.zmax = std::max({a.z, b.z, c.z});
-  o.xmin = std::min({a.x, b.x, c.x}), o.xmax = std::max({a.x, b.x, c.x});
-  o.ymin = std::min({a.y, b.y, c.y}), o.ymax = std::max({a.y, b.y, c.y});
+  o.zmin = static_cast<float>(std::min({a.z, b.z, c.z}));
+  o.zmax = static_cast<float>(std::max({a.z, b.z, c.z}));
+  o.xmin = static_cast<float>(std::min({a.x, b.x, c.x}));
+  o.xmax = static_cast<float>(std::max({a.x, b.x, c.x}));
+  o.ymin = static_cast<float>(std::min({a.y, b.y, c.y}));
+  o.ymax = static_cast<float>(std::max({a.y, b.y, c.y}));
   o.id = id, o.object = object;
   return true;
 }
@@ -236,10 +273,10 @@ bool sectionOn(const Occluder& t, const double d[3], dvec3& p, dvec3& q) {
   int n = 0;
   for (int k = 0; k < 3 && n < 4; ++k) {
     const int j = (k + 1) % 3;
-    if (std::abs(d[k]) <= kBehind) pts[n++] = t.v[k];
+    if (std::abs(d[k]) <= kBehind) pts[n++] = t.at(k);
     if ((d[k] > kBehind && d[j] < -kBehind) || (d[k] < -kBehind && d[j] > kBehind)) {
       const double s = d[k] / (d[k] - d[j]);
-      pts[n++] = t.v[k] + s * (t.v[j] - t.v[k]);
+      pts[n++] = t.at(k) + s * (t.at(j) - t.at(k));
     }
   }
   if (n < 2) return false;
@@ -277,9 +314,9 @@ bool crosses(const Occluder& s, const Occluder& t, dvec3& p, dvec3& q) {
 }
 
 bool shareCorner(const Occluder& s, const Occluder& t) {
-  for (const dvec3& p : s.v)
-    for (const dvec3& q : t.v)
-      if (corner(p) == corner(q)) return true;
+  for (const glm::vec3& p : s.v)
+    for (const glm::vec3& q : t.v)
+      if (p == q) return true;
   return false;
 }
 
@@ -390,23 +427,24 @@ LineVisibility lineVisibility(const Scene& scene, const std::vector<WindowPolygo
   // ---- 1. Edges
   std::size_t corners = 0;
   for (const WindowPolygon& w : polygons) corners += w.vertices.size();
-  EdgeTable table(corners * 3 / 4);  // a closed mesh has half as many edges as corners
+  EdgeMatcher matcher(corners / 2 + 16);  // a closed mesh's edges: half its corners
   std::vector<std::uint32_t> object_of(np);
   for (std::uint32_t i = 0; i < np; ++i) {
     const WindowPolygon& w = polygons[i];
     object_of[i] = scene.object(w.id);
     if (w.transparent) continue;  // see-through: neither drawn nor hiding, as on Roberts' path
     for (std::size_t k = 0, n = w.vertices.size(); k < n; ++k)
-      table.add(object_of[i], w.vertices[k], w.vertices[(k + 1) % n], i);
+      matcher.add(object_of[i], w.vertices[k], w.vertices[(k + 1) % n], i);
     checkDeadline(request.deadline, i);
   }
+  const std::vector<EdgeUse> edges = matcher.finish();
   lap("edges");
   // Closed objects (every edge in view has two polygons running it in opposite directions),
   // and which way they wind: the sign of their volume in the window
   std::vector<std::int8_t> open(scene.objects.size(), 0);
   std::vector<double> volume(scene.objects.size(), 0.0), size(scene.objects.size(), 0.0);
-  for (const EdgeUse& e : table.slots())
-    if (e.uses != 0 && (e.uses != 2 || !e.opposite)) open[e.key.object] = 1;
+  for (const EdgeUse& e : edges)
+    if (e.uses != 2 || !e.opposite) open[e.key.object] = 1;
   std::vector<double> facing(np);  // doubled signed area in x, y: the normal's z
   for (std::uint32_t i = 0; i < np; ++i) {
     const std::vector<dvec3>& v = polygons[i].vertices;
@@ -440,8 +478,7 @@ LineVisibility lineVisibility(const Scene& scene, const std::vector<WindowPolygo
     normal[i] = l > 0 ? n / l : dvec3(0.0);
   }
   std::vector<Line> lines;
-  for (const EdgeUse& e : table.slots()) {
-    if (e.uses == 0) continue;
+  for (const EdgeUse& e : edges) {
     Line line{pointOf(e.key.a), pointOf(e.key.b), polygons[e.first].id};
     int kind = 0;  // an outline, unless:
     if (e.uses == 2) {
@@ -471,7 +508,10 @@ LineVisibility lineVisibility(const Scene& scene, const std::vector<WindowPolygo
   lap("classify");
   // Triangles that hide: all but the see-through and the closed objects' faces turned away
   std::vector<Occluder> occ;
-  occ.reserve(corners);
+  std::size_t triangles = 0;
+  for (std::uint32_t i = 0; i < np; ++i)
+    if (!polygons[i].transparent && !away[i]) triangles += polygons[i].vertices.size() - 2;
+  occ.reserve(triangles);
   std::vector<std::array<std::uint32_t, 3>> fan;
   std::vector<dvec2> flat;
   for (std::uint32_t i = 0; i < np; ++i) {
@@ -490,6 +530,7 @@ LineVisibility lineVisibility(const Scene& scene, const std::vector<WindowPolygo
     for (const auto& t : fan)
       if (makeOccluder(v[t[0]], v[t[1]], v[t[2]], w.id, object_of[i], o)) occ.push_back(o);
   }
+  lap("triangles");
   const Grid grid = makeGrid(occ, width, height);
   lap("occluders");
 
