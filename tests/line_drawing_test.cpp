@@ -25,6 +25,7 @@
 
 #include "cross/compare_with_zbuffer.hpp"
 #include "cross/figures.hpp"
+#include "cross/near_lines.hpp"
 #include "cross/random_scenes.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
@@ -401,45 +402,13 @@ TEST(LineDrawing, NoVisibleLineIsHiddenAndNoHiddenLineIsVisible) {
       grouped(e.hidden_in_front) + " with nothing in front");
 }
 
-// Length (sampled every quarter pixel) of one drawing's strokes lying within 1 pixel of
-// another's: the two engines against each other.
-struct Covered {
-  double length = 0, near = 0;
-};
-Covered covered(const std::vector<LineStroke>& a, const std::vector<LineStroke>& b) {
-  std::map<std::pair<int, int>, std::vector<std::pair<glm::dvec2, glm::dvec2>>> cells;
-  for (const LineStroke& s : b)
-    for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
-      const glm::dvec2 p = s.points[i], q = s.points[i + 1];
-      for (int y = static_cast<int>(std::floor(std::min(p.y, q.y) - 1));
-           y <= static_cast<int>(std::floor(std::max(p.y, q.y) + 1)); ++y)
-        for (int x = static_cast<int>(std::floor(std::min(p.x, q.x) - 1));
-             x <= static_cast<int>(std::floor(std::max(p.x, q.x) + 1)); ++x)
-          cells[{x, y}].emplace_back(p, q);
-    }
-  Covered c;
-  for (const LineStroke& s : a)
-    for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
-      const glm::dvec2 p = s.points[i], d = s.points[i + 1] - p;
-      const double len = glm::length(d);
-      const int n = std::max(1, static_cast<int>(std::ceil(len * 4)));
-      for (int k = 0; k < n; ++k) {
-        const glm::dvec2 m = p + d * ((k + 0.5) / n);
-        c.length += len / n;
-        const auto it =
-            cells.find({static_cast<int>(std::floor(m.x)), static_cast<int>(std::floor(m.y))});
-        if (it == cells.end()) continue;
-        for (const auto& [u, v] : it->second) {
-          const glm::dvec2 e = v - u;
-          const double t = std::clamp(glm::dot(m - u, e) / glm::dot(e, e), 0.0, 1.0);
-          if (glm::length(m - (u + e * t)) <= 1.0) {
-            c.near += len / n;
-            break;
-          }
-        }
-      }
-    }
-  return c;
+// A drawing's strokes as segments, for testing::nearLength.
+std::vector<testing::Segment2> segmentsOf(const std::vector<LineStroke>& strokes) {
+  std::vector<testing::Segment2> out;
+  for (const LineStroke& s : strokes)
+    for (std::size_t i = 0; i + 1 < s.points.size(); ++i)
+      out.emplace_back(s.points[i], s.points[i + 1]);
+  return out;
 }
 
 // The default engine (edges first) draws what the drawing on Roberts' segments draws: visible
@@ -448,7 +417,7 @@ Covered covered(const std::vector<LineStroke>& a, const std::vector<LineStroke>&
 // eye, nearly edge-on, folds by a rounding: Roberts classes it on his snapped segments, the
 // default engine on the polygons' own vertices).
 TEST(LineDrawing, TheEnginesDrawTheSameLines) {
-  Covered vis_ab, vis_ba, hid_ab, hid_ba;
+  testing::NearLength vis_ab, vis_ba, hid_ab, hid_ba;
   int views = 0;
   auto compare = [&](const Scene& scene, const Camera& camera, const RenderOptions& o,
                      const std::string& label) {
@@ -456,12 +425,16 @@ TEST(LineDrawing, TheEnginesDrawTheSameLines) {
     const LineDrawing e = lineDrawing(scene, camera, o, lines);
     lines.engine = LineEngine::kRoberts;
     const LineDrawing r = lineDrawing(scene, camera, o, lines);
-    const Covered ab = covered(e.visible, r.visible), ba = covered(r.visible, e.visible);
+    const testing::NearLength ab =
+        testing::nearLength(segmentsOf(e.visible), segmentsOf(r.visible));
+    const testing::NearLength ba =
+        testing::nearLength(segmentsOf(r.visible), segmentsOf(e.visible));
     EXPECT_GE(ab.near, 0.995 * ab.length) << label << ": visible lines Roberts does not draw";
     EXPECT_GE(ba.near, 0.995 * ba.length) << label << ": Roberts' visible lines not drawn";
-    for (auto [to, from] : {std::pair{&vis_ab, ab}, std::pair{&vis_ba, ba},
-                            std::pair{&hid_ab, covered(e.hidden, r.hidden)},
-                            std::pair{&hid_ba, covered(r.hidden, e.hidden)}})
+    for (auto [to, from] :
+         {std::pair{&vis_ab, ab}, std::pair{&vis_ba, ba},
+          std::pair{&hid_ab, testing::nearLength(segmentsOf(e.hidden), segmentsOf(r.hidden))},
+          std::pair{&hid_ba, testing::nearLength(segmentsOf(r.hidden), segmentsOf(e.hidden))}})
       to->length += from.length, to->near += from.near;
     ++views;
   };
@@ -481,7 +454,7 @@ TEST(LineDrawing, TheEnginesDrawTheSameLines) {
   }
   EXPECT_GE(hid_ab.near, 0.99 * hid_ab.length) << "hidden lines Roberts does not draw";
   EXPECT_GE(hid_ba.near, 0.99 * hid_ba.length) << "Roberts' hidden lines not drawn";
-  auto pct = [](const Covered& c) { return fmt::format("{:.3f}%", 100.0 * c.near / c.length); };
+  auto pct = [](const testing::NearLength& c) { return fmt::format("{:.3f}%", 100.0 * c.share()); };
   testing::printFigures(fmt::format(
       "line drawing engines, edges vs Roberts: {} views; visible {:.0f} px, within 1 px of "
       "Roberts' {}, Roberts' {:.0f} px within 1 px of it {}; hidden {:.0f} px: {}, {:.0f} px: {}",

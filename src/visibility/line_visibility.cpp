@@ -536,9 +536,10 @@ LineVisibility lineVisibility(const Scene& scene, const std::vector<WindowPolygo
 
   // ---- 3. Intersection lines
   if (request.intersections) {
-    std::vector<Line> crossings;
-    for (int r = 0; r < grid.rows; ++r) {
-      checkDeadline(request.deadline, 0);
+    // A row of cells per task, joined in row order (the same lines for any thread count)
+    std::vector<std::vector<Line>> crossings(static_cast<std::size_t>(grid.rows));
+    tbb::parallel_for(0, grid.rows, [&](int r) {
+      if (request.deadline && request.deadline->passed()) throw DeadlinePassed();
       for (int c = 0; c < grid.columns; ++c) {
         const std::size_t cell = static_cast<std::size_t>(r) * grid.columns + c;
         for (std::uint32_t i = grid.start[cell]; i < grid.start[cell + 1]; ++i)
@@ -555,11 +556,12 @@ LineVisibility lineVisibility(const Scene& scene, const std::vector<WindowPolygo
             Line line;
             if (!crosses(s, t, line.a, line.b)) continue;
             line.face = s.id, line.other = t.id, line.kind = 2;
-            crossings.push_back(line);
+            crossings[static_cast<std::size_t>(r)].push_back(line);
           }
       }
-    }
-    lines.insert(lines.end(), crossings.begin(), crossings.end());
+    });
+    for (const std::vector<Line>& row : crossings)
+      lines.insert(lines.end(), row.begin(), row.end());
   }
   out.line_edges = lines.size();
   // Lines near each other on screen try the same triangles: in the order of the cells their
