@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -201,6 +203,45 @@ TEST(Cli, BspBuildInfoRenderAndOrbit) {
   expectCleanError("render demo --algorithm bsp --bsp-candidates 0", "candidates");
 }
 
+// --raw's depth.npy in scene units on request, and the camera used in the manifest, the stats
+// and the summary (tests/camera_data_test.cpp checks the values).
+TEST(Cli, RawDepthInSceneUnitsAndTheCameraUsed) {
+  const ScratchDir d("hsr_cli_depth");
+  const std::string png = (d / "s.png").string(), raw = (d / "raw").string(),
+                    stats = (d / "s.json").string();
+  const CliRun r = runCli("render solids --size 160x120 -o " + png + " --raw " + raw +
+                          " --depth linear --stats " + stats);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fx "), std::string::npos) << r.out;
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string manifest = slurp(fs::path(raw) / "manifest.json");
+  EXPECT_NE(manifest.find("depth along the view axis"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("\"intrinsics\""), std::string::npos) << manifest;
+  EXPECT_NE(slurp(stats).find("\"cx\""), std::string::npos);
+  // depth.npy: little-endian float32 after the header; inf where nothing was drawn, finite
+  // (scene units, beyond the near plane) elsewhere
+  const std::string npy = slurp(fs::path(raw) / "depth.npy");
+  ASSERT_GT(npy.size(), 10u);
+  const std::size_t header = 10 + (static_cast<unsigned char>(npy[8]) |
+                                   static_cast<unsigned char>(npy[9]) << 8);
+  ASSERT_EQ(npy.size(), header + 160u * 120u * 4u);
+  int inf = 0, finite = 0;
+  for (std::size_t i = header; i < npy.size(); i += 4) {
+    float v;
+    std::memcpy(&v, npy.data() + i, 4);
+    if (std::isinf(v)) ++inf;
+    else if (std::isfinite(v) && v > 0.0f) ++finite;
+  }
+  EXPECT_GT(inf, 0);
+  EXPECT_GT(finite, 0);
+  EXPECT_EQ(inf + finite, 160 * 120);
+  expectCleanError("render solids --depth meters --raw " + (d / "raw2").string(), "depth");
+  expectCleanError("render solids --depth linear -o " + png, "--raw");
+}
+
 TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {
   const ScratchDir d("hsr_cli_svg");
   const std::string out = (d / "solids.svg").string(), stats = (d / "s.json").string();
@@ -221,6 +262,10 @@ TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {
   expectCleanError("svg solids --margin 200 --page A4 -o " + out, "--margin");
   expectCleanError("svg solids --dash '2;rm' -o " + out, "--dash");
   expectCleanError("svg solids --style sketch -o " + out, "--style");
+  expectCleanError("svg solids --lines outline,hatching -o " + out, "--lines");
+  expectCleanError("svg solids --engine warnock -o " + out, "--engine");
+  const CliRun s = runCli("svg solids --size 200x150 --lines outline --engine roberts -q -o " + out);
+  EXPECT_EQ(s.code, 0) << s.err;
   expectCleanError("svg solids --fallback raster -o " + out, "--time-limit");
   expectCleanError("svg solids --time-limit 0.000000001 -o " + out, "time limit");
   const CliRun t = runCli("svg solids --size 200x150 --time-limit 0.000000001 --fallback raster -o " + out);

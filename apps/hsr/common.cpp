@@ -110,9 +110,23 @@ void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm) {
 }
 
 void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,
-                  const std::vector<std::string>& written) {
+                  const std::vector<std::string>& written, const hsr::Camera* camera) {
   const hsr::Stats& s = f.stats;
   fmt::print("hsr {} {}  {}x{}\n", algorithm, scene, f.width, f.height);
+  if (camera) {
+    const hsr::Camera& c = *camera;
+    fmt::print("  camera   eye ({:g}, {:g}, {:g}) target ({:g}, {:g}, {:g}) up ({:g}, {:g}, {:g}), ",
+               c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y,
+               c.up.z);
+    if (c.ortho) {
+      fmt::print("orthographic, half height {:g}, near {:g}, far {:g}\n", c.ortho_half_height,
+                 c.near, c.far);
+    } else {
+      const hsr::Intrinsics k = hsr::intrinsicsOf(c);
+      fmt::print("fov {:g} deg, near {:g}, far {:g}; fx {:.3f} fy {:.3f} cx {:g} cy {:g} (OpenCV)\n",
+                 c.fov_deg, c.near, c.far, k.fx, k.fy, k.cx, k.cy);
+    }
+  }
   // Every count of the one table, with what it counts (zero counts of rarer events omitted).
   for (const hsr::Stats::Field& field : hsr::Stats::fields()) {
     const std::uint64_t v = s.*field.value;

@@ -88,7 +88,8 @@ void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam);
 void warnIfDepthUnresolvable(const hsr::Camera& cam);
 std::vector<std::string> splitList(const std::string& s);
 void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm);
+// The frame's counts and stage times, and the camera used when given (its intrinsics too).
 void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,
-                  const std::vector<std::string>& written);
+                  const std::vector<std::string>& written, const hsr::Camera* camera = nullptr);
 
 }  // namespace hsr::cli

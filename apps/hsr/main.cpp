@@ -49,6 +49,7 @@ using hsr::cli::warnIfUnresolved;
 // Which options were given on the command line (an empty value differs from none).
 struct Given {
   bool output_file = false, raw = false, stats = false, sheet = false, explain_dir = false;
+  bool depth = false;
 };
 
 int runRender(const Args& a, const Given& given) {
@@ -68,6 +69,9 @@ int runRender(const Args& a, const Given& given) {
     if (kinds.size() > 1) p.replace_filename(base.stem().string() + "-" + k + ".png");
     pngs.emplace_back(k, p);
   }
+  const hsr::DepthKind depth = hsr::depthKindNamed(a.depth);
+  if (given.depth && !given.raw)
+    throw hsr::Error("--depth says what --raw DIR/depth.npy holds: give --raw");
   OutputPlan plan(a.scene);
   for (const auto& [kind, p] : pngs) plan.file("-o", p.string());
   if (given.raw) plan.directory("--raw", a.raw_dir, {"depth.npy", "ids.npy", "overdraw.npy", "coverage.npy"});
@@ -88,16 +92,17 @@ int runRender(const Args& a, const Given& given) {
     written.push_back(p.string());
   }
   if (given.raw) {
-    hsr::writeRawFrame(a.raw_dir, frame, a.scene, opt.algorithm);
+    hsr::writeRawFrame(a.raw_dir, frame, a.scene, opt.algorithm, cam, depth);
     written.push_back((fs::path(a.raw_dir) / (frame.coverage.empty() ? "{depth,ids,overdraw}.npy"
                                                                       : "{depth,ids,overdraw,coverage}.npy"))
                           .string());
   }
   if (given.stats) {
-    hsr::writeFileAtomically(a.stats_file, {hsr::statsJson(frame, a.scene, opt.algorithm)});
+    hsr::writeFileAtomically(a.stats_file,
+                             {hsr::statsJson(frame, a.scene, opt.algorithm, cam)});
     written.push_back(a.stats_file);
   }
-  if (!a.quiet) printSummary(frame, a.scene, opt.algorithm, written);
+  if (!a.quiet) printSummary(frame, a.scene, opt.algorithm, written, &cam);
   return 0;
 }
 
@@ -208,7 +213,12 @@ int main(int argc, char** argv) {
                                           "outputs, FILE-KIND.png)");
   render->add_option("--raw", a.raw_dir,
                      "write depth.npy, ids.npy, overdraw.npy (and coverage.npy from abuffer) into DIR");
-  render->add_option("--stats", a.stats_file, "write counts and stage times as JSON");
+  render->add_option("--depth", a.depth,
+                     "what --raw's depth.npy holds: window (window z, 1 = nothing), linear (depth "
+                     "along the view axis) or distance (along the pixel's ray), in scene units, "
+                     "inf = nothing")
+      ->capture_default_str();
+  render->add_option("--stats", a.stats_file, "write counts, stage times and the camera as JSON");
   render->add_flag("-q,--quiet", a.quiet, "no summary");
   CLI::App* compare = app.add_subcommand("compare", "run every algorithm on SCENE and compare");
   addViewOptions(compare, a);
@@ -243,6 +253,7 @@ int main(int argc, char** argv) {
   given.output_file = render->count("-o") > 0;
   given.raw = render->count("--raw") > 0;
   given.stats = render->count("--stats") > 0;
+  given.depth = render->count("--depth") > 0;
   given.sheet = compare->count("--sheet") > 0;
   given.explain_dir = explain->count("-o") > 0;
 

@@ -36,6 +36,16 @@ Camera frameScene(const Scene& scene, int width, int height);
 Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg = 45.0f,
                    bool ortho = false);
 
+// A perspective camera's pinhole intrinsics in pixels, in OpenCV's convention: a point at
+// (X, Y, Z) in OpenCV's camera frame (x right, y down, z forward: the view's eye space with
+// y and z turned) lands at pixel (fx X / Z + cx, fy Y / Z + cy), pixel centres at integers and
+// (0, 0) the top-left pixel's centre, as hsr's pictures and arrays. For an orthographic camera
+// all four are 0 (no pinhole).
+struct Intrinsics {
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+};
+Intrinsics intrinsicsOf(const Camera& camera);
+
 // View k of n on a ring around the camera's target, about its up axis, at its distance from
 // the target (view 0 is the camera itself): an orbit, for showing that what an algorithm
 // builds once (a BSP tree, an octree) serves every view.

@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hsr/camera.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
 
@@ -61,6 +62,29 @@ void checkPngSize(const std::filesystem::path& path, long long width, long long 
 void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
                    const std::string& algorithm);
 
+// What depth.npy holds:
+//   kWindow: window z in [0, 1] as the depth test compares it, 1.0 where nothing was drawn;
+//   kLinear: depth along the view axis in scene units, from the eye (orthographic: from the
+//     eye's plane), +inf where nothing was drawn;
+//   kDistance: distance from the eye along the ray through the pixel centre, in scene units
+//     (orthographic: as kLinear, the rays being parallel), +inf where nothing was drawn.
+// Scene units come from window z through the camera's projection, in double: the float window
+// z bounds the precision (relative error about 2^-24 times far / near at the far plane).
+enum class DepthKind { kWindow, kLinear, kDistance };
+DepthKind depthKindNamed(std::string_view name);  // "window", "linear", "distance"; else Error
+std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind kind);
+
+// As above, with depth.npy as `depth` says and manifest.json also holding the camera (as
+// cameraJson) and what depth.npy holds.
+void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
+                   const std::string& algorithm, const Camera& camera, DepthKind depth);
+
+// The camera as JSON: eye, target, up, fov_deg (or ortho_half_height), near, far, width,
+// height, the 4x4 view and projection matrices (row-major: rows of the matrix as written on
+// paper, acting on column vectors), and the pinhole intrinsics (Intrinsics, OpenCV's
+// convention; null for an orthographic camera).
+std::string cameraJson(const Camera& camera);
+
 // Pictures of a frame's buffers, RGB8 top row first.
 std::vector<std::uint8_t> depthPicture(const Frame& frame);     // normalised grey, near = light
 // The depth range of the drawn pixels, and a depth picture normalised over a given range
@@ -75,5 +99,8 @@ std::vector<std::uint8_t> overdrawPicture(const Frame& frame);  // heatmap
 std::vector<std::uint8_t> picture(const Frame& frame, std::string_view kind);  // by name
 
 std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm);
+// The same with the camera used (as cameraJson) under "camera".
+std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm,
+                      const Camera& camera);
 
 }  // namespace hsr

@@ -35,6 +35,15 @@ glm::mat4 Camera::projection() const {
   return glm::perspective(glm::radians(fov_deg), aspect, near, far);
 }
 
+Intrinsics intrinsicsOf(const Camera& camera) {
+  if (camera.ortho) return {};
+  // y_ndc = f Y / Z with f = 1 / tan(fov / 2) (x_ndc the same over the aspect ratio, so square
+  // pixels: fx = fy), and the window maps ndc [-1, 1] onto [-0.5, size - 0.5]
+  const double f = 1.0 / std::tan(static_cast<double>(camera.fov_deg) * 3.14159265358979323846 / 360.0);
+  const double focal = f * camera.height / 2.0;
+  return {focal, focal, camera.width / 2.0 - 0.5, camera.height / 2.0 - 0.5};
+}
+
 void Camera::validate() const {
   if (width <= 0 || height <= 0)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) +

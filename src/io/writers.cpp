@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <glm/mat4x4.hpp>
 #include <nlohmann/json.hpp>
 
 #include "hsr/error.hpp"
@@ -181,14 +182,73 @@ void writeNpy(const std::filesystem::path& path, int width, int height, const st
   writeFileAtomically(path, {npyHeader(width, height, "<u4"), npyData(width, height, data, path)});
 }
 
-void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
-                   const std::string& algorithm) {
+namespace {
+
+nlohmann::ordered_json matrixRows(const glm::mat4& m) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (int r = 0; r < 4; ++r) rows.push_back({m[0][r], m[1][r], m[2][r], m[3][r]});  // m[col][row]
+  return rows;
+}
+
+nlohmann::ordered_json cameraObject(const Camera& c) {
+  nlohmann::ordered_json j;
+  j["eye"] = {c.eye.x, c.eye.y, c.eye.z};
+  j["target"] = {c.target.x, c.target.y, c.target.z};
+  j["up"] = {c.up.x, c.up.y, c.up.z};
+  j["projection_kind"] = c.ortho ? "orthographic" : "perspective";
+  if (c.ortho)
+    j["ortho_half_height"] = c.ortho_half_height;
+  else
+    j["fov_deg"] = c.fov_deg;
+  j["near"] = c.near;
+  j["far"] = c.far;
+  j["width"] = c.width;
+  j["height"] = c.height;
+  j["view"] = matrixRows(c.view());
+  j["projection"] = matrixRows(c.projection());
+  if (c.ortho) {
+    j["intrinsics"] = nullptr;
+  } else {
+    const Intrinsics k = intrinsicsOf(c);
+    j["intrinsics"] = {{"fx", k.fx},
+                       {"fy", k.fy},
+                       {"cx", k.cx},
+                       {"cy", k.cy},
+                       {"convention",
+                        "OpenCV: camera x right, y down, z forward; pixel centres at integers, "
+                        "(0, 0) the top-left pixel's centre"}};
+  }
+  j["matrices"] =
+      "row-major rows acting on column vectors; view: world to eye (OpenGL: the eye "
+      "looks down -z, y up), projection: eye to clip (OpenGL, depth [-1, 1])";
+  return j;
+}
+
+const char* depthMeaning(DepthKind kind) {
+  switch (kind) {
+    case DepthKind::kWindow:
+      return "float32 window z in [0, 1], 1.0 where nothing was drawn";
+    case DepthKind::kLinear:
+      return "float32 depth along the view axis from the eye (orthographic: from its plane), "
+             "scene units, inf where nothing was drawn";
+    case DepthKind::kDistance:
+      return "float32 distance from the eye along the ray through the pixel centre, scene "
+             "units, inf where nothing was drawn";
+  }
+  return "?";
+}
+
+void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
+              const std::string& algorithm, const Camera* camera, DepthKind kind) {
   const int w = frame.width, h = frame.height;
   const std::size_t n = pixelCount(w, h, dir);
   if (frame.depth.size() != n || frame.ids.size() != n || frame.overdraw.size() != n)
     throw Error(dir.string() + ": the frame has no depth, id or overdraw buffer to write");
+  std::vector<float> converted;
+  if (camera && kind != DepthKind::kWindow) converted = depthAs(frame, *camera, kind);
+  const float* depth = converted.empty() ? frame.depth.data() : converted.data();
   OutputDirectory out(dir, {"depth.npy", "ids.npy", "overdraw.npy", "coverage.npy"});
-  out.write("depth.npy", {npyHeader(w, h, "<f4"), npyData(w, h, frame.depth.data(), dir)});
+  out.write("depth.npy", {npyHeader(w, h, "<f4"), npyData(w, h, depth, dir)});
   out.write("ids.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.ids.data(), dir)});
   out.write("overdraw.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.overdraw.data(), dir)});
   const bool coverage = frame.coverage.size() == n;
@@ -200,13 +260,71 @@ void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const s
   about["width"] = w;
   about["height"] = h;
   about["rows"] = "top row first";
-  about["depth.npy"] = "float32 window z in [0, 1], 1.0 where nothing was drawn";
+  about["depth.npy"] = depthMeaning(camera ? kind : DepthKind::kWindow);
   about["ids.npy"] = "uint32 polygon id, 4294967295 where nothing was drawn";
-  about["overdraw.npy"] = coverage ? "uint32 fragments in the pixel's list (polygons reaching its samples)"
-                                   : "uint32 fragments written at the pixel (passed the depth test)";
-  if (coverage) about["coverage.npy"] = "float32 fraction of the pixel's samples covered by opaque polygons";
+  about["overdraw.npy"] =
+      coverage ? "uint32 fragments in the pixel's list (polygons reaching its samples)"
+               : "uint32 fragments written at the pixel (passed the depth test)";
+  if (coverage)
+    about["coverage.npy"] = "float32 fraction of the pixel's samples covered by opaque polygons";
+  if (camera) about["camera"] = cameraObject(*camera);
   out.commit(about.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
 }
+
+}  // namespace
+
+DepthKind depthKindNamed(std::string_view name) {
+  if (name == "window") return DepthKind::kWindow;
+  if (name == "linear") return DepthKind::kLinear;
+  if (name == "distance") return DepthKind::kDistance;
+  throw Error("depth '" + std::string(name) + "': window, linear or distance");
+}
+
+std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind kind) {
+  const std::size_t n = framePixels(frame);
+  if (frame.depth.size() != n || frame.ids.size() != n)
+    throw Error("the frame has no depth or id buffer to convert");
+  if (frame.width != camera.width || frame.height != camera.height)
+    throw Error("the frame's size differs from the camera's");
+  std::vector<float> out(frame.depth);
+  if (kind == DepthKind::kWindow) return out;
+  const glm::dmat4 p(camera.projection());
+  const double w = frame.width, h = frame.height;
+  for (int y = 0; y < frame.height; ++y)
+    for (int x = 0; x < frame.width; ++x) {
+      const std::size_t k = static_cast<std::size_t>(y) * frame.width + x;
+      if (frame.ids[k] == kNoPolygon) {
+        out[k] = std::numeric_limits<float>::infinity();
+        continue;
+      }
+      // Window z to normalised device z, then back through the projection (OpenGL's: clip
+      // z = p22 z_eye + p32, clip w = -z_eye in perspective, 1 in parallel)
+      const double z_ndc = 2.0 * frame.depth[k] - 1.0;
+      const double linear =
+          camera.ortho ? -(z_ndc - p[3][2]) / p[2][2] : p[3][2] / (z_ndc + p[2][2]);
+      double d = linear;
+      if (kind == DepthKind::kDistance && !camera.ortho) {
+        // The ray through the pixel centre, per unit of depth along the view axis
+        const double x_ndc = 2.0 * (x + 0.5) / w - 1.0, y_ndc = 1.0 - 2.0 * (y + 0.5) / h;
+        const double u = x_ndc / p[0][0], v = y_ndc / p[1][1];
+        d = linear * std::sqrt(1.0 + u * u + v * v);
+      }
+      out[k] = static_cast<float>(d);
+    }
+  return out;
+}
+
+void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
+                   const std::string& algorithm) {
+  writeRaw(dir, frame, scene, algorithm, nullptr, DepthKind::kWindow);
+}
+
+void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
+                   const std::string& algorithm, const Camera& camera, DepthKind depth) {
+  writeRaw(dir, frame, scene, algorithm, &camera, depth);
+}
+
+std::string cameraJson(const Camera& camera) { return cameraObject(camera).dump(2) + "\n"; }
 
 namespace {
 // A pixel was drawn where it holds a polygon id (or, without ids, a depth below 1)
@@ -295,7 +413,9 @@ std::vector<std::uint8_t> picture(const Frame& frame, std::string_view kind) {
   return rgb;
 }
 
-std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm) {
+namespace {
+std::string statsJsonWith(const Frame& frame, const std::string& scene,
+                          const std::string& algorithm, const Camera* camera) {
   const Stats& s = frame.stats;
   nlohmann::ordered_json j;
   j["scene"] = scene;
@@ -310,8 +430,19 @@ std::string statsJson(const Frame& frame, const std::string& scene, const std::s
   for (const StageTime& st : s.stages) stages.push_back({{"name", st.name}, {"ms", st.ms}});
   j["stages"] = std::move(stages);
   j["total_ms"] = s.totalMs();
+  if (camera) j["camera"] = cameraObject(*camera);
   // A scene named by a file path need not be UTF-8: replace what is not, never throw
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+}  // namespace
+
+std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm) {
+  return statsJsonWith(frame, scene, algorithm, nullptr);
+}
+
+std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm,
+                      const Camera& camera) {
+  return statsJsonWith(frame, scene, algorithm, &camera);
 }
 
 }  // namespace hsr
