@@ -32,7 +32,7 @@ struct Args {
   std::string raw_dir, stats_file, sheet_file;
   std::string depth = "window";  // what --raw's depth.npy holds: window, linear, distance
   int threads = 0;
-  int samples = 0;  // 0: the algorithm's default
+  int samples = 0;                 // 0: the algorithm's default
   double fragment_memory_mib = 2048;
   int views = 1;  // hsr compare --views
   std::string bsp_splitter = "balanced";

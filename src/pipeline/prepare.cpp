@@ -267,12 +267,10 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   }
 }
 
-bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo,
-                       const glm::dvec3& hi) {
+bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, const glm::dvec3& hi) {
   glm::dvec4 c[8];
   for (int i = 0; i < 8; ++i)
-    c[i] = clip_from_world *
-           glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
+    c[i] = clip_from_world * glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
   for (int axis = 0; axis < 3; ++axis)
     for (const double sign : {-1.0, 1.0}) {
       bool all_out = true;

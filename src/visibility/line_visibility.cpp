@@ -27,9 +27,9 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <chrono>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -565,7 +565,8 @@ LineVisibility lineVisibility(const Scene& scene, const std::vector<WindowPolygo
   }
   out.line_edges = lines.size();
   // Lines near each other on screen try the same triangles: in the order of the cells their
-  // first ends fall in, the triangles stay in the cache (the table's order is random).
+  // first ends fall in, the triangles stay in the cache (edges come in the order their pairs were
+  // found, intersection lines by rows).
   {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> order(lines.size());
     for (std::uint32_t i = 0; i < lines.size(); ++i)
