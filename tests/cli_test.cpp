@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -221,6 +222,8 @@ TEST(Cli, RawDepthInSceneUnitsAndTheCameraUsed) {
   EXPECT_NE(manifest.find("depth along the view axis"), std::string::npos) << manifest;
   EXPECT_NE(manifest.find("\"intrinsics\""), std::string::npos) << manifest;
   EXPECT_NE(slurp(stats).find("\"cx\""), std::string::npos);
+  EXPECT_NE(slurp(stats).find("\"first_polygon\""), std::string::npos);
+  EXPECT_NE(manifest.find("\"objects.npy\""), std::string::npos) << manifest;
   // depth.npy: little-endian float32 after the header; inf where nothing was drawn, finite
   // (scene units, beyond the near plane) elsewhere
   const std::string npy = slurp(fs::path(raw) / "depth.npy");
@@ -238,6 +241,25 @@ TEST(Cli, RawDepthInSceneUnitsAndTheCameraUsed) {
   EXPECT_GT(inf, 0);
   EXPECT_GT(finite, 0);
   EXPECT_EQ(inf + finite, 160 * 120);
+  // objects.npy: the object of the polygon each pixel shows; solids has six objects
+  const std::string obj = slurp(fs::path(raw) / "objects.npy");
+  ASSERT_EQ(obj.size(), header + 160u * 120u * 4u);
+  std::set<std::uint32_t> seen;
+  for (std::size_t i = header; i < obj.size(); i += 4) {
+    std::uint32_t v;
+    std::memcpy(&v, obj.data() + i, 4);
+    seen.insert(v);
+  }
+  EXPECT_TRUE(seen.count(0xFFFFFFFFu));
+  EXPECT_GE(seen.size(), 3u);
+  for (const std::uint32_t v : seen) EXPECT_TRUE(v < 6 || v == 0xFFFFFFFFu) << v;
+  // --output none: the raw buffers alone, no picture
+  const std::string raw3 = (d / "raw3").string();
+  const CliRun n = runCli("render solids --size 64x48 --output none --raw " + raw3);
+  ASSERT_EQ(n.code, 0) << n.err;
+  EXPECT_TRUE(fs::exists(fs::path(raw3) / "ids.npy"));
+  EXPECT_EQ(n.out.find(".png"), std::string::npos) << n.out;  // the summary's "wrote" lines
+  expectCleanError("render solids --output none,color -q", "none");
   expectCleanError("render solids --depth meters --raw " + (d / "raw2").string(), "depth");
   expectCleanError("render solids --depth linear -o " + png, "--raw");
 }

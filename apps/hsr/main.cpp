@@ -53,11 +53,16 @@ struct Given {
 };
 
 int runRender(const Args& a, const Given& given) {
-  const std::vector<std::string> kinds = splitList(a.outputs);
-  if (kinds.empty()) throw hsr::Error("--output needs at least one of color,depth,ids,overdraw");
+  std::vector<std::string> kinds = splitList(a.outputs);
+  if (kinds.empty()) throw hsr::Error("--output needs at least one of color,depth,ids,overdraw, or none");
+  // none: no picture (the raw buffers or the stats alone, or a timing)
+  const bool none = std::find(kinds.begin(), kinds.end(), "none") != kinds.end();
+  if (none && kinds.size() > 1) throw hsr::Error("--output none stands alone");
+  if (none && given.output_file) throw hsr::Error("-o names a picture, and --output none writes none");
+  if (none) kinds.clear();
   for (const std::string& k : kinds)
     if (k != "color" && k != "depth" && k != "ids" && k != "overdraw")
-      throw hsr::Error(fmt::format("unknown output '{}' (color, depth, ids, overdraw)", k));
+      throw hsr::Error(fmt::format("unknown output '{}' (color, depth, ids, overdraw, or none)", k));
   // Every output is named and checked before the scene is loaded
   if (given.output_file && a.output_file.empty())
     throw hsr::Error("-o \"\": an empty path names no file");
@@ -74,7 +79,9 @@ int runRender(const Args& a, const Given& given) {
     throw hsr::Error("--depth says what --raw DIR/depth.npy holds: give --raw");
   OutputPlan plan(a.scene);
   for (const auto& [kind, p] : pngs) plan.file("-o", p.string());
-  if (given.raw) plan.directory("--raw", a.raw_dir, {"depth.npy", "ids.npy", "overdraw.npy", "coverage.npy"});
+  if (given.raw)
+    plan.directory("--raw", a.raw_dir,
+                   {"depth.npy", "ids.npy", "objects.npy", "overdraw.npy", "coverage.npy"});
   if (given.stats) plan.file("--stats", a.stats_file);
 
   const hsr::Scene scene = hsr::loadScene(a.scene, hsr::cli::importLimits(a));
@@ -92,14 +99,14 @@ int runRender(const Args& a, const Given& given) {
     written.push_back(p.string());
   }
   if (given.raw) {
-    hsr::writeRawFrame(a.raw_dir, frame, a.scene, opt.algorithm, cam, depth);
-    written.push_back((fs::path(a.raw_dir) / (frame.coverage.empty() ? "{depth,ids,overdraw}.npy"
-                                                                      : "{depth,ids,overdraw,coverage}.npy"))
+    hsr::writeRawFrame(a.raw_dir, frame, a.scene, opt.algorithm, scene, cam, depth);
+    written.push_back((fs::path(a.raw_dir) / (frame.coverage.empty() ? "{depth,ids,objects,overdraw}.npy"
+                                                                      : "{depth,ids,objects,overdraw,coverage}.npy"))
                           .string());
   }
   if (given.stats) {
     hsr::writeFileAtomically(a.stats_file,
-                             {hsr::statsJson(frame, a.scene, opt.algorithm, cam)});
+                             {hsr::statsJson(frame, a.scene, opt.algorithm, scene, cam)});
     written.push_back(a.stats_file);
   }
   if (!a.quiet) printSummary(frame, a.scene, opt.algorithm, written, &cam);
@@ -207,12 +214,13 @@ int main(int argc, char** argv) {
   Args a;
   CLI::App* render = app.add_subcommand("render", "render SCENE with one algorithm");
   addViewOptions(render, a);
-  render->add_option("--output", a.outputs, "pictures to write: color,depth,ids,overdraw")
+  render->add_option("--output", a.outputs, "pictures to write: color,depth,ids,overdraw, or none")
       ->capture_default_str();
   render->add_option("-o", a.output_file, "output PNG (default out/SCENE.png; with several "
                                           "outputs, FILE-KIND.png)");
   render->add_option("--raw", a.raw_dir,
-                     "write depth.npy, ids.npy, overdraw.npy (and coverage.npy from abuffer) into DIR");
+                     "write depth.npy, ids.npy, objects.npy, overdraw.npy (and coverage.npy from abuffer) "
+                     "into DIR, with manifest.json");
   render->add_option("--depth", a.depth,
                      "what --raw's depth.npy holds: window (window z, 1 = nothing), linear (depth "
                      "along the view axis) or distance (along the pixel's ray), in scene units, "

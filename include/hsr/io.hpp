@@ -74,10 +74,17 @@ enum class DepthKind { kWindow, kLinear, kDistance };
 DepthKind depthKindNamed(std::string_view name);  // "window", "linear", "distance"; else Error
 std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind kind);
 
-// As above, with depth.npy as `depth` says and manifest.json also holding the camera (as
-// cameraJson) and what depth.npy holds.
+// As above, for data users: depth.npy as `depth` says; objects.npy, uint32, the index into
+// `scene_data.objects` of the polygon shown (4294967295 where nothing was drawn), so one
+// object's mask is `objects == k`; and manifest.json also holding the camera (as cameraJson),
+// what depth.npy holds and the objects' table (objectsJson).
 void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
-                   const std::string& algorithm, const Camera& camera, DepthKind depth);
+                   const std::string& algorithm, const Scene& scene_data, const Camera& camera,
+                   DepthKind depth);
+
+// The scene's objects as a JSON array, in index order: name, first_polygon and polygons (the
+// object's polygon ids are first_polygon .. first_polygon + polygons - 1, as ids.npy holds).
+std::string objectsJson(const Scene& scene);
 
 // The camera as JSON: eye, target, up, fov_deg (or ortho_half_height), near, far, width,
 // height, the 4x4 view and projection matrices (row-major: rows of the matrix as written on
@@ -99,8 +106,9 @@ std::vector<std::uint8_t> overdrawPicture(const Frame& frame);  // heatmap
 std::vector<std::uint8_t> picture(const Frame& frame, std::string_view kind);  // by name
 
 std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm);
-// The same with the camera used (as cameraJson) under "camera".
+// The same with the camera used (as cameraJson) under "camera" and the objects' table
+// (objectsJson) under "objects".
 std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm,
-                      const Camera& camera);
+                      const Scene& scene_data, const Camera& camera);
 
 }  // namespace hsr

@@ -224,6 +224,13 @@ nlohmann::ordered_json cameraObject(const Camera& c) {
   return j;
 }
 
+nlohmann::ordered_json objectsArray(const Scene& scene) {
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (const Object& o : scene.objects)
+    a.push_back({{"name", o.name}, {"first_polygon", o.first_polygon}, {"polygons", o.polygon_count}});
+  return a;
+}
+
 const char* depthMeaning(DepthKind kind) {
   switch (kind) {
     case DepthKind::kWindow:
@@ -239,7 +246,8 @@ const char* depthMeaning(DepthKind kind) {
 }
 
 void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
-              const std::string& algorithm, const Camera* camera, DepthKind kind) {
+              const std::string& algorithm, const Scene* scene_data, const Camera* camera,
+              DepthKind kind) {
   const int w = frame.width, h = frame.height;
   const std::size_t n = pixelCount(w, h, dir);
   if (frame.depth.size() != n || frame.ids.size() != n || frame.overdraw.size() != n)
@@ -247,8 +255,17 @@ void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::s
   std::vector<float> converted;
   if (camera && kind != DepthKind::kWindow) converted = depthAs(frame, *camera, kind);
   const float* depth = converted.empty() ? frame.depth.data() : converted.data();
-  OutputDirectory out(dir, {"depth.npy", "ids.npy", "overdraw.npy", "coverage.npy"});
+  std::vector<std::uint32_t> objects;
+  if (scene_data) {
+    objects.assign(n, kNoPolygon);
+    for (std::size_t k = 0; k < n; ++k)
+      if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene_data->polygonCount())
+        objects[k] = scene_data->object(frame.ids[k]);
+  }
+  OutputDirectory out(dir, {"depth.npy", "ids.npy", "objects.npy", "overdraw.npy", "coverage.npy"});
   out.write("depth.npy", {npyHeader(w, h, "<f4"), npyData(w, h, depth, dir)});
+  if (scene_data)
+    out.write("objects.npy", {npyHeader(w, h, "<u4"), npyData(w, h, objects.data(), dir)});
   out.write("ids.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.ids.data(), dir)});
   out.write("overdraw.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.overdraw.data(), dir)});
   const bool coverage = frame.coverage.size() == n;
@@ -267,6 +284,10 @@ void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::s
                : "uint32 fragments written at the pixel (passed the depth test)";
   if (coverage)
     about["coverage.npy"] = "float32 fraction of the pixel's samples covered by opaque polygons";
+  if (scene_data) {
+    about["objects.npy"] = "uint32 object index (the table below), 4294967295 where nothing was drawn";
+    about["objects"] = objectsArray(*scene_data);
+  }
   if (camera) about["camera"] = cameraObject(*camera);
   out.commit(about.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
 }
@@ -316,12 +337,18 @@ std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind k
 
 void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
                    const std::string& algorithm) {
-  writeRaw(dir, frame, scene, algorithm, nullptr, DepthKind::kWindow);
+  writeRaw(dir, frame, scene, algorithm, nullptr, nullptr, DepthKind::kWindow);
 }
 
 void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
-                   const std::string& algorithm, const Camera& camera, DepthKind depth) {
-  writeRaw(dir, frame, scene, algorithm, &camera, depth);
+                   const std::string& algorithm, const Scene& scene_data, const Camera& camera,
+                   DepthKind depth) {
+  writeRaw(dir, frame, scene, algorithm, &scene_data, &camera, depth);
+}
+
+std::string objectsJson(const Scene& scene) {
+  return objectsArray(scene).dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) +
+         "\n";
 }
 
 std::string cameraJson(const Camera& camera) { return cameraObject(camera).dump(2) + "\n"; }
@@ -415,7 +442,8 @@ std::vector<std::uint8_t> picture(const Frame& frame, std::string_view kind) {
 
 namespace {
 std::string statsJsonWith(const Frame& frame, const std::string& scene,
-                          const std::string& algorithm, const Camera* camera) {
+                          const std::string& algorithm, const Scene* scene_data,
+                          const Camera* camera) {
   const Stats& s = frame.stats;
   nlohmann::ordered_json j;
   j["scene"] = scene;
@@ -431,18 +459,19 @@ std::string statsJsonWith(const Frame& frame, const std::string& scene,
   j["stages"] = std::move(stages);
   j["total_ms"] = s.totalMs();
   if (camera) j["camera"] = cameraObject(*camera);
+  if (scene_data) j["objects"] = objectsArray(*scene_data);
   // A scene named by a file path need not be UTF-8: replace what is not, never throw
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 }  // namespace
 
 std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm) {
-  return statsJsonWith(frame, scene, algorithm, nullptr);
+  return statsJsonWith(frame, scene, algorithm, nullptr, nullptr);
 }
 
 std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm,
-                      const Camera& camera) {
-  return statsJsonWith(frame, scene, algorithm, &camera);
+                      const Scene& scene_data, const Camera& camera) {
+  return statsJsonWith(frame, scene, algorithm, &scene_data, &camera);
 }
 
 }  // namespace hsr
