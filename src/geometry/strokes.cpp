@@ -215,9 +215,12 @@ void order(std::vector<Stroke>& strokes) {
   int n = 0;
   dvec2 lo(0.0), size(1.0);
   std::vector<std::vector<std::uint32_t>> cells;  // 2 stroke + end
+  // Clamped before the conversion: the pen may stand far outside the ends left, and with them
+  // all on one line `size` is tiny, so the quotient can pass any int
   auto cellOf = [&](dvec2 q) {
-    const int cx = std::clamp(static_cast<int>((q.x - lo.x) / size.x * n), 0, n - 1);
-    const int cy = std::clamp(static_cast<int>((q.y - lo.y) / size.y * n), 0, n - 1);
+    const double top = static_cast<double>(n - 1);
+    const int cx = static_cast<int>(std::clamp(std::floor((q.x - lo.x) / size.x * n), 0.0, top));
+    const int cy = static_cast<int>(std::clamp(std::floor((q.y - lo.y) / size.y * n), 0.0, top));
     return std::pair{cx, cy};
   };
   std::size_t built_for = 0;

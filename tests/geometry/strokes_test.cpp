@@ -172,5 +172,19 @@ TEST(Strokes, OrderingShortensPenUpTravelOnAGrid) {
   EXPECT_GT(m.first_stats.pen_up_unordered, 2 * m.first_stats.pen_up);
 }
 
+// The ends left after half the strokes are drawn lie on one line far from the pen: the grid
+// made again for them is one cell high, and the pen's cell must be found without passing
+// int's range (UBSan caught a float-to-int overflow here).
+TEST(Strokes, OrderingWhenTheEndsLeftLieOnOneLine) {
+  std::vector<StrokeSegment> segs;
+  for (int i = 0; i < 6; ++i) segs.push_back({{i * 2.0, -5000.0}, {i * 2.0, -4990.0}, 0});
+  for (int i = 0; i < 5; ++i) segs.push_back({{i * 10.0, 0.0}, {i * 10.0 + 3.0, 0.0}, 0});
+  const Merged m = merge(segs);
+  EXPECT_EQ(m.first.size(), 11u);
+  EXPECT_NEAR(m.first_stats.length, 6 * 10.0 + 5 * 3.0, 1e-9);
+  EXPECT_TRUE(std::isfinite(m.first_stats.pen_up));
+  EXPECT_NEAR(penUpTravel(m.first), m.first_stats.pen_up, 1e-9);
+}
+
 }  // namespace
 }  // namespace hsr::detail
