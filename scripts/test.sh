@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Install, build and pass every test: the Release suite (SIMD span path), the same suite under
 # ASan+UBSan built with HSR_NO_SIMD (the scalar span path), then every libFuzzer target for
-# HSR_FUZZ_SECONDS (default 5; 60 before the ray caster's suites lengthened the sanitizer leg, 30 before
+# HSR_FUZZ_SECONDS (default 3; 60 before the ray caster's suites lengthened the sanitizer leg, 30 before
 # the A-buffer's, 20 before CI neared 45 minutes, 15 before Roberts joined every suite, 10 before
-# the hidden-line drawings' sources and tests) each.
+# the hidden-line drawings' sources and tests, 5 before Open CASCADE's peer and the line drawings'
+# race joined the builds) each.
 # HSR_TEST_INTENSITY: 1 (default, CI) or 3 for long local runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,5 +20,5 @@ scripts/build.sh build-asan -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON -DHSR_BUILD_B
 # Mesa's own allocations are not ours to track: leak checking stays off for the oracle.
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2
-echo "== libFuzzer: ${HSR_FUZZ_SECONDS:-5} s per target from the committed corpus =="
-scripts/fuzz.sh "${HSR_FUZZ_SECONDS:-5}"
+echo "== libFuzzer: ${HSR_FUZZ_SECONDS:-3} s per target from the committed corpus =="
+scripts/fuzz.sh "${HSR_FUZZ_SECONDS:-3}"
