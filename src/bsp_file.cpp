@@ -121,9 +121,10 @@ void writeScene(Writer& w, const Scene& s) {
   for (const Material& m : s.materials) {
     w.f32(m.color.r), w.f32(m.color.g), w.f32(m.color.b), w.f32(m.alpha);
   }
-  w.u8(s.camera ? 1 : 0);
-  if (s.camera) {
-    const SceneCamera& c = *s.camera;
+  // The file keeps the scene's first camera, the one that frames it by default
+  w.u8(s.cameras.empty() ? 0 : 1);
+  if (!s.cameras.empty()) {
+    const SceneCamera& c = s.cameras.front();
     for (const glm::vec3& v : {c.eye, c.target, c.up}) w.f32(v.x), w.f32(v.y), w.f32(v.z);
     w.f32(c.fov_deg), w.u8(c.ortho ? 1 : 0), w.f32(c.ortho_half_height), w.f32(c.near), w.f32(c.far);
   }
@@ -160,7 +161,7 @@ Scene readScene(Reader& r) {
     SceneCamera c;
     for (glm::vec3* v : {&c.eye, &c.target, &c.up}) v->x = r.f32(), v->y = r.f32(), v->z = r.f32();
     c.fov_deg = r.f32(), c.ortho = r.u8() != 0, c.ortho_half_height = r.f32(), c.near = r.f32(), c.far = r.f32();
-    s.camera = c;
+    s.cameras.push_back(c);
   }
   const std::uint32_t objects = r.count(12, "objects");
   std::vector<std::uint32_t> local;

@@ -14,6 +14,8 @@
 
 #include <sys/wait.h>
 
+#include <nlohmann/json.hpp>
+
 #include "hsr/compare.hpp"
 #include "hsr/io.hpp"
 #include "test_util.hpp"
@@ -29,11 +31,11 @@ struct CliRun {
   std::string out;
 };
 
-CliRun runCli(const std::string& args) {
+CliRun runCli(const std::string& args, const fs::path& cwd = {}) {
   const ScratchDir scratch("hsr_cli_stderr");
   const fs::path err = scratch / "stderr.txt";
-  const std::string cmd = "timeout 60 " + std::string(HSR_CLI_PATH) + " " + args + " 2>" +
-                          err.string();
+  const std::string cmd = (cwd.empty() ? "" : "cd '" + cwd.string() + "' && ") + "timeout 60 " +
+                          std::string(HSR_CLI_PATH) + " " + args + " 2>" + err.string();
   CliRun r;
   FILE* p = popen(cmd.c_str(), "r");
   std::array<char, 4096> buf;
@@ -262,6 +264,110 @@ TEST(Cli, RawDepthInSceneUnitsAndTheCameraUsed) {
   expectCleanError("render solids --output none,color -q", "none");
   expectCleanError("render solids --depth meters --raw " + (d / "raw2").string(), "depth");
   expectCleanError("render solids --depth linear -o " + png, "--raw");
+}
+
+// The view fed back in: --camera reproduces a run from its --stats or manifest.json; a
+// calibrated camera (--intrinsics, --pose) in OpenCV's and OpenGL's conventions; and the
+// conflicts and malformed files refused with one line.
+TEST(Cli, CamerasInReproduceTheView) {
+  const ScratchDir d("hsr_cli_camera_in");
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  auto spit = [](const fs::path& p, const std::string& text) { std::ofstream(p) << text; };
+  const std::string a = (d / "a.png").string(), b = (d / "b.png").string(), stats = (d / "s.json").string();
+  ASSERT_EQ(runCli("render solids --size 160x120 --eye 3,4,9 --fov 30 -q -o " + a + " --stats " + stats).code, 0);
+  const CliRun again = runCli("render solids --camera " + stats + " -q -o " + b);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_EQ(slurp(a), slurp(b)) << "the same view from the camera it wrote";
+  // A manifest.json holds the same camera; --size on a camera without intrinsics is allowed
+  const std::string raw = (d / "raw").string();
+  ASSERT_EQ(runCli("render solids --camera " + stats + " -q --output none --raw " + raw).code, 0);
+  const CliRun from_manifest = runCli("render solids --camera " + (fs::path(raw) / "manifest.json").string() +
+                                      " --size 80x60 -q -o " + b);
+  ASSERT_EQ(from_manifest.code, 0) << from_manifest.err;
+  // Intrinsics and a pose: the eye at (0, 0, 9) looking at the origin, as OpenCV and as OpenGL
+  // write it (OpenCV's y and z axes are OpenGL's turned), give the same picture
+  const fs::path cv = d / "pose_cv.txt", gl = d / "pose_gl.txt";
+  spit(cv, "1 0 0 0\n0 -1 0 0\n0 0 -1 9\n0 0 0 1\n");
+  spit(gl, "[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 9], [0, 0, 0, 1]]");
+  const std::string c1 = (d / "c1.png").string(), c2 = (d / "c2.png").string(), c3 = (d / "c3.png").string();
+  const CliRun r1 = runCli("render solids --size 160x120 --intrinsics 150,140,70.5,66 --pose " + cv.string() +
+                           " -o " + c1 + " --stats " + stats);
+  ASSERT_EQ(r1.code, 0) << r1.err;
+  EXPECT_NE(r1.out.find("fx 150.000 fy 140.000 cx 70.5 cy 66"), std::string::npos) << r1.out;
+  const CliRun r2 = runCli("render solids --size 160x120 --intrinsics 150,140,70.5,66 --pose " + gl.string() +
+                           " --pose-convention opengl -q -o " + c2);
+  ASSERT_EQ(r2.code, 0) << r2.err;
+  EXPECT_EQ(slurp(c1), slurp(c2));
+  EXPECT_NE(slurp(stats).find("\"projection_from\": \"intrinsics\""), std::string::npos);
+  ASSERT_EQ(runCli("render solids --camera " + stats + " -q -o " + c3).code, 0);
+  EXPECT_EQ(slurp(c1), slurp(c3)) << "a calibrated camera read back";
+  expectCleanError("render solids --camera " + stats + " --size 320x240", "intrinsics are for 160x120");
+  expectCleanError("render solids --camera " + stats + " --eye 1,2,3", "--eye and --camera");
+  expectCleanError("render solids --intrinsics 150,140,70 -q", "fx,fy,cx,cy");
+  expectCleanError("render solids --intrinsics 150,140,70,60 --fov 30 -q", "--fov and --intrinsics");
+  expectCleanError("render solids --intrinsics 0,140,70,60 -q", "focal lengths");
+  expectCleanError("render solids --intrinsics 150,140,70,60 --ortho -q", "pinhole");
+  spit(d / "scaled.txt", "2 0 0 0\n0 -1 0 0\n0 0 -1 9\n0 0 0 1\n");
+  expectCleanError("render solids --pose " + (d / "scaled.txt").string() + " -q", "not a rotation");
+  spit(d / "short.txt", "1 0 0 0 0 1");
+  expectCleanError("render solids --pose " + (d / "short.txt").string() + " -q", "6 numbers");
+  expectCleanError("render solids --pose " + (d / "none.txt").string() + " -q", "no such file");
+  expectCleanError("render solids --pose " + cv.string() + " --pose-convention colmap -q", "opencv or opengl");
+  spit(d / "bad.json", "{\"eye\": [0, 0, 5]}");
+  expectCleanError("render solids --camera " + (d / "bad.json").string() + " -q", "\"width\" is missing");
+  expectCleanError("render solids --camera-index two -q", "--camera-index");
+  expectCleanError("render solids --camera-index 2 -q", "has 0 cameras");
+}
+
+// Many views from one import: --orbit N and --views FILE (a list of cameras as --stats writes
+// them) give numbered outputs, each view the picture a single run of that camera gives.
+TEST(Cli, ManyViewsFromOneImport) {
+  const ScratchDir d("hsr_cli_views");
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string out = (d / "o.png").string(), raw = (d / "raw").string(), stats = (d / "s.json").string();
+  const CliRun orbit = runCli("render solids --size 96x72 --algorithm bsp --orbit 3 -o " + out + " --raw " + raw +
+                              " --stats " + stats);
+  ASSERT_EQ(orbit.code, 0) << orbit.err;
+  EXPECT_NE(orbit.out.find("3 views"), std::string::npos) << orbit.out;
+  for (const char* n : {"o-0000.png", "o-0001.png", "o-0002.png"}) EXPECT_TRUE(fs::exists(d / n)) << n;
+  EXPECT_FALSE(fs::exists(d / "o-0003.png"));
+  for (const char* n : {"0000", "0001", "0002"}) EXPECT_TRUE(fs::exists(fs::path(raw) / n / "ids.npy")) << n;
+  // The stats hold every view's camera: fed back as --views, the same pictures
+  const nlohmann::json s = nlohmann::json::parse(slurp(stats));
+  ASSERT_EQ(s.at("views").size(), 3u);
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& v : s.at("views")) list.push_back(v.at("camera"));
+  std::ofstream(d / "views.json") << list.dump();
+  const std::string again = (d / "v.png").string();
+  const CliRun views = runCli("render solids --views " + (d / "views.json").string() + " -q -o " + again);
+  ASSERT_EQ(views.code, 0) << views.err;
+  for (const char* k : {"0000", "0001", "0002"})
+    EXPECT_EQ(slurp(d / ("o-" + std::string(k) + ".png")), slurp(d / ("v-" + std::string(k) + ".png"))) << k;
+  // View 1 of the orbit is the picture its camera gives alone (the algorithm's tree reused)
+  std::ofstream(d / "one.json") << list.at(1).dump();
+  const std::string one = (d / "one.png").string();
+  ASSERT_EQ(runCli("render solids --algorithm bsp --camera " + (d / "one.json").string() + " -q -o " + one).code, 0);
+  EXPECT_EQ(slurp(one), slurp(d / "o-0001.png"));
+  expectCleanError("render solids --views " + (d / "views.json").string() + " --eye 1,2,3", "--eye and --views");
+  expectCleanError("render solids --views " + (d / "views.json").string() + " --orbit 2", "give one");
+  expectCleanError("render solids --orbit 0", "--orbit must be");
+  std::ofstream(d / "empty.json") << "[]";
+  expectCleanError("render solids --views " + (d / "empty.json").string(), "empty");
+}
+
+// A single picture other than colour, with no name given, says what it is in its name.
+TEST(Cli, ASingleNonColourPictureHasItsKindInItsName) {
+  const ScratchDir d("hsr_cli_single_kind");
+  const CliRun r = runCli("render demo --size 32x24 --output depth", d.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / "out" / "demo-depth.png")) << r.out;
+  EXPECT_FALSE(fs::exists(d / "out" / "demo.png"));
 }
 
 TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {

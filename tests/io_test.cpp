@@ -348,15 +348,15 @@ TEST(MeshImport, AppliesNodeTransformsInNodeOrder) {
   EXPECT_EQ(s.position(p1[0]), glm::vec3(10, 5, 0));
   EXPECT_EQ(s.position(p1[2]), glm::vec3(10, 6, 0));
   // The camera: at its node's origin, looking down its -Z, vertical fov as written
-  ASSERT_TRUE(s.camera.has_value());
-  EXPECT_EQ(s.camera->eye, glm::vec3(10, 0, 10));
-  EXPECT_EQ(s.camera->target, glm::vec3(10, 0, 9));
-  EXPECT_EQ(s.camera->up, glm::vec3(0, 1, 0));
-  EXPECT_NEAR(s.camera->fov_deg, 0.5 * 180.0 / 3.14159265358979, 1e-3);
-  EXPECT_FLOAT_EQ(s.camera->near, 0.5f);
-  EXPECT_LE(s.camera->far, 50.0f);
-  EXPECT_GT(s.camera->far, 11.0f);  // still reaches the whole scene
-  EXPECT_FALSE(s.camera->ortho);
+  ASSERT_EQ(s.cameras.size(), 1u);
+  EXPECT_EQ(s.cameras[0].eye, glm::vec3(10, 0, 10));
+  EXPECT_EQ(s.cameras[0].target, glm::vec3(10, 0, 9));
+  EXPECT_EQ(s.cameras[0].up, glm::vec3(0, 1, 0));
+  EXPECT_NEAR(s.cameras[0].fov_deg, 0.5 * 180.0 / 3.14159265358979, 1e-3);
+  EXPECT_FLOAT_EQ(s.cameras[0].near, 0.5f);
+  EXPECT_LE(s.cameras[0].far, 50.0f);
+  EXPECT_GT(s.cameras[0].far, 11.0f);  // still reaches the whole scene
+  EXPECT_FALSE(s.cameras[0].ortho);
 }
 
 // Hostile or broken input: a clean hsr::Error, or (where assimp makes sense of it) a

@@ -6,7 +6,11 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
@@ -14,6 +18,9 @@
 #include "hsr/error.hpp"
 
 namespace hsr::cli {
+
+namespace fs = std::filesystem;
+
 namespace {
 
 // A whole string as one float (nan and inf parse; the camera check refuses them).
@@ -65,7 +72,8 @@ void checkFrameable(const Args& a, const hsr::Scene& scene) {
     throw hsr::Error(fmt::format("{}: coordinates reach {:.3g}, beyond the +-1e18 within which "
                                  "the camera's float arithmetic works; scale the model",
                                  a.scene, reach));
-  if (b.lo == b.hi && !scene.camera && (a.eye.empty() || a.target.empty()))
+  if (b.lo == b.hi && scene.cameras.empty() && a.camera_file.empty() && a.pose_file.empty() &&
+      (a.eye.empty() || a.target.empty()))
     throw hsr::Error(fmt::format("{}: every vertex lies at the same point ({:g}, {:g}, {:g}): "
                                  "there is nothing with an extent to frame, or an area to draw",
                                  a.scene, b.lo.x, b.lo.y, b.lo.z));
@@ -73,32 +81,124 @@ void checkFrameable(const Args& a, const hsr::Scene& scene) {
 
 }  // namespace
 
+std::string readUserFile(const std::string& path, const char* option, std::uintmax_t limit) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw hsr::Error(fmt::format("{} {}: no such file", option, path));
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (ec || bytes > limit)
+    throw hsr::Error(fmt::format("{} {}: {} (the limit is {} MiB)", option, path,
+                                 ec ? "cannot read its size" : "too large", limit >> 20));
+  std::ifstream in(path, std::ios::binary);
+  std::string text(static_cast<std::size_t>(bytes), '\0');
+  if (!in.read(text.data(), static_cast<std::streamsize>(text.size())))
+    throw hsr::Error(fmt::format("{} {}: cannot be read", option, path));
+  return text;
+}
+
+namespace {
+
+hsr::Intrinsics parseIntrinsics(const std::string& s) {
+  std::vector<double> v;
+  std::size_t at = 0;
+  while (at <= s.size()) {
+    const std::size_t comma = std::min(s.find(',', at), s.size());
+    const std::string part = s.substr(at, comma - at);
+    char* end = nullptr;
+    const double d = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(d))
+      throw hsr::Error(fmt::format("--intrinsics must be fx,fy,cx,cy in pixels (got '{}')", s));
+    v.push_back(d);
+    at = comma + 1;
+  }
+  if (v.size() != 4) throw hsr::Error(fmt::format("--intrinsics must be fx,fy,cx,cy in pixels (got '{}')", s));
+  return {v[0], v[1], v[2], v[3]};
+}
+
+// Which of the scene file's cameras frames it: an index, or -1 for none (auto-framing)
+int cameraIndex(const Args& a, const hsr::Scene& scene) {
+  if (a.camera_index == "auto") return -1;
+  char* end = nullptr;
+  const long n = std::strtol(a.camera_index.c_str(), &end, 10);
+  if (a.camera_index.empty() || end != a.camera_index.c_str() + a.camera_index.size() || n < 0)
+    throw hsr::Error(fmt::format("--camera-index must be a camera's number from 0, or auto (got '{}')",
+                                 a.camera_index));
+  if (n > 0 && static_cast<std::size_t>(n) >= scene.cameras.size())
+    throw hsr::Error(fmt::format("--camera-index {}: {} has {} camera{}", n, a.scene,
+                                 scene.cameras.size(), scene.cameras.size() == 1 ? "" : "s"));
+  return static_cast<int>(n);
+}
+
+hsr::Camera cameraFromFile(const Args& a) {
+  for (const auto& [given, name] : {std::pair{!a.eye.empty(), "--eye"}, {!a.target.empty(), "--target"},
+                                    {!a.up.empty(), "--up"}, {!a.fov.empty(), "--fov"},
+                                    {a.ortho, "--ortho"}, {!a.intrinsics.empty(), "--intrinsics"},
+                                    {!a.pose_file.empty(), "--pose"}, {a.camera_index != "0", "--camera-index"}})
+    if (given) throw hsr::Error(fmt::format("{} and --camera both set the view: give one", name));
+  hsr::Camera cam;
+  try {
+    cam = hsr::cameraFromJson(readUserFile(a.camera_file, "--camera", 16u << 20));
+  } catch (const hsr::Error& e) {
+    throw hsr::Error(fmt::format("--camera {}: {}", a.camera_file, e.what()));
+  }
+  if (!a.size.empty()) {
+    int w = 0, h = 0;
+    parseSize(a.size, &w, &h);
+    if ((w != cam.width || h != cam.height) && cam.intrinsics.given())
+      throw hsr::Error(fmt::format("--size {}: the camera's intrinsics are for {}x{} pixels",
+                                   a.size, cam.width, cam.height));
+    cam.width = w;
+    cam.height = h;
+  }
+  return cam;
+}
+
+}  // namespace
+
 hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene) {
-  int w = 0, h = 0;
-  parseSize(a.size, &w, &h);
   checkFrameable(a, scene);
-  const bool fov_given = !a.fov.empty();
-  const float fov = fov_given ? parseFloat(a.fov, "--fov") : 45.0f;
-  if (!(fov > 0.0f && fov < 180.0f))
-    throw hsr::Error(fmt::format("--fov must be in (0, 180) degrees (got {})", a.fov));
-  hsr::Camera cam = scene.camera ? hsr::frameScene(scene, w, h)
-                                 : hsr::frameBounds(scene.bounds(), w, h,
-                                                    fov, a.ortho);
-  cam.width = w;
-  cam.height = h;
-  if (fov_given) cam.fov_deg = fov;
-  if (a.ortho) cam.ortho = true;
-  if (!a.eye.empty()) cam.eye = parseVec3(a.eye, "--eye");
-  if (!a.target.empty()) cam.target = parseVec3(a.target, "--target");
-  if (!a.up.empty()) cam.up = parseVec3(a.up, "--up");
-  if (!a.eye.empty() || !a.target.empty()) {
-    // Refit near/far (and the orthographic extent) around the scene for the new view.
-    const hsr::Bounds b = scene.bounds();
-    const float dist = glm::length(b.center() - cam.eye);
-    const float r = b.radius();
-    cam.near = std::max(dist - 1.5f * r, std::max(dist, r) * 1e-3f);
-    cam.far = dist + 1.5f * r;
-    cam.ortho_half_height = std::max(r, 1e-6f) * 1.05f;
+  const hsr::Bounds b = scene.bounds();
+  hsr::Camera cam;
+  if (!a.camera_file.empty()) {
+    cam = cameraFromFile(a);
+  } else {
+    int w = 800, h = 600;
+    if (!a.size.empty()) parseSize(a.size, &w, &h);
+    const bool fov_given = !a.fov.empty();
+    const float fov = fov_given ? parseFloat(a.fov, "--fov") : 45.0f;
+    if (!(fov > 0.0f && fov < 180.0f))
+      throw hsr::Error(fmt::format("--fov must be in (0, 180) degrees (got {})", a.fov));
+    const int index = cameraIndex(a, scene);
+    const bool file_camera = index >= 0 && static_cast<std::size_t>(index) < scene.cameras.size();
+    cam = file_camera ? hsr::fromSceneCamera(scene.cameras[index], b, w, h)
+                      : hsr::frameBounds(b, w, h, fov, a.ortho);
+    if (fov_given) cam.fov_deg = fov;
+    if (!a.intrinsics.empty()) {
+      if (fov_given) throw hsr::Error("--fov and --intrinsics both set the projection: give one");
+      if (a.ortho) throw hsr::Error("--intrinsics describe a pinhole camera: --ortho has none");
+      cam.intrinsics = parseIntrinsics(a.intrinsics);
+      cam.ortho = false;
+    }
+    bool moved = !a.eye.empty() || !a.target.empty();
+    if (!a.pose_file.empty()) {
+      if (!a.eye.empty() || !a.target.empty() || !a.up.empty())
+        throw hsr::Error("--pose and --eye, --target or --up all place the camera: give one");
+      try {
+        hsr::setPose(cam, hsr::poseFromText(readUserFile(a.pose_file, "--pose", 1u << 20)),
+                     hsr::poseConventionNamed(a.pose_convention));
+      } catch (const hsr::Error& e) {
+        throw hsr::Error(fmt::format("--pose {}: {}", a.pose_file, e.what()));
+      }
+      moved = true;
+    }
+    if (!a.eye.empty()) cam.eye = parseVec3(a.eye, "--eye");
+    if (!a.target.empty()) cam.target = parseVec3(a.target, "--target");
+    if (!a.up.empty()) cam.up = parseVec3(a.up, "--up");
+    // Near and far (and the orthographic extent) refitted around the scene for a new view
+    if (moved) hsr::fitNearFar(cam, b);
+    if (a.ortho) cam.ortho = true;
+    if (cam.ortho && (moved || (a.ortho && file_camera && !scene.cameras[index].ortho)))
+      cam.ortho_half_height = hsr::orthoHalfHeightFor(cam, b);
   }
   if (!a.near.empty()) cam.near = parseFloat(a.near, "--near");
   if (!a.far.empty()) cam.far = parseFloat(a.far, "--far");
@@ -145,7 +245,7 @@ void addBspBuildOptions(CLI::App* app, Args& a) {
 void addViewOptions(CLI::App* app, Args& a) {
   app->add_option("scene", a.scene, "mesh file (OBJ, PLY, STL, OFF, glTF, ...) or built-in scene")
       ->capture_default_str();
-  app->add_option("--size", a.size, "image size WxH")->capture_default_str();
+  app->add_option("--size", a.size, "image size WxH (default 800x600, or --camera's)");
   app->add_option("--eye", a.eye, "camera position X,Y,Z (gluLookAt eye)");
   app->add_option("--target", a.target, "point looked at X,Y,Z");
   app->add_option("--up", a.up, "up vector X,Y,Z");
@@ -153,6 +253,20 @@ void addViewOptions(CLI::App* app, Args& a) {
   app->add_flag("--ortho", a.ortho, "orthographic projection");
   app->add_option("--near", a.near, "near plane distance (> 0; default: fitted to the scene)");
   app->add_option("--far", a.far, "far plane distance (> near; default: fitted)");
+  app->add_option("--camera", a.camera_file,
+                  "the view from a camera JSON file, as --stats or --raw's manifest.json write it");
+  app->add_option("--camera-index", a.camera_index,
+                  "which of the model file's cameras (glTF) frames it: N, or auto to ignore them")
+      ->capture_default_str();
+  app->add_option("--intrinsics", a.intrinsics,
+                  "pinhole intrinsics fx,fy,cx,cy in pixels (OpenCV: pixel centres at integers, "
+                  "(0,0) the top-left pixel's centre)");
+  app->add_option("--pose", a.pose_file,
+                  "file with the camera's pose: 4x4 (or 3x4) camera-to-world matrix, row by row");
+  app->add_option("--pose-convention", a.pose_convention,
+                  "the pose's camera axes: opencv (x right, y down, z forward) | opengl "
+                  "(x right, y up, looking down -z)")
+      ->capture_default_str();
   app->add_option("--cull", a.cull, "back-face culling: none|back|front|both")->capture_default_str();
   app->add_option("--front-face", a.front_face, "front-face winding: ccw|cw")->capture_default_str();
   app->add_option("--facing", a.facing,

@@ -18,11 +18,16 @@ namespace hsr::cli {
 // The parsed command line (strings are converted by makeCamera / makeOptions).
 struct Args {
   std::string scene = "demo";
-  std::string size = "800x600";
+  std::string size;  // empty: 800x600, or the --camera file's size
   std::string eye, target, up;
   std::string fov;  // empty: 45, or the scene file's camera
   bool ortho = false;
   std::string near, far;  // empty: fitted to the scene
+  std::string camera_file;           // --camera FILE.json: the whole view, as --stats writes it
+  std::string camera_index = "0";    // the scene file's camera: N, or auto (none: auto-framed)
+  std::string intrinsics;            // fx,fy,cx,cy (OpenCV convention, pixels)
+  std::string pose_file;             // camera to world, 4x4
+  std::string pose_convention = "opencv";
   std::string cull = "none", front_face = "ccw", polygon_mode = "fill", depth_func = "less";
   std::string facing = "window";
   bool no_depth_test = false, no_depth_mask = false, outline = false, flat = false;
@@ -31,10 +36,13 @@ struct Args {
   std::string output_file;
   std::string raw_dir, stats_file, sheet_file;
   std::string depth = "window";  // what --raw's depth.npy holds: window, linear, distance
+  std::string normals;           // --raw's normals.npy: world or eye; empty: none
   int threads = 0;
   int samples = 0;                 // 0: the algorithm's default
   double fragment_memory_mib = 2048;
   int views = 1;  // hsr compare --views
+  std::string views_file;  // hsr render --views FILE.json
+  int orbit = 0;           // hsr render --orbit N
   std::string bsp_splitter = "balanced";
   std::uint64_t bsp_seed = 1;
   int bsp_candidates = 8;
@@ -48,6 +56,10 @@ void addViewOptions(CLI::App* app, Args& a);
 // The camera the arguments describe for SCENE (fitted to it where not given); throws
 // hsr::Error with one line for malformed or inconsistent values.
 hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene);
+
+// A small text file the user named (a camera, a pose, a list of views), whole; Error when it
+// cannot be read or passes `limit` bytes.
+std::string readUserFile(const std::string& path, const char* option, std::uintmax_t limit);
 
 // What a model file may read and spend (the import's limits).
 hsr::ImportLimits importLimits(const Args& a);

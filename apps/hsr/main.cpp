@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <glm/vector_relational.hpp>
 #include <fmt/core.h>
@@ -49,8 +51,41 @@ using hsr::cli::warnIfUnresolved;
 // Which options were given on the command line (an empty value differs from none).
 struct Given {
   bool output_file = false, raw = false, stats = false, sheet = false, explain_dir = false;
-  bool depth = false;
+  bool depth = false, views_file = false, orbit = false;
 };
+
+// The views of one run: one camera from the arguments, N on an orbit around it, or a list read
+// from --views (read before the scene, so that every output can be named first).
+struct ViewPlan {
+  std::vector<hsr::Camera> listed;  // from --views
+  int count = 1;
+  bool many = false;  // numbered outputs
+};
+
+ViewPlan planViews(const Args& a, const Given& given) {
+  ViewPlan v;
+  if (given.views_file && given.orbit) throw hsr::Error("--views and --orbit both give the views: give one");
+  if (given.views_file) {
+    for (const auto& [set, name] : {std::pair{!a.eye.empty(), "--eye"}, {!a.target.empty(), "--target"},
+                                    {!a.up.empty(), "--up"}, {!a.fov.empty(), "--fov"}, {a.ortho, "--ortho"},
+                                    {!a.size.empty(), "--size"}, {!a.camera_file.empty(), "--camera"},
+                                    {!a.intrinsics.empty(), "--intrinsics"}, {!a.pose_file.empty(), "--pose"},
+                                    {!a.near.empty(), "--near"}, {!a.far.empty(), "--far"}})
+      if (set) throw hsr::Error(fmt::format("{} and --views both set the view: each view of the file is whole", name));
+    try {
+      v.listed = hsr::camerasFromJson(hsr::cli::readUserFile(a.views_file, "--views", 256u << 20));
+    } catch (const hsr::Error& e) {
+      throw hsr::Error(fmt::format("--views {}: {}", a.views_file, e.what()));
+    }
+    v.count = static_cast<int>(v.listed.size());
+    v.many = true;
+  } else if (given.orbit) {
+    if (a.orbit < 1 || a.orbit > 100000) throw hsr::Error(fmt::format("--orbit must be 1 to 100000 views (got {})", a.orbit));
+    v.count = a.orbit;
+    v.many = true;
+  }
+  return v;
+}
 
 int runRender(const Args& a, const Given& given) {
   std::vector<std::string> kinds = splitList(a.outputs);
@@ -63,53 +98,107 @@ int runRender(const Args& a, const Given& given) {
   for (const std::string& k : kinds)
     if (k != "color" && k != "depth" && k != "ids" && k != "overdraw")
       throw hsr::Error(fmt::format("unknown output '{}' (color, depth, ids, overdraw, or none)", k));
-  // Every output is named and checked before the scene is loaded
+  const hsr::DepthKind depth = hsr::depthKindNamed(a.depth);
+  if (given.depth && !given.raw)
+    throw hsr::Error("--depth says what --raw DIR/depth.npy holds: give --raw");
+  const hsr::NormalSpace normals =
+      a.normals.empty() ? hsr::NormalSpace::kNone : hsr::normalSpaceNamed(a.normals);
+  if (!a.normals.empty() && !given.raw)
+    throw hsr::Error("--normals adds DIR/normals.npy to --raw: give --raw");
+  const ViewPlan views = planViews(a, given);
+
+  // Every output is named and checked before the scene is loaded: FILE.png, or FILE-KIND.png
+  // for several pictures (and a single one other than colour when no name is given), with
+  // -NNNN before the kind for many views; --raw DIR, or DIR/NNNN/ for many views
   if (given.output_file && a.output_file.empty())
     throw hsr::Error("-o \"\": an empty path names no file");
   const fs::path base = a.output_file.empty() ? fs::path("out") / (sceneLabel(a.scene) + ".png")
                                               : fs::path(a.output_file);
-  std::vector<std::pair<std::string, fs::path>> pngs;
-  for (const std::string& k : kinds) {
+  const bool kind_suffix = kinds.size() > 1 || (kinds.size() == 1 && kinds[0] != "color" && !given.output_file);
+  auto viewTag = [&](int k) { return views.many ? fmt::format("-{:04d}", k) : std::string(); };
+  auto pngPath = [&](int k, const std::string& kind) {
     fs::path p = base;
-    if (kinds.size() > 1) p.replace_filename(base.stem().string() + "-" + k + ".png");
-    pngs.emplace_back(k, p);
-  }
-  const hsr::DepthKind depth = hsr::depthKindNamed(a.depth);
-  if (given.depth && !given.raw)
-    throw hsr::Error("--depth says what --raw DIR/depth.npy holds: give --raw");
+    p.replace_filename(base.stem().string() + viewTag(k) + (kind_suffix ? "-" + kind : "") +
+                       (base.has_extension() ? base.extension().string() : ".png"));
+    return p;
+  };
+  auto rawPath = [&](int k) {
+    return views.many ? fs::path(a.raw_dir) / fmt::format("{:04d}", k) : fs::path(a.raw_dir);
+  };
   OutputPlan plan(a.scene);
-  for (const auto& [kind, p] : pngs) plan.file("-o", p.string());
-  if (given.raw)
-    plan.directory("--raw", a.raw_dir,
-                   {"depth.npy", "ids.npy", "objects.npy", "overdraw.npy", "coverage.npy"});
+  for (int k = 0; k < views.count; ++k) {
+    for (const std::string& kind : kinds) plan.file("-o", pngPath(k, kind).string());
+    if (given.raw) plan.directory("--raw", rawPath(k).string(), hsr::kRawFiles);
+  }
   if (given.stats) plan.file("--stats", a.stats_file);
 
   const hsr::Scene scene = hsr::loadScene(a.scene, hsr::cli::importLimits(a));
-  const hsr::Camera cam = makeCamera(a, scene);
-  for (const auto& [kind, p] : pngs) hsr::checkPngSize(p, cam.width, cam.height, 3);
-  warnIfEyeInside(scene, cam);
-  warnIfDepthUnresolvable(cam);
-  const hsr::RenderOptions opt = makeOptions(a);
-  const hsr::Frame frame = hsr::render(scene, cam, opt);
-  warnIfUnresolved(frame, opt.algorithm);
-
-  std::vector<std::string> written;
-  for (const auto& [kind, p] : pngs) {
-    hsr::writePng(p, frame.width, frame.height, 3, hsr::picture(frame, kind).data());
-    written.push_back(p.string());
+  std::vector<hsr::Camera> cameras = views.listed;
+  if (cameras.empty()) {
+    const hsr::Camera cam = makeCamera(a, scene);
+    for (int k = 0; k < views.count; ++k) cameras.push_back(views.count > 1 ? hsr::orbitView(cam, k, views.count) : cam);
   }
-  if (given.raw) {
-    hsr::writeRawFrame(a.raw_dir, frame, a.scene, opt.algorithm, scene, cam, depth);
-    written.push_back((fs::path(a.raw_dir) / (frame.coverage.empty() ? "{depth,ids,objects,overdraw}.npy"
-                                                                      : "{depth,ids,objects,overdraw,coverage}.npy"))
-                          .string());
+  for (const hsr::Camera& cam : cameras)
+    for (const std::string& kind : kinds) hsr::checkPngSize(pngPath(0, kind), cam.width, cam.height, 3);
+  warnIfEyeInside(scene, cameras.front());
+  warnIfDepthUnresolvable(cameras.front());
+  const hsr::RenderOptions opt = makeOptions(a);
+
+  // One frame for every view: what an algorithm builds once (a BSP tree, an octree, a BVH)
+  // and its buffers are kept from view to view
+  hsr::Frame frame;
+  const bool progress = views.many && !a.quiet && ::isatty(STDERR_FILENO);
+  std::vector<std::string> written, stats;
+  double first_ms = 0, rest_ms = 0;
+  for (int k = 0; k < views.count; ++k) {
+    const hsr::Camera& cam = cameras[k];
+    hsr::render(scene, cam, opt, frame);
+    (k == 0 ? first_ms : rest_ms) += frame.stats.totalMs();
+    if (k == 0) warnIfUnresolved(frame, opt.algorithm);
+    for (const std::string& kind : kinds) {
+      const fs::path p = pngPath(k, kind);
+      hsr::writePng(p, frame.width, frame.height, 3, hsr::picture(frame, kind).data());
+      if (!views.many) written.push_back(p.string());
+    }
+    if (given.raw) {
+      hsr::writeRawFrame(rawPath(k), frame, a.scene, opt.algorithm, scene, cam, depth, normals);
+      if (!views.many) {
+        std::string names = "depth,ids,objects,materials";
+        if (normals != hsr::NormalSpace::kNone) names += ",normals";
+        names += frame.coverage.empty() ? ",overdraw" : ",overdraw,coverage";
+        written.push_back((fs::path(a.raw_dir) / ("{" + names + "}.npy")).string());
+      }
+    }
+    if (given.stats) stats.push_back(hsr::statsJson(frame, a.scene, opt.algorithm, scene, cam));
+    if (progress) fmt::print(stderr, "\r  view {}/{}", k + 1, views.count);
   }
   if (given.stats) {
-    hsr::writeFileAtomically(a.stats_file,
-                             {hsr::statsJson(frame, a.scene, opt.algorithm, scene, cam)});
+    std::string json;
+    if (!views.many) {
+      json = stats.front();
+    } else {
+      json = "{\"views\": [\n";
+      for (std::size_t k = 0; k < stats.size(); ++k) json += (k ? ",\n" : "") + stats[k];
+      json += "]}\n";
+    }
+    hsr::writeFileAtomically(a.stats_file, {json});
     written.push_back(a.stats_file);
   }
-  if (!a.quiet) printSummary(frame, a.scene, opt.algorithm, written, &cam);
+  if (a.quiet) return 0;
+  if (!views.many) {
+    printSummary(frame, a.scene, opt.algorithm, written, &cameras.front());
+    return 0;
+  }
+  if (progress) fmt::print(stderr, "\n");
+  fmt::print("hsr render {} --algorithm {}: {} views, {} polygons\n", a.scene, opt.algorithm, views.count,
+             scene.polygonCount());
+  fmt::print("  first view {:.2f} ms (with what the algorithm builds once){}\n", first_ms,
+             views.count > 1 ? fmt::format(", the other views {:.2f} ms each", rest_ms / (views.count - 1)) : "");
+  if (!kinds.empty())
+    fmt::print("  wrote {} ... {}\n", pngPath(0, kinds.front()).string(), pngPath(views.count - 1, kinds.back()).string());
+  if (given.raw)
+    fmt::print("  wrote {}/ ... {}/\n", rawPath(0).string(), rawPath(views.count - 1).string());
+  for (const std::string& w : written) fmt::print("  wrote {}\n", w);
   return 0;
 }
 
@@ -226,7 +315,15 @@ int main(int argc, char** argv) {
                      "along the view axis) or distance (along the pixel's ray), in scene units, "
                      "inf = nothing")
       ->capture_default_str();
+  render->add_option("--normals", a.normals,
+                     "add --raw's normals.npy: the polygon shown's unit normal, facing the eye, in "
+                     "world or eye space");
   render->add_option("--stats", a.stats_file, "write counts, stage times and the camera as JSON");
+  render->add_option("--views", a.views_file,
+                     "render every camera of a JSON list (as --stats writes them) from one import: "
+                     "numbered outputs FILE-NNNN.png, DIR/NNNN/");
+  render->add_option("--orbit", a.orbit,
+                     "render N views on a ring around the target from one import: numbered outputs");
   render->add_flag("-q,--quiet", a.quiet, "no summary");
   CLI::App* compare = app.add_subcommand("compare", "run every algorithm on SCENE and compare");
   addViewOptions(compare, a);
@@ -262,6 +359,8 @@ int main(int argc, char** argv) {
   given.raw = render->count("--raw") > 0;
   given.stats = render->count("--stats") > 0;
   given.depth = render->count("--depth") > 0;
+  given.views_file = render->count("--views") > 0;
+  given.orbit = render->count("--orbit") > 0;
   given.sheet = compare->count("--sheet") > 0;
   given.explain_dir = explain->count("-o") > 0;
 

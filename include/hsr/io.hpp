@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
+
 #include "hsr/camera.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
@@ -74,23 +76,51 @@ enum class DepthKind { kWindow, kLinear, kDistance };
 DepthKind depthKindNamed(std::string_view name);  // "window", "linear", "distance"; else Error
 std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind kind);
 
-// As above, for data users: depth.npy as `depth` says; objects.npy, uint32, the index into
-// `scene_data.objects` of the polygon shown (4294967295 where nothing was drawn), so one
-// object's mask is `objects == k`; and manifest.json also holding the camera (as cameraJson),
-// what depth.npy holds and the objects' table (objectsJson).
+// Per pixel, the object (index into scene.objects) and the material (index into
+// scene.materials) of the polygon shown; 4294967295 where nothing was drawn.
+std::vector<std::uint32_t> objectsAt(const Frame& frame, const Scene& scene);
+std::vector<std::uint32_t> materialsAt(const Frame& frame, const Scene& scene);
+// Per pixel, 3 floats: the unit normal of the polygon shown (Newell's, from its vertices),
+// turned to face the eye, in world or eye space (OpenGL's: x right, y up, looking down -z);
+// NaN where nothing was drawn.
+enum class NormalSpace { kNone, kWorld, kEye };
+NormalSpace normalSpaceNamed(std::string_view name);  // "world", "eye"; else Error
+std::vector<float> normalsAt(const Frame& frame, const Scene& scene, const Camera& camera,
+                             NormalSpace space);
+
+// As above, for data users: depth.npy as `depth` says; objects.npy and materials.npy (as
+// objectsAt, materialsAt), so one object's mask is `objects == k`; normals.npy (height x width
+// x 3) unless `normals` is kNone; and manifest.json also holding the camera (as cameraJson),
+// what each file holds and the objects' and materials' tables.
+inline const std::vector<std::string> kRawFiles = {"depth.npy",     "ids.npy",     "objects.npy",
+                                                   "materials.npy", "normals.npy", "overdraw.npy",
+                                                   "coverage.npy"};
 void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
                    const std::string& algorithm, const Scene& scene_data, const Camera& camera,
-                   DepthKind depth);
+                   DepthKind depth, NormalSpace normals = NormalSpace::kNone);
 
 // The scene's objects as a JSON array, in index order: name, first_polygon and polygons (the
 // object's polygon ids are first_polygon .. first_polygon + polygons - 1, as ids.npy holds).
 std::string objectsJson(const Scene& scene);
 
 // The camera as JSON: eye, target, up, fov_deg (or ortho_half_height), near, far, width,
-// height, the 4x4 view and projection matrices (row-major: rows of the matrix as written on
-// paper, acting on column vectors), and the pinhole intrinsics (Intrinsics, OpenCV's
-// convention; null for an orthographic camera).
+// height, the 4x4 view and projection matrices and the camera's pose (camera to world) in
+// OpenCV's and OpenGL's conventions (row-major: rows of the matrix as written on paper, acting
+// on column vectors), and the pinhole intrinsics (Intrinsics, OpenCV's convention; null for
+// an orthographic camera). "projection_from" says which of fov_deg, intrinsics and
+// ortho_half_height the projection is made from.
 std::string cameraJson(const Camera& camera);
+// A camera read back from that JSON (or from a manifest.json or --stats file, whose "camera"
+// it is): eye, target and up (or a pose_opencv / pose_opengl matrix), projection_kind,
+// fov_deg, intrinsics or ortho_half_height, near, far, width, height. The same pixels as the
+// run that wrote it. Throws hsr::Error naming the missing or malformed field.
+Camera cameraFromJson(std::string_view text);
+// Many views: a JSON array of cameras (or {"views": [...]}); a single camera is one view.
+inline constexpr std::size_t kMaxViews = 100000;
+std::vector<Camera> camerasFromJson(std::string_view text);
+// A camera's pose read from text: a 4x4 (or 3x4, the last row then 0 0 0 1) matrix, row by row,
+// numbers separated by spaces, commas or brackets (a JSON array of rows, NumPy's savetxt).
+glm::dmat4 poseFromText(std::string_view text);
 
 // Pictures of a frame's buffers, RGB8 top row first.
 std::vector<std::uint8_t> depthPicture(const Frame& frame);     // normalised grey, near = light
@@ -106,8 +136,9 @@ std::vector<std::uint8_t> overdrawPicture(const Frame& frame);  // heatmap
 std::vector<std::uint8_t> picture(const Frame& frame, std::string_view kind);  // by name
 
 std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm);
-// The same with the camera used (as cameraJson) under "camera" and the objects' table
-// (objectsJson) under "objects".
+// The same with the camera used (as cameraJson) under "camera", the objects' table
+// (objectsJson) under "objects" and the materials' (name, color, alpha, polygons) under
+// "materials".
 std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm,
                       const Scene& scene_data, const Camera& camera);
 

@@ -21,6 +21,7 @@ inline constexpr PolygonId kNoPolygon = 0xFFFFFFFFu;  // "nothing drawn" in id b
 struct Material {
   glm::vec3 color{0.8f, 0.8f, 0.8f};  // linear rgb in [0,1]
   float alpha = 1.0f;                 // 1 = opaque
+  std::string name{};                 // the file's name for it ("" when it has none)
 };
 
 // Axis-aligned bounds; empty when lo > hi.
@@ -43,7 +44,8 @@ struct Object {
   Bounds bounds;
 };
 
-// A camera stored in the scene file (glTF), used instead of auto-framing when present.
+// A camera stored in the scene file (glTF); the first frames the scene unless another or none
+// is chosen.
 struct SceneCamera {
   glm::vec3 eye{0.0f}, target{0.0f, 0.0f, -1.0f}, up{0.0f, 1.0f, 0.0f};
   float fov_deg = 45.0f;
@@ -57,7 +59,7 @@ class Scene {
   std::string name;
   std::vector<Material> materials;
   std::vector<Object> objects;
-  std::optional<SceneCamera> camera;
+  std::vector<SceneCamera> cameras;  // the file's, in its order
 
   // Building. beginObject starts a new object; vertices and polygons added afterwards belong
   // to it. Indices passed to addPolygon are relative to the current object's first vertex.

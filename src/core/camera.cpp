@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
 
 #include "hsr/error.hpp"
 
@@ -32,11 +33,21 @@ glm::mat4 Camera::projection() const {
     const float h = ortho_half_height;
     return glm::ortho(-h * aspect, h * aspect, -h, h, near, far);
   }
+  if (intrinsics.given()) {
+    // The frustum at `near` whose window mapping puts OpenCV pixel u at window x = u + 0.5 and
+    // row v (top first) at window y = height - v - 0.5: x_w = (n X / -z - l) / (r - l) width.
+    const Intrinsics& k = intrinsics;
+    const double n = near;
+    const double l = -(k.cx + 0.5) * n / k.fx, r = (width - k.cx - 0.5) * n / k.fx;
+    const double t = (k.cy + 0.5) * n / k.fy, b = -(height - k.cy - 0.5) * n / k.fy;
+    return glm::mat4(glm::frustum(l, r, b, t, n, static_cast<double>(far)));
+  }
   return glm::perspective(glm::radians(fov_deg), aspect, near, far);
 }
 
 Intrinsics intrinsicsOf(const Camera& camera) {
   if (camera.ortho) return {};
+  if (camera.intrinsics.given()) return camera.intrinsics;
   // y_ndc = f Y / Z with f = 1 / tan(fov / 2) (x_ndc the same over the aspect ratio, so square
   // pixels: fx = fy), and the window maps ndc [-1, 1] onto [-0.5, size - 0.5]
   const double f = 1.0 / std::tan(static_cast<double>(camera.fov_deg) * 3.14159265358979323846 / 360.0);
@@ -69,6 +80,19 @@ void Camera::validate() const {
   if (!ortho && (fov_deg <= 0.0f || fov_deg >= 180.0f))
     throw Error("fov must be in (0, 180) degrees (got " + std::to_string(fov_deg) + ")");
   if (ortho && ortho_half_height <= 0.0f) throw Error("orthographic half-height must be > 0");
+  if (intrinsics.given()) {
+    const Intrinsics& k = intrinsics;
+    if (ortho) throw Error("pixel intrinsics describe a pinhole: an orthographic camera has none");
+    if (!std::isfinite(k.fx) || !std::isfinite(k.fy) || !std::isfinite(k.cx) || !std::isfinite(k.cy))
+      throw Error("camera intrinsics are not finite");
+    // A focal length below 1e-3 px spans more than 179.9 degrees on a 1-pixel image; beyond 1e9
+    // the frustum's width underflows float at any sensible near plane
+    if (!(k.fx >= 1e-3 && k.fy >= 1e-3 && k.fx <= 1e9 && k.fy <= 1e9))
+      throw Error("focal lengths fx " + std::to_string(k.fx) + ", fy " + std::to_string(k.fy) +
+                  " must be between 0.001 and 1e9 pixels");
+    if (std::abs(k.cx) > 1e9 || std::abs(k.cy) > 1e9)
+      throw Error("principal point beyond 1e9 pixels");
+  }
   const glm::vec3 dir = target - eye;
   if (glm::length(dir) == 0.0f) throw Error("camera eye and target are the same point " + str(eye));
   if (glm::length(glm::cross(glm::normalize(dir), up)) < 1e-6f)
@@ -127,23 +151,100 @@ Camera orbitView(const Camera& camera, int k, int n) {
   return view;
 }
 
-Camera frameScene(const Scene& scene, int width, int height) {
-  if (scene.camera) {
-    const SceneCamera& s = *scene.camera;
-    Camera c;
-    c.width = width;
-    c.height = height;
-    c.eye = s.eye;
-    c.target = s.target;
-    c.up = s.up;
-    c.fov_deg = s.fov_deg;
-    c.ortho = s.ortho;
-    c.ortho_half_height = s.ortho_half_height;
-    c.near = s.near;
-    c.far = s.far;
-    return c;
+void fitNearFar(Camera& camera, const Bounds& bounds) {
+  if (bounds.empty()) return;
+  const float dist = glm::length(bounds.center() - camera.eye);
+  const float r = bounds.radius();
+  camera.near = std::max(dist - 1.5f * r, std::max(dist, r) * 1e-3f);
+  camera.far = dist + 1.5f * r;
+}
+
+float orthoHalfHeightFor(const Camera& camera, const Bounds& bounds) {
+  const float r = std::max(bounds.empty() ? 1.0f : bounds.radius(), 1e-6f);
+  if (bounds.empty()) return camera.ortho_half_height;
+  const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, camera.up));
+  const glm::vec3 up = glm::cross(right, forward);
+  const float aspect = static_cast<float>(camera.width) / static_cast<float>(std::max(camera.height, 1));
+  float half = r * 1e-3f;
+  for (int k = 0; k < 8; ++k) {
+    const glm::vec3 corner((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
+                           (k & 4) ? bounds.hi.z : bounds.lo.z);
+    const glm::vec3 d = corner - camera.eye;
+    half = std::max({half, std::abs(glm::dot(d, up)), std::abs(glm::dot(d, right)) / aspect});
   }
+  return half * 1.06f;
+}
+
+Camera fromSceneCamera(const SceneCamera& s, const Bounds& bounds, int width, int height) {
+  Camera c;
+  c.width = width;
+  c.height = height;
+  c.eye = s.eye;
+  c.target = s.target;
+  c.up = s.up;
+  c.fov_deg = s.fov_deg;
+  c.ortho = s.ortho;
+  c.ortho_half_height = s.ortho_half_height;
+  c.near = s.near;
+  c.far = s.far;
+  if (!bounds.empty() && s.far > 1000.0f * s.near) {
+    // Pull near and far in to the bounding sphere (1.5 radii, so nothing inside is clipped),
+    // never past the file's own planes
+    Camera fitted = c;
+    fitNearFar(fitted, bounds);
+    const float near = std::max(c.near, fitted.near), far = std::min(c.far, fitted.far);
+    if (far > near) c.near = near, c.far = far;
+  }
+  return c;
+}
+
+Camera frameScene(const Scene& scene, int width, int height, int camera_index) {
+  if (camera_index >= 0 && static_cast<std::size_t>(camera_index) < scene.cameras.size())
+    return fromSceneCamera(scene.cameras[camera_index], scene.bounds(), width, height);
   return frameBounds(scene.bounds(), width, height);
+}
+
+PoseConvention poseConventionNamed(std::string_view name) {
+  if (name == "opencv") return PoseConvention::kOpenCV;
+  if (name == "opengl") return PoseConvention::kOpenGL;
+  throw Error("pose convention '" + std::string(name) + "': opencv or opengl");
+}
+
+glm::dmat4 poseOf(const Camera& camera, PoseConvention convention) {
+  // The view matrix's inverse is OpenGL's pose (camera to world, looking down -z); OpenCV's
+  // turns y and z about x
+  glm::dmat4 pose = glm::inverse(glm::dmat4(camera.view()));
+  if (convention == PoseConvention::kOpenCV) {
+    pose[1] = -pose[1];
+    pose[2] = -pose[2];
+  }
+  return pose;
+}
+
+void setPose(Camera& camera, const glm::dmat4& m, PoseConvention convention) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) throw Error("the pose has a value that is not a finite number");
+  if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+    throw Error("the pose's last row must be 0 0 0 1");
+  const glm::dvec3 x(m[0]), y(m[1]), z(m[2]), t(m[3]);
+  const double tol = 1e-4;
+  if (std::abs(glm::length(x) - 1) > tol || std::abs(glm::length(y) - 1) > tol ||
+      std::abs(glm::length(z) - 1) > tol || std::abs(glm::dot(x, y)) > tol ||
+      std::abs(glm::dot(y, z)) > tol || std::abs(glm::dot(z, x)) > tol)
+    throw Error("the pose's upper 3x3 is not a rotation (its columns must be unit length and "
+                "at right angles, within 1e-4): give camera to world without scale");
+  if (glm::dot(glm::cross(x, y), z) < 0)
+    throw Error("the pose's upper 3x3 is a reflection (determinant -1), not a rotation");
+  // OpenGL: the camera looks down its -z with y up; OpenCV: down +z with y down
+  const glm::dvec3 forward = convention == PoseConvention::kOpenCV ? z : -z;
+  const glm::dvec3 up = convention == PoseConvention::kOpenCV ? -y : y;
+  // The target as far out as the eye is from the origin, so that target - eye keeps its
+  // direction to float precision wherever the camera stands
+  camera.eye = glm::vec3(t);
+  camera.target = glm::vec3(t + forward * std::max(1.0, glm::length(t)));
+  camera.up = glm::vec3(up);
 }
 
 }  // namespace hsr

@@ -79,6 +79,7 @@ constexpr std::uintmax_t kMaxFileBytes = 2ull << 30;  // 2 GiB
 constexpr std::uint64_t kMaxVertices = 50'000'000;
 constexpr std::uint64_t kMaxPolygons = 50'000'000;
 constexpr std::uint64_t kMaxNodes = 10'000'000;  // a node tree this big is an attack
+constexpr std::uint32_t kMaxCameras = 4096;       // the file's cameras kept to choose from
 
 // The import's size limits, checked in 64 bits before anything is allocated for the meshes.
 void checkSizeLimits(const std::string& file, std::uint64_t vertices, std::uint64_t polygons) {
@@ -127,6 +128,13 @@ float clamp01(float v, float fallback) {
 Material convertMaterial(const aiMaterial* m) {
   Material out;
   if (!m) return out;
+  // assimp's stand-in for a file without materials (white for PLY and STL, grey for OBJ):
+  // every format gets hsr's one default instead
+  aiString name;
+  if (m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) {
+    if (std::string_view(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME) return out;
+    out.name = name.C_Str();
+  }
   aiColor4D c;
   bool have_alpha = false;
   if (m->Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS) {
@@ -167,14 +175,11 @@ aiMatrix4x4 globalTransform(const aiNode* node) {
 // down the node's -Z with +Y up (assimp 5.2 also copies the node's translation into
 // mPosition, which would count it twice, so aiCamera's own frame is not used). assimp stores
 // yfov * aspect in mHorizontalFOV, and xmag in mOrthographicWidth with mAspect = xmag / ymag.
-// A camera that makes no sense (non-finite, degenerate) is ignored: the scene is auto-framed.
-std::optional<SceneCamera> gltfCamera(const aiScene* ai, const Scene& scene) {
-  if (!ai->mRootNode || !ai->mCameras) return std::nullopt;
-  for (unsigned i = 0; i < ai->mNumCameras; ++i) {
-    const aiCamera* cam = ai->mCameras[i];
-    if (!cam) continue;
+// A camera that makes no sense (non-finite, degenerate) is left out.
+std::optional<SceneCamera> gltfCamera(const aiScene* ai, const aiCamera* cam, const Scene& scene) {
+    if (!cam) return std::nullopt;
     const aiNode* node = ai->mRootNode->FindNode(cam->mName);
-    if (!node) continue;
+    if (!node) return std::nullopt;
     const aiMatrix4x4 m = globalTransform(node);
     if (!finite(m)) return std::nullopt;
     SceneCamera s;
@@ -210,8 +215,14 @@ std::optional<SceneCamera> gltfCamera(const aiScene* ai, const Scene& scene) {
     if (!std::isfinite(s.near) || !(s.near > 0.0f) || !(s.near < s.far)) s.near = s.far * 1e-4f;
     if (!std::isfinite(s.far) || !(s.far > s.near)) return std::nullopt;
     return s;
-  }
-  return std::nullopt;
+}
+
+std::vector<SceneCamera> gltfCameras(const aiScene* ai, const Scene& scene) {
+  std::vector<SceneCamera> cameras;
+  if (!ai->mRootNode || !ai->mCameras) return cameras;
+  for (unsigned i = 0; i < ai->mNumCameras && cameras.size() < kMaxCameras; ++i)
+    if (const std::optional<SceneCamera> c = gltfCamera(ai, ai->mCameras[i], scene)) cameras.push_back(*c);
+  return cameras;
 }
 
 // Converts the imported assimp scene: one Object per mesh instance, in node order.
@@ -315,7 +326,7 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
   if (scene.polygonCount() == 0)
     throw Error(file + (saw_points_or_lines ? ": no polygons (only points or lines)"
                                             : ": no polygons (the file holds no meshes)"));
-  if (isGltf(path)) scene.camera = gltfCamera(ai, scene);
+  if (isGltf(path)) scene.cameras = gltfCameras(ai, scene);
   return scene;
 }
 
@@ -447,10 +458,10 @@ std::string serializeScene(const Scene& s) {
     putF32(out, m.color.g);
     putF32(out, m.color.b);
     putF32(out, m.alpha);
+    putStr(out, m.name);
   }
-  putU32(out, s.camera ? 1u : 0u);
-  if (s.camera) {
-    const SceneCamera& c = *s.camera;
+  putU32(out, static_cast<std::uint32_t>(s.cameras.size()));
+  for (const SceneCamera& c : s.cameras) {
     for (const glm::vec3& v : {c.eye, c.target, c.up})
       for (int k = 0; k < 3; ++k) putF32(out, v[k]);
     putF32(out, c.fov_deg);
@@ -518,9 +529,12 @@ Scene deserializeScene(std::string_view data) {
     m.color.g = r.f32();
     m.color.b = r.f32();
     m.alpha = r.f32();
+    m.name = r.str();
     s.materials.push_back(m);
   }
-  if (r.u32()) {
+  const std::uint32_t cameras = r.u32();
+  if (cameras > kMaxCameras) throw Error("corrupt scene from the importer process");
+  for (std::uint32_t i = 0; i < cameras; ++i) {
     SceneCamera c;
     for (glm::vec3* v : {&c.eye, &c.target, &c.up})
       for (int k = 0; k < 3; ++k) (*v)[k] = r.f32();
@@ -529,7 +543,7 @@ Scene deserializeScene(std::string_view data) {
     c.ortho_half_height = r.f32();
     c.near = r.f32();
     c.far = r.f32();
-    s.camera = c;
+    s.cameras.push_back(c);
   }
   const std::uint32_t objects = r.u32();
   std::vector<std::uint32_t> local;

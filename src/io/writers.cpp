@@ -21,6 +21,8 @@
 #include "hsr/io.hpp"
 #include "hsr/output.hpp"
 
+#include "io/camera_json.hpp"
+
 // stb_image_write: implementation here only, with internal linkage so that no other
 // translation unit (or library) that embeds stb can clash with it.
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -46,10 +48,11 @@ std::size_t pixelCount(int width, int height, const std::filesystem::path& path)
 // NumPy .npy version 1.0: magic, version, little-endian u16 header length, a Python dict
 // literal padded with spaces to a multiple of 64 bytes (as numpy writes it) ending in '\n',
 // then the raw little-endian data in C order.
-std::string npyHeader(int width, int height, const char* descr) {
+std::string npyHeader(int width, int height, const char* descr, int channels = 1) {
   std::string header = std::string("{'descr': '") + descr +
                        "', 'fortran_order': False, 'shape': (" + std::to_string(height) + ", " +
-                       std::to_string(width) + "), }";
+                       std::to_string(width) + (channels > 1 ? ", " + std::to_string(channels) : "") +
+                       "), }";
   constexpr std::size_t kPrefix = 10;  // magic (6) + version (2) + header length (2)
   constexpr std::size_t kAlign = 64;
   const std::size_t total = (kPrefix + header.size() + 1 + kAlign - 1) / kAlign * kAlign;
@@ -66,9 +69,10 @@ static_assert(std::endian::native == std::endian::little,
               ".npy data is written as the host holds it: little-endian hosts only");
 
 template <typename T>
-std::string_view npyData(int width, int height, const T* data, const std::filesystem::path& path) {
+std::string_view npyData(int width, int height, const T* data, const std::filesystem::path& path,
+                         int channels = 1) {
   static_assert(sizeof(T) == 4);
-  return {reinterpret_cast<const char*>(data), pixelCount(width, height, path) * sizeof(T)};
+  return {reinterpret_cast<const char*>(data), pixelCount(width, height, path) * channels * sizeof(T)};
 }
 
 // stb_image_write encodes in memory with int arithmetic: the filtered image, (width * channels
@@ -184,51 +188,34 @@ void writeNpy(const std::filesystem::path& path, int width, int height, const st
 
 namespace {
 
-nlohmann::ordered_json matrixRows(const glm::mat4& m) {
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (int r = 0; r < 4; ++r) rows.push_back({m[0][r], m[1][r], m[2][r], m[3][r]});  // m[col][row]
-  return rows;
-}
-
-nlohmann::ordered_json cameraObject(const Camera& c) {
-  nlohmann::ordered_json j;
-  j["eye"] = {c.eye.x, c.eye.y, c.eye.z};
-  j["target"] = {c.target.x, c.target.y, c.target.z};
-  j["up"] = {c.up.x, c.up.y, c.up.z};
-  j["projection_kind"] = c.ortho ? "orthographic" : "perspective";
-  if (c.ortho)
-    j["ortho_half_height"] = c.ortho_half_height;
-  else
-    j["fov_deg"] = c.fov_deg;
-  j["near"] = c.near;
-  j["far"] = c.far;
-  j["width"] = c.width;
-  j["height"] = c.height;
-  j["view"] = matrixRows(c.view());
-  j["projection"] = matrixRows(c.projection());
-  if (c.ortho) {
-    j["intrinsics"] = nullptr;
-  } else {
-    const Intrinsics k = intrinsicsOf(c);
-    j["intrinsics"] = {{"fx", k.fx},
-                       {"fy", k.fy},
-                       {"cx", k.cx},
-                       {"cy", k.cy},
-                       {"convention",
-                        "OpenCV: camera x right, y down, z forward; pixel centres at integers, "
-                        "(0, 0) the top-left pixel's centre"}};
-  }
-  j["matrices"] =
-      "row-major rows acting on column vectors; view: world to eye (OpenGL: the eye "
-      "looks down -z, y up), projection: eye to clip (OpenGL, depth [-1, 1])";
-  return j;
-}
-
 nlohmann::ordered_json objectsArray(const Scene& scene) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
   for (const Object& o : scene.objects)
     a.push_back({{"name", o.name}, {"first_polygon", o.first_polygon}, {"polygons", o.polygon_count}});
   return a;
+}
+
+nlohmann::ordered_json materialsArray(const Scene& scene) {
+  std::vector<std::uint64_t> count(scene.materials.size(), 0);
+  for (PolygonId id = 0; id < scene.polygonCount(); ++id)
+    if (scene.material(id) < count.size()) ++count[scene.material(id)];
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    const Material& mat = scene.materials[m];
+    a.push_back({{"name", mat.name},
+                 {"color", {mat.color.r, mat.color.g, mat.color.b}},
+                 {"alpha", mat.alpha},
+                 {"polygons", count[m]}});
+  }
+  return a;
+}
+
+const char* normalsMeaning(NormalSpace space) {
+  return space == NormalSpace::kEye
+             ? "float32 x3 unit normal of the polygon shown, eye space (OpenGL: x right, y up, "
+               "the eye looking down -z), turned to face the eye; nan where nothing was drawn"
+             : "float32 x3 unit normal of the polygon shown, world space, turned to face the "
+               "eye; nan where nothing was drawn";
 }
 
 const char* depthMeaning(DepthKind kind) {
@@ -247,7 +234,7 @@ const char* depthMeaning(DepthKind kind) {
 
 void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
               const std::string& algorithm, const Scene* scene_data, const Camera* camera,
-              DepthKind kind) {
+              DepthKind kind, NormalSpace normal_space) {
   const int w = frame.width, h = frame.height;
   const std::size_t n = pixelCount(w, h, dir);
   if (frame.depth.size() != n || frame.ids.size() != n || frame.overdraw.size() != n)
@@ -255,17 +242,22 @@ void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::s
   std::vector<float> converted;
   if (camera && kind != DepthKind::kWindow) converted = depthAs(frame, *camera, kind);
   const float* depth = converted.empty() ? frame.depth.data() : converted.data();
-  std::vector<std::uint32_t> objects;
+  std::vector<std::uint32_t> objects, materials;
+  std::vector<float> normals;
   if (scene_data) {
-    objects.assign(n, kNoPolygon);
-    for (std::size_t k = 0; k < n; ++k)
-      if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene_data->polygonCount())
-        objects[k] = scene_data->object(frame.ids[k]);
+    objects = objectsAt(frame, *scene_data);
+    materials = materialsAt(frame, *scene_data);
+    if (camera && normal_space != NormalSpace::kNone)
+      normals = normalsAt(frame, *scene_data, *camera, normal_space);
   }
-  OutputDirectory out(dir, {"depth.npy", "ids.npy", "objects.npy", "overdraw.npy", "coverage.npy"});
+  OutputDirectory out(dir, kRawFiles);
   out.write("depth.npy", {npyHeader(w, h, "<f4"), npyData(w, h, depth, dir)});
-  if (scene_data)
+  if (scene_data) {
     out.write("objects.npy", {npyHeader(w, h, "<u4"), npyData(w, h, objects.data(), dir)});
+    out.write("materials.npy", {npyHeader(w, h, "<u4"), npyData(w, h, materials.data(), dir)});
+  }
+  if (!normals.empty())
+    out.write("normals.npy", {npyHeader(w, h, "<f4", 3), npyData(w, h, normals.data(), dir, 3)});
   out.write("ids.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.ids.data(), dir)});
   out.write("overdraw.npy", {npyHeader(w, h, "<u4"), npyData(w, h, frame.overdraw.data(), dir)});
   const bool coverage = frame.coverage.size() == n;
@@ -286,9 +278,13 @@ void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::s
     about["coverage.npy"] = "float32 fraction of the pixel's samples covered by opaque polygons";
   if (scene_data) {
     about["objects.npy"] = "uint32 object index (the table below), 4294967295 where nothing was drawn";
+    about["materials.npy"] =
+        "uint32 material index (the table below), 4294967295 where nothing was drawn";
+    if (!normals.empty()) about["normals.npy"] = normalsMeaning(normal_space);
     about["objects"] = objectsArray(*scene_data);
+    about["materials"] = materialsArray(*scene_data);
   }
-  if (camera) about["camera"] = cameraObject(*camera);
+  if (camera) about["camera"] = detail::cameraObject(*camera);
   out.commit(about.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
 }
 
@@ -327,7 +323,8 @@ std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind k
       if (kind == DepthKind::kDistance && !camera.ortho) {
         // The ray through the pixel centre, per unit of depth along the view axis
         const double x_ndc = 2.0 * (x + 0.5) / w - 1.0, y_ndc = 1.0 - 2.0 * (y + 0.5) / h;
-        const double u = x_ndc / p[0][0], v = y_ndc / p[1][1];
+        // (x_ndc = p00 X / -z - p20 for glFrustum's off-centre frustum; p20 = 0 when centred)
+        const double u = (x_ndc + p[2][0]) / p[0][0], v = (y_ndc + p[2][1]) / p[1][1];
         d = linear * std::sqrt(1.0 + u * u + v * v);
       }
       out[k] = static_cast<float>(d);
@@ -337,13 +334,71 @@ std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind k
 
 void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
                    const std::string& algorithm) {
-  writeRaw(dir, frame, scene, algorithm, nullptr, nullptr, DepthKind::kWindow);
+  writeRaw(dir, frame, scene, algorithm, nullptr, nullptr, DepthKind::kWindow, NormalSpace::kNone);
 }
 
 void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const std::string& scene,
                    const std::string& algorithm, const Scene& scene_data, const Camera& camera,
-                   DepthKind depth) {
-  writeRaw(dir, frame, scene, algorithm, &scene_data, &camera, depth);
+                   DepthKind depth, NormalSpace normals) {
+  writeRaw(dir, frame, scene, algorithm, &scene_data, &camera, depth, normals);
+}
+
+std::vector<std::uint32_t> objectsAt(const Frame& frame, const Scene& scene) {
+  std::vector<std::uint32_t> out(frame.ids.size(), kNoPolygon);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene.polygonCount())
+      out[k] = scene.object(frame.ids[k]);
+  return out;
+}
+
+std::vector<std::uint32_t> materialsAt(const Frame& frame, const Scene& scene) {
+  std::vector<std::uint32_t> out(frame.ids.size(), kNoPolygon);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene.polygonCount())
+      out[k] = scene.material(frame.ids[k]);
+  return out;
+}
+
+NormalSpace normalSpaceNamed(std::string_view name) {
+  if (name == "world") return NormalSpace::kWorld;
+  if (name == "eye") return NormalSpace::kEye;
+  throw Error("normals '" + std::string(name) + "': world or eye");
+}
+
+std::vector<float> normalsAt(const Frame& frame, const Scene& scene, const Camera& camera,
+                             NormalSpace space) {
+  const std::size_t n = framePixels(frame);
+  if (frame.ids.size() != n) throw Error("the frame has no id buffer to find normals with");
+  std::vector<float> out(3 * n, std::numeric_limits<float>::quiet_NaN());
+  if (space == NormalSpace::kNone) return out;
+  // Each polygon shown once: Newell's normal in double (any vertex count, robust to a
+  // slightly non-planar polygon), turned to face the eye, then into eye space if asked
+  std::vector<std::uint32_t> slot(scene.polygonCount(), kNoPolygon);
+  std::vector<glm::vec3> normal;
+  const glm::dmat3 eye_from_world(glm::dmat4(camera.view()));
+  const glm::dvec3 eye(camera.eye), toward_eye = glm::dvec3(camera.eye - camera.target);
+  for (std::size_t k = 0; k < n; ++k) {
+    const PolygonId id = frame.ids[k];
+    if (id == kNoPolygon || id >= scene.polygonCount()) continue;
+    if (slot[id] == kNoPolygon) {
+      const auto poly = scene.polygon(id);
+      glm::dvec3 nn(0.0);
+      for (std::size_t i = 0; i < poly.size(); ++i) {
+        const glm::dvec3 a(scene.position(poly[i])), b(scene.position(poly[(i + 1) % poly.size()]));
+        nn += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+      }
+      const double len = glm::length(nn);
+      glm::dvec3 unit = len > 0 ? nn / len : glm::dvec3(0.0);
+      const glm::dvec3 view = camera.ortho ? toward_eye : eye - glm::dvec3(scene.position(poly[0]));
+      if (glm::dot(unit, view) < 0) unit = -unit;
+      if (space == NormalSpace::kEye) unit = eye_from_world * unit;
+      slot[id] = static_cast<std::uint32_t>(normal.size());
+      normal.push_back(glm::vec3(unit));
+    }
+    const glm::vec3& v = normal[slot[id]];
+    out[3 * k] = v.x, out[3 * k + 1] = v.y, out[3 * k + 2] = v.z;
+  }
+  return out;
 }
 
 std::string objectsJson(const Scene& scene) {
@@ -351,7 +406,6 @@ std::string objectsJson(const Scene& scene) {
          "\n";
 }
 
-std::string cameraJson(const Camera& camera) { return cameraObject(camera).dump(2) + "\n"; }
 
 namespace {
 // A pixel was drawn where it holds a polygon id (or, without ids, a depth below 1)
@@ -458,8 +512,11 @@ std::string statsJsonWith(const Frame& frame, const std::string& scene,
   for (const StageTime& st : s.stages) stages.push_back({{"name", st.name}, {"ms", st.ms}});
   j["stages"] = std::move(stages);
   j["total_ms"] = s.totalMs();
-  if (camera) j["camera"] = cameraObject(*camera);
-  if (scene_data) j["objects"] = objectsArray(*scene_data);
+  if (camera) j["camera"] = detail::cameraObject(*camera);
+  if (scene_data) {
+    j["objects"] = objectsArray(*scene_data);
+    j["materials"] = materialsArray(*scene_data);
+  }
   // A scene named by a file path need not be UTF-8: replace what is not, never throw
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }

@@ -567,15 +567,17 @@ TEST(ZBufferMesaAgreement, RealModels) {
       o.cull = cull;
       total.add(expectAgreement(f, scene, cam, o, {}));
     }
-    // The file's own camera, where it has one. 2CylinderEngine's (near 0.05, model ~1600
-    // away) puts every surface at window depth ~0.99999, where float32 and Mesa's 24-bit
-    // buffer both resolve only ~6e-8: which of two near surfaces wins is decided by rounding
-    // (4113 pixels today), so ids may differ there only at such depth ties; coverage not at all.
-    if (scene.camera) {
+    // The file's own camera, where it has one. 2CylinderEngine's asks for near 0.05 and far
+    // 1e6 with the model ~1600 away, which left float32 and Mesa's 24-bit depth ~6e-8 apart
+    // at window depth ~0.99999 (4113 pixels decided by rounding). hsr now pulls near and far
+    // in to the model (fromSceneCamera): 3 pixels of 307,200 differ, 2 at depth ties and 1 on
+    // a fan of sliver triangles where the two planes' float evaluations are 4e-6 apart.
+    if (!scene.cameras.empty()) {
       const Agreement a =
           expectAgreement(std::string(f) + " (stored camera)", scene, frameScene(scene, 640, 480),
                           RenderOptions{}, {}, /*check_ids=*/false);
-      EXPECT_EQ(a.id_differ - a.depth_ties, 0u) << f << ": ids differ away from depth ties";
+      EXPECT_LE(a.id_differ - a.depth_ties, 2u) << f << ": ids differ away from depth ties";
+      EXPECT_LE(a.id_differ, 8u) << f;
     }
   }
   expectTotalAgreement("real models (all)", total, {});

@@ -165,13 +165,14 @@ void expectWholeRawSet(const fs::path& dir, const std::string& context) {
     EXPECT_EQ(fs::file_size(dir / f["name"].get<std::string>()), f["bytes"].get<std::uint64_t>())
         << context << ": " << f["name"];
   }
-  EXPECT_EQ(listed, (std::set<std::string>{"depth.npy", "ids.npy", "objects.npy", "overdraw.npy"}))
+  EXPECT_EQ(listed, (std::set<std::string>{"depth.npy", "ids.npy", "objects.npy", "materials.npy",
+                                           "overdraw.npy"}))
       << context;
 }
 
 std::string fingerprint(const fs::path& dir) {
   std::string all;
-  for (const char* f : {"manifest.json", "depth.npy", "ids.npy", "objects.npy", "overdraw.npy"})
+  for (const char* f : {"manifest.json", "depth.npy", "ids.npy", "objects.npy", "materials.npy", "overdraw.npy"})
     all += readFile(dir / f);
   return all;
 }
