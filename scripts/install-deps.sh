@@ -7,7 +7,9 @@ pkgs=(build-essential cmake pkg-config
       libosmesa6-dev libembree-dev libcgal-dev libpolyclipping-dev libboost-dev assimp-testmodels
       librsvg2-bin libcairo2-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
       libocct-visualization-dev
-      clang-14 libclang-rt-14-dev)
+      clang-14 libclang-rt-14-dev
+      python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dask
+      python3-distributed)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -117,9 +117,9 @@ int runRender(const Args& a, const Given& given) {
   const bool kind_suffix = kinds.size() > 1 || (kinds.size() == 1 && kinds[0] != "color" && !given.output_file);
   auto viewTag = [&](int k) { return views.many ? fmt::format("-{:04d}", k) : std::string(); };
   auto pngPath = [&](int k, const std::string& kind) {
+    if (!views.many && !kind_suffix) return base;  // exactly as named (/dev/full included)
     fs::path p = base;
-    p.replace_filename(base.stem().string() + viewTag(k) + (kind_suffix ? "-" + kind : "") +
-                       (base.has_extension() ? base.extension().string() : ".png"));
+    p.replace_filename(base.stem().string() + viewTag(k) + (kind_suffix ? "-" + kind : "") + ".png");
     return p;
   };
   auto rawPath = [&](int k) {
