@@ -2,7 +2,7 @@
 # Installs the Debian packages hsr builds, tests and benchmarks with. Idempotent.
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config
-      libglm-dev libgmp-dev libassimp-dev zlib1g-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtbb-dev libstb-dev
+      libglm-dev libgmp-dev libassimp-dev zlib1g-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtbb-dev libstb-dev libspng-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       libosmesa6-dev libembree-dev libcgal-dev libpolyclipping-dev libboost-dev assimp-testmodels
       librsvg2-bin libcairo2-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev

@@ -155,11 +155,11 @@ int runRender(const Args& a, const Given& given) {
     hsr::render(scene, cam, opt, frame);
     (k == 0 ? first_ms : rest_ms) += frame.stats.totalMs();
     if (k == 0) warnIfUnresolved(frame, opt.algorithm);
-    for (const std::string& kind : kinds) {
-      const fs::path p = pngPath(k, kind);
-      hsr::writePng(p, frame.width, frame.height, 3, hsr::picture(frame, kind).data());
-      if (!views.many) written.push_back(p.string());
-    }
+    std::vector<std::pair<std::string, fs::path>> pictures;
+    for (const std::string& kind : kinds) pictures.emplace_back(kind, pngPath(k, kind));
+    hsr::writePictures(frame, pictures);
+    if (!views.many)
+      for (const auto& [kind, p] : pictures) written.push_back(p.string());
     if (given.raw) {
       hsr::writeRawFrame(rawPath(k), frame, a.scene, opt.algorithm, scene, cam, depth, normals);
       if (!views.many) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -50,6 +51,9 @@ Scene makeBuiltinScene(std::string_view spec, std::uint64_t max_triangles = kMax
 // of the same name is left as it was.
 void writePng(const std::filesystem::path& path, int width, int height, int channels,
               const std::uint8_t* pixels);
+// The frame's pictures (kinds as picture() names them) each to its path, encoded in parallel.
+void writePictures(const Frame& frame,
+                   const std::vector<std::pair<std::string, std::filesystem::path>>& pictures);
 void writeNpy(const std::filesystem::path& path, int width, int height, const float* data);
 void writeNpy(const std::filesystem::path& path, int width, int height,
               const std::uint32_t* data);
