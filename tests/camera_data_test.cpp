@@ -318,5 +318,32 @@ TEST(CameraData, ObjectsMaterialsAndNormalsPerPixel) {
   EXPECT_THROW(normalSpaceNamed("tangent"), Error);
 }
 
+// A Z-up model (CAD, Blender) framed with --up 0,0,1 is seen from its front three-quarter,
+// from above, keeping z up; y up frames as it always did.
+TEST(CameraData, FramingFollowsTheGivenUpAxis) {
+  Bounds b;
+  b.extend({-1, -2, -3});
+  b.extend({4, 5, 6});
+  const Camera y = frameBounds(b, 320, 240);
+  const Camera y_given = frameBounds(b, 320, 240, 45.0f, false, {0, 1, 0});
+  EXPECT_EQ(y.eye, y_given.eye);
+  EXPECT_EQ(y.up, glm::vec3(0, 1, 0));
+  EXPECT_GT(y.eye.y, y.target.y);
+  const Camera z = frameBounds(b, 320, 240, 45.0f, false, {0, 0, 1});
+  EXPECT_EQ(z.up, glm::vec3(0, 0, 1));
+  EXPECT_GT(z.eye.z, z.target.z) << "from above";
+  EXPECT_LT(z.eye.y, z.target.y) << "from the front (-y), as Blender's front view";
+  EXPECT_GT(z.eye.x, z.target.x) << "and from the right, as with y up";
+  // All eight corners in view
+  for (int k = 0; k < 8; ++k) {
+    const glm::vec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
+    const glm::dvec2 at = pixelOf(z, corner);
+    EXPECT_GT(at.x, 0.0);
+    EXPECT_LT(at.x, 320.0);
+    EXPECT_GT(at.y, 0.0);
+    EXPECT_LT(at.y, 240.0);
+  }
+}
+
 }  // namespace
 }  // namespace hsr

@@ -370,6 +370,48 @@ TEST(Cli, ASingleNonColourPictureHasItsKindInItsName) {
   EXPECT_FALSE(fs::exists(d / "out" / "demo.png"));
 }
 
+// What a new user ran into, each fixed: no verb needed, --version, a flag never taken as an
+// option's value, near-miss flags named, pictures only as PNG, the size limit said plainly,
+// --stats to stdout, --clear-depth for --depth-func greater, and why nothing was drawn.
+TEST(Cli, NewUserPapercuts) {
+  const ScratchDir d("hsr_cli_papercuts");
+  const std::string png = (d / "a.png").string();
+  const CliRun verbless = runCli("demo --size 32x24 -q -o " + png);
+  EXPECT_EQ(verbless.code, 0) << verbless.err;
+  EXPECT_TRUE(fs::exists(png));
+  const CliRun version = runCli("--version");
+  EXPECT_EQ(version.code, 0);
+  EXPECT_EQ(version.out.rfind("hsr ", 0), 0u) << version.out;
+  expectCleanError("render demo --stats --quiet", "--quiet is a flag");
+  EXPECT_FALSE(fs::exists("--quiet"));
+  expectCleanError("render demo --raw -q", "-q is a flag");
+  expectCleanError("render demo --sizee 10x10", "did you mean --size?");
+  expectCleanError("render demo --eye 1,2,3 --cul back", "did you mean --cull?");
+  expectCleanError("render demo -o " + (d / "a.jpg").string(), "hsr writes PNG pictures");
+  EXPECT_FALSE(fs::exists(d / "a.jpg"));
+  expectCleanError("render demo --size 20000x10", "over the limit of 16384 pixels per side");
+  // --eye with a negative value is still a value
+  EXPECT_EQ(runCli("render demo --size 32x24 -q -o " + png + " --eye -3,2,5").code, 0);
+  // --stats -: the JSON alone on stdout
+  const CliRun stats = runCli("render demo --size 32x24 --output none --stats -");
+  ASSERT_EQ(stats.code, 0) << stats.err;
+  const nlohmann::json j = nlohmann::json::parse(stats.out, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << stats.out;
+  EXPECT_EQ(j.at("width"), 32);
+  // --depth-func greater draws nothing against the clear depth 1, and everything against 0
+  const CliRun greater = runCli("render demo --size 32x24 --depth-func greater -o " + png);
+  EXPECT_EQ(greater.code, 0);
+  EXPECT_NE(greater.err.find("nothing was drawn: no fragment passed the depth test"), std::string::npos) << greater.err;
+  const CliRun cleared = runCli("render demo --size 32x24 --depth-func greater --clear-depth 0 -o " + png);
+  EXPECT_EQ(cleared.code, 0);
+  EXPECT_EQ(cleared.err.find("nothing was drawn"), std::string::npos) << cleared.err;
+  expectCleanError("render demo --clear-depth 2", "--clear-depth must be in [0, 1]");
+  const CliRun away = runCli("render demo --size 32x24 --eye 0,0,-1000 --target 0,0,-2000 -q -o " + png);
+  EXPECT_NE(away.err.find("outside the view"), std::string::npos) << away.err;
+  const CliRun culled = runCli("render demo --size 32x24 --cull both -q -o " + png);
+  EXPECT_NE(culled.err.find("--cull removed it"), std::string::npos) << culled.err;
+}
+
 TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {
   const ScratchDir d("hsr_cli_svg");
   const std::string out = (d / "solids.svg").string(), stats = (d / "s.json").string();

@@ -779,3 +779,26 @@ TEST(MeshImport, BinaryPlyThatCrashesAssimpIsRefused) {
 }
 
 }  // namespace
+
+namespace hsr {
+namespace {
+
+// A file without materials gets hsr's one default material, whatever assimp makes up for the
+// format (white for PLY and STL, grey for OBJ); named materials keep their names.
+TEST(MeshImport, FilesWithoutMaterialsGetTheOneDefault) {
+  for (const char* model : {"PLY/Wuson.ply", "STL/Spider_binary.stl"}) {
+    const Scene s = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
+    ASSERT_FALSE(s.materials.empty()) << model;
+    for (const Material& m : s.materials) {
+      EXPECT_EQ(m.color, Material{}.color) << model;
+      EXPECT_TRUE(m.name.empty()) << model;
+    }
+  }
+  const Scene spider = loadScene((std::filesystem::path(HSR_TEST_MODELS) / "OBJ/spider.obj").string());
+  bool named = false;
+  for (const Material& m : spider.materials) named |= !m.name.empty();
+  EXPECT_TRUE(named) << "spider.mtl names its materials";
+}
+
+}  // namespace
+}  // namespace hsr

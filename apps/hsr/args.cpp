@@ -170,8 +170,10 @@ hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene) {
       throw hsr::Error(fmt::format("--fov must be in (0, 180) degrees (got {})", a.fov));
     const int index = cameraIndex(a, scene);
     const bool file_camera = index >= 0 && static_cast<std::size_t>(index) < scene.cameras.size();
+    // Framed with the given up axis (a Z-up model seen from its front three-quarter)
+    const glm::vec3 up_axis = a.up.empty() ? glm::vec3(0.0f, 1.0f, 0.0f) : parseVec3(a.up, "--up");
     cam = file_camera ? hsr::fromSceneCamera(scene.cameras[index], b, w, h)
-                      : hsr::frameBounds(b, w, h, fov, a.ortho);
+                      : hsr::frameBounds(b, w, h, fov, a.ortho, up_axis);
     if (fov_given) cam.fov_deg = fov;
     if (!a.intrinsics.empty()) {
       if (fov_given) throw hsr::Error("--fov and --intrinsics both set the projection: give one");
@@ -215,6 +217,11 @@ hsr::RenderOptions makeOptions(const Args& a) {
   o.depth_func = hsr::parseDepthFunc(a.depth_func);
   o.depth_test = !a.no_depth_test;
   o.depth_mask = !a.no_depth_mask;
+  if (!a.clear_depth.empty()) {
+    o.clear_depth = parseFloat(a.clear_depth, "--clear-depth");
+    if (!(o.clear_depth >= 0.0f && o.clear_depth <= 1.0f))
+      throw hsr::Error(fmt::format("--clear-depth must be in [0, 1], as glClearDepth clamps (got {})", a.clear_depth));
+  }
   o.outline = a.outline;
   o.shade = !a.flat;
   if (a.facing == "window") o.facing_test = hsr::FacingTest::WindowArea;
@@ -275,6 +282,9 @@ void addViewOptions(CLI::App* app, Args& a) {
   app->add_option("--polygon-mode", a.polygon_mode, "fill|line|point")->capture_default_str();
   app->add_option("--depth-func", a.depth_func,
                   "never|less|equal|lequal|greater|notequal|gequal|always")->capture_default_str();
+  app->add_option("--clear-depth", a.clear_depth,
+                  "the depth the buffer is cleared to, as glClearDepth (default 1; 0 lets "
+                  "--depth-func greater draw)");
   app->add_flag("--no-depth-test", a.no_depth_test, "disable the depth test (draw in order)");
   app->add_flag("--no-depth-mask", a.no_depth_mask, "do not write the depth buffer");
   app->add_flag("--outline", a.outline, "draw silhouette edges over the fill");

@@ -7,11 +7,71 @@
 #include <cstdio>
 #include <string_view>
 #include <utility>
+#include <vector>
 
+#include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <glm/vector_relational.hpp>
 
 namespace hsr::cli {
+
+namespace {
+
+void allOptionNames(CLI::App* app, std::vector<std::string>& names) {
+  for (const CLI::Option* o : app->get_options()) {
+    for (const std::string& n : o->get_lnames()) names.push_back("--" + n);
+    for (const std::string& n : o->get_snames()) names.push_back("-" + n);
+  }
+  for (CLI::App* sub : app->get_subcommands({})) allOptionNames(sub, names);
+}
+
+std::size_t editDistance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+void refuseFlagsAsValues(CLI::App* app) {
+  const CLI::Validator not_a_flag(
+      [](std::string& v) {
+        const bool flag = v.size() > 1 && v[0] == '-' && (std::isalpha(static_cast<unsigned char>(v[1])) || v[1] == '-');
+        return flag ? "needs a value, and " + v + " is a flag" : std::string();
+      },
+      "", "not a flag");
+  for (CLI::Option* o : app->get_options())
+    if (o->get_type_size() > 0 && o->get_expected_min() > 0) o->check(not_a_flag);
+  for (CLI::App* sub : app->get_subcommands({})) refuseFlagsAsValues(sub);
+}
+
+std::string nearMissHint(CLI::App* app, int argc, const char* const* argv) {
+  std::vector<std::string> names;
+  allOptionNames(app, names);
+  for (int i = 1; i < argc; ++i) {
+    std::string_view arg = argv[i];
+    if (arg.size() < 3 || arg[0] != '-' || std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.') continue;
+    arg = arg.substr(0, arg.find('='));
+    if (std::find(names.begin(), names.end(), arg) != names.end()) continue;
+    std::string best;
+    std::size_t best_distance = 3;
+    for (const std::string& n : names) {
+      const std::size_t d = editDistance(arg, n);
+      if (d < best_distance) best_distance = d, best = n;
+    }
+    if (!best.empty()) return fmt::format("{}: did you mean {}?", arg, best);
+  }
+  return {};
+}
 
 // A message as one line on a terminal: control characters (a newline in a file name, an
 // escape sequence) are shown escaped, never acted on.
@@ -69,12 +129,13 @@ void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam) {
 // A perspective depth buffer of floats resolves about 2^24 steps between near and far, most of
 // them close to the near plane: past far/near = 2^24 every surface's depth rounds towards the
 // clear value 1.0, and the picture comes out blank or merged. Valid, so a warning.
-void warnIfDepthUnresolvable(const hsr::Camera& cam) {
-  if (cam.ortho || !(cam.far / cam.near > 16777216.0f)) return;
+bool warnIfDepthUnresolvable(const hsr::Camera& cam) {
+  if (cam.ortho || !(cam.far / cam.near > 16777216.0f)) return false;
   printError(fmt::format("warning: far/near = {:.3g} (near {:g}, far {:g}) is more than a float "
                          "depth buffer resolves (2^24): depths round to the clear value and "
                          "surfaces vanish or merge; raise --near",
                          cam.far / cam.near, cam.near, cam.far));
+  return true;
 }
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -107,6 +168,39 @@ void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm) {
     for (const auto& [suffix, what] : kBudgets)
       if (c.value > 0 && c.name.ends_with(suffix))
         fmt::print(stderr, "hsr: warning: {} {}\n", algorithm, fmt::format(fmt::runtime(what), c.value));
+}
+
+namespace {
+const char* depthFuncName(hsr::DepthFunc f) {
+  static constexpr const char* kNames[] = {"never", "less", "equal", "lequal", "greater", "notequal", "gequal", "always"};
+  return kNames[static_cast<int>(f)];
+}
+}  // namespace
+
+void warnIfNothingDrawn(const hsr::Frame& f, const hsr::RenderOptions& o) {
+  for (const hsr::PolygonId id : f.ids)
+    if (id != hsr::kNoPolygon) return;
+  const hsr::Stats& s = f.stats;
+  std::string why;
+  if (s.triangles_in == 0)
+    why = "the scene has no polygons";
+  else if (s.culled_frustum == s.triangles_in)
+    why = "every polygon lies outside the view (check --eye, --target, --near, --far)";
+  else if (s.culled_backface > 0 && s.culled_backface + s.culled_frustum + s.clipped_away >= s.triangles_in)
+    why = "every polygon in the view faces away and --cull removed it (try --cull none or --front-face cw)";
+  else if (s.clipped_away > 0 && s.culled_frustum + s.clipped_away >= s.triangles_in)
+    why = "every polygon was clipped away by the near or far plane";
+  else if (s.fragments_tested > 0 && s.fragments_written == 0)
+    why = fmt::format("no fragment passed the depth test (--depth-func {} against the clear depth {:g}{})",
+                      depthFuncName(o.depth_func), o.clear_depth,
+                      o.depth_func == hsr::DepthFunc::Greater || o.depth_func == hsr::DepthFunc::GEqual
+                          ? "; --clear-depth 0 lets it draw"
+                          : "");
+  else if (s.triangles_rasterized == 0 || s.fragments_tested == 0)
+    why = "every polygon in the view falls between pixel centres (too small for this --size)";
+  else
+    why = "no polygon reached a pixel";
+  fmt::print(stderr, "hsr: warning: nothing was drawn: {}\n", why);
 }
 
 void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,

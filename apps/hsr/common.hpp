@@ -18,7 +18,18 @@
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
 
+namespace CLI {
+class App;
+}
+
 namespace hsr::cli {
+
+// Every option of `app` and its subcommands that takes a value refuses one that is a flag
+// (`--stats --quiet` names no file called --quiet; `--eye -1,2,3` is still a value).
+void refuseFlagsAsValues(CLI::App* app);
+// "did you mean --size?" for a token of argv that names no option of `app` but is near one
+// (edit distance at most 2); empty when none is.
+std::string nearMissHint(CLI::App* app, int argc, const char* const* argv);
 
 namespace fs = std::filesystem;
 
@@ -85,10 +96,13 @@ class OutputPlan {
 // A file name's stem, or a built-in scene's spec, made safe as a file name.
 std::string sceneLabel(const std::string& spec);
 void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam);
-void warnIfDepthUnresolvable(const hsr::Camera& cam);
+bool warnIfDepthUnresolvable(const hsr::Camera& cam);  // true when it warned
 std::vector<std::string> splitList(const std::string& s);
 void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm);
 // The frame's counts and stage times, and the camera used when given (its intrinsics too).
+// When no pixel shows a polygon: a warning on stderr saying why (all culled, clipped, too
+// small, or the depth function against the clear depth).
+void warnIfNothingDrawn(const hsr::Frame& frame, const hsr::RenderOptions& options);
 void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,
                   const std::vector<std::string>& written, const hsr::Camera* camera = nullptr);
 

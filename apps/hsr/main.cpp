@@ -2,6 +2,7 @@
 // 0 success, 2 bad input or usage (one line on stderr), 1 internal error.
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -114,6 +115,7 @@ int runRender(const Args& a, const Given& given) {
     throw hsr::Error("-o \"\": an empty path names no file");
   const fs::path base = a.output_file.empty() ? fs::path("out") / (sceneLabel(a.scene) + ".png")
                                               : fs::path(a.output_file);
+  const bool stats_to_stdout = given.stats && a.stats_file == "-";
   const bool kind_suffix = kinds.size() > 1 || (kinds.size() == 1 && kinds[0] != "color" && !given.output_file);
   auto viewTag = [&](int k) { return views.many ? fmt::format("-{:04d}", k) : std::string(); };
   auto pngPath = [&](int k, const std::string& kind) {
@@ -130,7 +132,11 @@ int runRender(const Args& a, const Given& given) {
     for (const std::string& kind : kinds) plan.file("-o", pngPath(k, kind).string());
     if (given.raw) plan.directory("--raw", rawPath(k).string(), hsr::kRawFiles);
   }
-  if (given.stats) plan.file("--stats", a.stats_file);
+  if (given.stats && !stats_to_stdout) plan.file("--stats", a.stats_file);
+  std::string extension = base.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (!kinds.empty() && !extension.empty() && extension != ".png")
+    throw hsr::Error(fmt::format("-o {}: hsr writes PNG pictures; name the file .png", a.output_file));
 
   const hsr::Scene scene = hsr::loadScene(a.scene, hsr::cli::importLimits(a));
   std::vector<hsr::Camera> cameras = views.listed;
@@ -141,7 +147,7 @@ int runRender(const Args& a, const Given& given) {
   for (const hsr::Camera& cam : cameras)
     for (const std::string& kind : kinds) hsr::checkPngSize(pngPath(0, kind), cam.width, cam.height, 3);
   warnIfEyeInside(scene, cameras.front());
-  warnIfDepthUnresolvable(cameras.front());
+  const bool depth_unresolved = warnIfDepthUnresolvable(cameras.front());
   const hsr::RenderOptions opt = makeOptions(a);
 
   // One frame for every view: what an algorithm builds once (a BSP tree, an octree, a BVH)
@@ -155,6 +161,7 @@ int runRender(const Args& a, const Given& given) {
     hsr::render(scene, cam, opt, frame);
     (k == 0 ? first_ms : rest_ms) += frame.stats.totalMs();
     if (k == 0) warnIfUnresolved(frame, opt.algorithm);
+    if (k == 0 && !depth_unresolved) hsr::cli::warnIfNothingDrawn(frame, opt);  // that warning says why
     std::vector<std::pair<std::string, fs::path>> pictures;
     for (const std::string& kind : kinds) pictures.emplace_back(kind, pngPath(k, kind));
     hsr::writePictures(frame, pictures);
@@ -180,6 +187,10 @@ int runRender(const Args& a, const Given& given) {
       json = "{\"views\": [\n";
       for (std::size_t k = 0; k < stats.size(); ++k) json += (k ? ",\n" : "") + stats[k];
       json += "]}\n";
+    }
+    if (stats_to_stdout) {
+      std::fwrite(json.data(), 1, json.size(), stdout);
+      return 0;  // stdout holds the JSON alone
     }
     hsr::writeFileAtomically(a.stats_file, {json});
     written.push_back(a.stats_file);
@@ -289,6 +300,7 @@ int main(int argc, char** argv) {
   CLI::App app{"hsr: hidden-surface removal with every classic algorithm.\n"
                "Examples:\n"
                "  hsr                                  render the demo scene to out/demo.png\n"
+               "  hsr model.ply --raw out/raw          render a model (render is the default verb)\n"
                "  hsr render spheres:100000 --size 1920x1080 --cull back -o out/s.png\n"
                "  hsr render model.obj --output color,depth,ids,overdraw --raw out/raw\n"
                "  hsr render demo --polygon-mode line --eye 4,3,6 --target 0,0,0\n"
@@ -318,7 +330,8 @@ int main(int argc, char** argv) {
   render->add_option("--normals", a.normals,
                      "add --raw's normals.npy: the polygon shown's unit normal, facing the eye, in "
                      "world or eye space");
-  render->add_option("--stats", a.stats_file, "write counts, stage times and the camera as JSON");
+  render->add_option("--stats", a.stats_file,
+                     "write counts, stage times and the camera as JSON (- : to stdout, instead of the summary)");
   render->add_option("--views", a.views_file,
                      "render every camera of a JSON list (as --stats writes them) from one import: "
                      "numbered outputs FILE-NNNN.png, DIR/NNNN/");
@@ -344,14 +357,27 @@ int main(int argc, char** argv) {
   hsr::cli::SvgVerb svg;
   hsr::cli::addSvgVerb(app, svg);
 
+  app.set_version_flag("--version", "hsr " HSR_VERSION);
+  hsr::cli::refuseFlagsAsValues(&app);
+  // `hsr SCENE [options]` is `hsr render SCENE [options]`
+  std::vector<const char*> args(argv, argv + argc);
+  if (argc > 1) {
+    const std::string_view first = argv[1];
+    const bool verb = first == "render" || first == "compare" || first == "explain" || first == "scenes" ||
+                      first == "bsp" || first == "svg";
+    if (!verb && first != "-h" && first != "--help" && first != "--version") args.insert(args.begin() + 1, "render");
+  }
   try {
-    app.parse(argc, argv);
+    app.parse(static_cast<int>(args.size()), args.data());
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    printError(std::string(e.what()) + " (see hsr --help)");
+    const std::string hint = hsr::cli::nearMissHint(&app, static_cast<int>(args.size()), args.data());
+    printError(hint.empty() ? std::string(e.what()) + " (see hsr --help)" : std::string(e.what()) + "; " + hint);
     return 2;
   }
   Given given;

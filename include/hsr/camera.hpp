@@ -72,8 +72,9 @@ glm::dmat4 poseOf(const Camera& camera, PoseConvention convention);
 // 3x3 is not a rotation (columns not unit and orthogonal within 1e-4), or its last row is not
 // 0 0 0 1, or a value is not finite.
 void setPose(Camera& camera, const glm::dmat4& camera_to_world, PoseConvention convention);
+// `up_axis`: the scene's up (z for CAD and Blender models); the view keeps it up.
 Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg = 45.0f,
-                   bool ortho = false);
+                   bool ortho = false, const glm::vec3& up_axis = {0.0f, 1.0f, 0.0f});
 
 // The intrinsics the camera projects with: its own when given, else those of its fov (fx = fy,
 // the principal point at the image centre); all 0 for an orthographic camera.

@@ -72,6 +72,10 @@ class Scene {
   PolygonId addPolygonVertices(std::span<const glm::vec3> vertices, std::uint32_t material);
   PolygonId addPolygonVertices(std::initializer_list<glm::vec3> vertices, std::uint32_t material);
 
+  // Room for this many more vertices, polygons and polygon corners (an importer that knows
+  // its counts: no regrowth).
+  void reserve(std::size_t vertices, std::size_t polygons, std::size_t corners);
+
   // Reading.
   std::size_t polygonCount() const { return offsets_.size() - 1; }
   std::size_t vertexCount() const { return positions_.size(); }

@@ -61,12 +61,12 @@ void Camera::validate() const {
                 " must be at least 1x1");
   if (width > kMaxDimension || height > kMaxDimension ||
       static_cast<long long>(width) * height > kMaxPixels) {
-    // 4 buffers of 4 bytes + 3 bytes of colour per pixel.
+    // 4 buffers of 4 bytes + 3 bytes of colour per pixel, said where it is a sizeable figure
     const double gib = static_cast<double>(width) * height * 19.0 / (1024.0 * 1024.0 * 1024.0);
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) +
-                " would need " + std::to_string(static_cast<long long>(gib + 0.5)) +
-                " GiB of buffers; the limit is " + std::to_string(kMaxDimension) +
-                " pixels per side");
+                " is over the limit of " + std::to_string(kMaxDimension) + " pixels per side" +
+                (gib >= 1.0 ? " (its buffers would take " + std::to_string(static_cast<long long>(gib + 0.5)) + " GiB)"
+                            : std::string()));
   }
   if (!finite(eye) || !finite(target) || !finite(up))
     throw Error("camera has a non-finite eye, target or up vector");
@@ -99,7 +99,8 @@ void Camera::validate() const {
     throw Error("camera up vector " + str(up) + " is parallel to the view direction");
 }
 
-Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, bool ortho) {
+Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, bool ortho,
+                   const glm::vec3& up_axis) {
   Camera c;
   c.width = width;
   c.height = height;
@@ -114,8 +115,15 @@ Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, b
   const float aspect = static_cast<float>(width) / static_cast<float>(std::max(height, 1));
   const float tan_v = std::tan(glm::radians(fov_deg) * 0.5f);
   const float tan_h = tan_v * aspect;
-  const glm::vec3 forward = glm::normalize(glm::vec3(0.55f, 0.45f, 1.0f));  // target -> eye
-  const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), forward));
+  // The three-quarter direction in the frame of the scene's up axis: for y up, (0.55, 0.45, 1)
+  // (right, up, towards the viewer); for z up (CAD, Blender), the viewer stands at -y
+  const glm::vec3 u = glm::length(up_axis) > 0.0f ? glm::normalize(up_axis) : glm::vec3(0.0f, 1.0f, 0.0f);
+  glm::vec3 x_axis = glm::vec3(1.0f, 0.0f, 0.0f) - u * u.x;
+  if (glm::length(x_axis) < 1e-3f) x_axis = glm::vec3(0.0f, 0.0f, -1.0f) - u * -u.z;  // up along x
+  x_axis = glm::normalize(x_axis);
+  const glm::vec3 toward_viewer = glm::cross(x_axis, u);
+  const glm::vec3 forward = glm::normalize(0.55f * x_axis + 0.45f * u + 1.0f * toward_viewer);  // target -> eye
+  const glm::vec3 right = glm::normalize(glm::cross(u, forward));
   const glm::vec3 up = glm::cross(forward, right);
   c.target = bounds.center();
   float dist = 0.0f, half_w = 0.0f, half_h = 0.0f;
@@ -131,7 +139,7 @@ Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, b
   }
   dist = std::max(dist, r * 1e-3f);
   c.eye = c.target + forward * dist;
-  c.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  c.up = u;
   c.near = std::max(dist - 1.5f * r, dist * 1e-3f);
   c.far = dist + 1.5f * r;
   c.ortho_half_height = std::max({half_h, half_w / aspect, r * 1e-3f}) * 1.06f;

@@ -32,6 +32,14 @@ void Scene::beginObject(std::string object_name) {
   objects.push_back(std::move(o));
 }
 
+void Scene::reserve(std::size_t vertices, std::size_t polygons, std::size_t corners) {
+  positions_.reserve(positions_.size() + vertices);
+  indices_.reserve(indices_.size() + corners);
+  offsets_.reserve(offsets_.size() + polygons);
+  polygon_material_.reserve(polygon_material_.size() + polygons);
+  polygon_object_.reserve(polygon_object_.size() + polygons);
+}
+
 std::uint32_t Scene::addMaterial(const Material& m) {
   materials.push_back(m);
   return static_cast<std::uint32_t>(materials.size() - 1);

@@ -5,6 +5,7 @@
 // depth first, children in order), then each mesh's face order.
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -128,8 +129,7 @@ float clamp01(float v, float fallback) {
 Material convertMaterial(const aiMaterial* m) {
   Material out;
   if (!m) return out;
-  // assimp's stand-in for a file without materials (white for PLY and STL, grey for OBJ):
-  // every format gets hsr's one default instead
+  // assimp's stand-in for a file without materials (an OBJ without an .mtl): hsr's one default
   aiString name;
   if (m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) {
     if (std::string_view(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME) return out;
@@ -157,6 +157,11 @@ Material convertMaterial(const aiMaterial* m) {
   return out;
 }
 
+bool hasNoMaterials(const fs::path& path) {
+  const std::string ext = detail::lowerExtension(path);
+  return ext == ".ply" || ext == ".stl" || ext == ".off";
+}
+
 bool isGltf(const fs::path& path) {
   const std::string ext = detail::lowerExtension(path);
   return ext == ".gltf" || ext == ".glb";
@@ -175,6 +180,61 @@ aiMatrix4x4 globalTransform(const aiNode* node) {
 // down the node's -Z with +Y up (assimp 5.2 also copies the node's translation into
 // mPosition, which would count it twice, so aiCamera's own frame is not used). assimp stores
 // yfov * aspect in mHorizontalFOV, and xmag in mOrthographicWidth with mAspect = xmag / ymag.
+// The vertices of one mesh with identical positions (the same floats; 0 and -0 alike), joined:
+// find(v) gives the first vertex of the mesh seen at v's position (v itself when it is the
+// first). Open addressing on the vertices' indices, kept at most half full by doubling: sized
+// by the distinct positions, not by the vertices (an STL repeats each about six times), so
+// that it stays in the cache. O(1) a vertex.
+class PositionJoin {
+ public:
+  void reset(const aiVector3D* vertices) {
+    slots_.assign(1024, kEmpty);
+    used_ = 0;
+    vertices_ = vertices;
+  }
+  unsigned find(unsigned v) {
+    const aiVector3D& p = vertices_[v];
+    const std::uint32_t x = bits(p.x), y = bits(p.y), z = bits(p.z);
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = hash(x, y, z) & mask;; i = (i + 1) & mask) {
+      if (slots_[i] == kEmpty) {
+        slots_[i] = v;
+        if (2 * ++used_ > slots_.size()) grow();
+        return v;
+      }
+      const aiVector3D& q = vertices_[slots_[i]];
+      if (bits(q.x) == x && bits(q.y) == y && bits(q.z) == z) return slots_[i];
+    }
+  }
+
+ private:
+  static constexpr unsigned kEmpty = 0xFFFFFFFFu;
+  static std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v + 0.0f); }  // -0 as 0
+  // The three words mixed (a multiply-xorshift finaliser), the table indexed by the top bits
+  static std::size_t hash(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    std::uint64_t h = (std::uint64_t{x} << 32 | y) * 0x9E3779B97F4A7C15ull ^ z * 0xC2B2AE3D27D4EB4Full;
+    h ^= h >> 31;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 29;
+    return static_cast<std::size_t>(h >> 24);
+  }
+  void grow() {
+    std::vector<unsigned> old(2 * slots_.size(), kEmpty);
+    old.swap(slots_);
+    const std::size_t mask = slots_.size() - 1;
+    for (const unsigned v : old) {
+      if (v == kEmpty) continue;
+      const aiVector3D& p = vertices_[v];
+      std::size_t i = hash(bits(p.x), bits(p.y), bits(p.z)) & mask;
+      while (slots_[i] != kEmpty) i = (i + 1) & mask;
+      slots_[i] = v;
+    }
+  }
+  std::vector<unsigned> slots_;
+  std::size_t used_ = 0;
+  const aiVector3D* vertices_ = nullptr;
+};
+
 // A camera that makes no sense (non-finite, degenerate) is left out.
 std::optional<SceneCamera> gltfCamera(const aiScene* ai, const aiCamera* cam, const Scene& scene) {
     if (!cam) return std::nullopt;
@@ -231,9 +291,12 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
   Scene scene;
   scene.name = path.filename().string();
 
-  // Materials, in the file's order; one default appended if a mesh needs it
+  // Materials, in the file's order; one default appended if a mesh needs it. PLY, STL and OFF
+  // have none: what assimp makes up for them (white for PLY, 0.6 grey for OFF) is hsr's one
+  // default instead
+  const bool made_up = hasNoMaterials(path);
   for (unsigned i = 0; i < ai->mNumMaterials && ai->mMaterials; ++i)
-    scene.addMaterial(convertMaterial(ai->mMaterials[i]));
+    scene.addMaterial(made_up ? Material{} : convertMaterial(ai->mMaterials[i]));
   std::uint32_t default_material = 0xFFFFFFFFu;
 
   if (!ai->mRootNode) throw Error(file + ": no polygons (the file holds no scene nodes)");
@@ -242,6 +305,7 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
   bool saw_points_or_lines = false;
   std::vector<std::uint32_t> remap, local;
   constexpr std::uint32_t kUnset = 0xFFFFFFFFu;
+  PositionJoin joined;
 
   // Walk the node tree depth first, root first, children in order; an explicit stack so that
   // a deep hostile hierarchy cannot overflow the call stack
@@ -275,6 +339,7 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
       // Faces: points and lines are not polygons; vertices enter the scene on first use, so
       // that unused ones do not widen the object's bounds
       remap.assign(mesh->mNumVertices, kUnset);
+      joined.reset(mesh->mVertices);
       bool object_started = false;
       for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
         const aiFace& face = mesh->mFaces[f];
@@ -306,7 +371,10 @@ Scene convertScene(const aiScene* ai, const fs::path& path) {
                   file + ": vertex " + std::to_string(v) + " of mesh " +
                   std::to_string(mesh_index) + " is not finite" +
                   (finite(glm::vec3(raw.x, raw.y, raw.z)) ? " after its node's transform" : ""));
-            remap[v] = scene.addVertex(p);
+            // Identical positions in the file join into one shared vertex (assimp's
+            // JoinIdenticalVertices did this, at 3x the cost of reading a binary PLY)
+            const unsigned first = joined.find(v);
+            remap[v] = first != v ? remap[first] : scene.addVertex(p);
           }
           local.push_back(remap[v]);
         }
@@ -381,24 +449,24 @@ void preflight(const aiScene* ai, const std::string& file) {
 // The importer proper (assimp), run inside the isolated child process. Every file it opens
 // goes through a ConfinedIOSystem; on_open(bytes) hears of each one the model references.
 Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes, const std::string& over_budget,
-                       bool allow_outside, std::function<void(std::uint64_t)> on_open) {
+                       bool allow_outside, std::function<void(std::uint64_t)> on_open,
+                       std::unique_ptr<Assimp::Importer>* keep = nullptr) {
   const std::string file = path.string();
   try {
     // Header counts first: assimp allocates by them before reading any data
     const detail::HeaderFix fix = detail::checkHeaderAgainstSize(path, bytes);
-    Assimp::Importer importer;  // no logger is attached: assimp stays quiet
+    // No logger is attached: assimp stays quiet. With `keep`, the importer (and the scene it
+    // holds: a million faces are a million allocations) outlives the call, for a child process
+    // that answers and exits without freeing it
+    auto owned = std::make_unique<Assimp::Importer>();
+    Assimp::Importer& importer = *owned;
+    if (keep) *keep = std::move(owned);
     auto* io = new detail::ConfinedIOSystem(path, allow_outside, std::move(on_open));
     importer.SetIOHandler(io);  // the importer owns it
     // A refused reference is the import's answer, whatever assimp made of the missing file
     const auto refused = [&] {
       if (!io->refusal().empty()) throw Error(io->refusal());
     };
-    // Keep only what we use, so that identical positions join into shared vertices
-    importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
-                                aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
-                                    aiComponent_COLORS | aiComponent_TEXCOORDS |
-                                    aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
-                                    aiComponent_TEXTURES | aiComponent_LIGHTS);
     // A file with bones but no meshes must not grow a made-up skeleton mesh
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
     // Read without post-processing, check, then post-process: no triangulation, so polygons
@@ -420,9 +488,8 @@ Scene importWithAssimp(const fs::path& path, std::uintmax_t bytes, const std::st
       if (!read_ok) throw assimpFailure(file, importer.GetErrorString(), over_budget);
     }
     preflight(importer.GetScene(), file);
-    const aiScene* ai =
-        importer.ApplyPostProcessing(aiProcess_ValidateDataStructure | aiProcess_RemoveComponent |
-                                     aiProcess_JoinIdenticalVertices);
+    // Identical vertices are joined by the conversion (PositionJoin), not by assimp
+    const aiScene* ai = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure);
     if (!ai) throw assimpFailure(file, importer.GetErrorString(), over_budget);
     return convertScene(ai, path);
   } catch (const Error&) {
@@ -449,8 +516,17 @@ void putStr(std::string& out, const std::string& v) {
   out += v;
 }
 
+static_assert(sizeof(glm::vec3) == 12, "positions are written as they lie in memory");
+
 std::string serializeScene(const Scene& s) {
   std::string out;
+  std::size_t corners = 0;
+  for (PolygonId id = 0; id < s.polygonCount(); ++id) corners += s.polygon(id).size();
+  // 12 bytes a vertex, 8 a polygon and 4 a corner, and the counts first (the reader reserves)
+  out.reserve(64 + 12 * s.vertexCount() + 8 * s.polygonCount() + 4 * corners);
+  putU32(out, static_cast<std::uint32_t>(s.vertexCount()));
+  putU32(out, static_cast<std::uint32_t>(s.polygonCount()));
+  putU32(out, static_cast<std::uint32_t>(corners));
   putStr(out, s.name);
   putU32(out, static_cast<std::uint32_t>(s.materials.size()));
   for (const Material& m : s.materials) {
@@ -474,14 +550,17 @@ std::string serializeScene(const Scene& s) {
   for (const Object& o : s.objects) {
     putStr(out, o.name);
     putU32(out, o.vertex_count);
-    for (std::uint32_t v = o.first_vertex; v < o.first_vertex + o.vertex_count; ++v)
-      for (int k = 0; k < 3; ++k) putF32(out, s.position(v)[k]);
+    // The positions as they lie in memory (three floats each), then each polygon as material,
+    // count and local indices gathered into one piece: a million polygons, a million appends
+    if (o.vertex_count > 0)
+      out.append(reinterpret_cast<const char*>(&s.position(o.first_vertex)), 12 * std::size_t{o.vertex_count});
     putU32(out, o.polygon_count);
+    std::vector<std::uint32_t> piece;
     for (PolygonId id = o.first_polygon; id < o.first_polygon + o.polygon_count; ++id) {
       const auto poly = s.polygon(id);
-      putU32(out, s.material(id));
-      putU32(out, static_cast<std::uint32_t>(poly.size()));
-      for (std::uint32_t v : poly) putU32(out, v - o.first_vertex);
+      piece.assign({s.material(id), static_cast<std::uint32_t>(poly.size())});
+      for (std::uint32_t v : poly) piece.push_back(v - o.first_vertex);
+      out.append(reinterpret_cast<const char*>(piece.data()), 4 * piece.size());
     }
   }
   return out;
@@ -521,6 +600,10 @@ class Reader {
 Scene deserializeScene(std::string_view data) {
   Reader r(data);
   Scene s;
+  const std::uint32_t vertices = r.u32(), polygons = r.u32(), corners = r.u32();
+  if (12ull * vertices + 8ull * polygons + 4ull * corners > data.size())
+    throw Error("corrupt scene from the importer process");
+  s.reserve(vertices, polygons, corners);
   s.name = r.str();
   const std::uint32_t materials = r.u32();
   for (std::uint32_t i = 0; i < materials; ++i) {
@@ -859,9 +942,10 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLim
     // The over-budget line changes as the references are counted: read where it is kept
     const std::string& over_answer = g_child_memory.answer;
     std::string answer;
+    std::unique_ptr<Assimp::Importer> importer;  // left to _exit, never freed
     try {
       const Scene scene =
-          importWithAssimp(path, bytes, g_child_memory.line, allow_outside, growChildMemory);
+          importWithAssimp(path, bytes, g_child_memory.line, allow_outside, growChildMemory, &importer);
       answer.assign(1, 'S');
       answer += serializeScene(scene);
     } catch (const Error& e) {
