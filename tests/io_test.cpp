@@ -800,5 +800,28 @@ TEST(MeshImport, FilesWithoutMaterialsGetTheOneDefault) {
   EXPECT_TRUE(named) << "spider.mtl names its materials";
 }
 
+// An import reports its progress: seconds that only grow, and one last call saying it is done
+// with the whole answer received.
+TEST(MeshImport, ProgressIsReportedAndEndsDone) {
+  ImportLimits limits;
+  std::vector<std::pair<double, bool>> calls;
+  std::uint64_t last_bytes = 0;
+  limits.progress = [&](double seconds, std::uint64_t bytes, bool done) {
+    calls.emplace_back(seconds, done);
+    last_bytes = bytes;
+  };
+  const Scene s = loadScene((std::filesystem::path(HSR_TEST_MODELS) / "PLY/Wuson.ply").string(), limits);
+  ASSERT_FALSE(calls.empty());
+  EXPECT_TRUE(calls.back().second);
+  for (std::size_t k = 0; k + 1 < calls.size(); ++k) {
+    EXPECT_FALSE(calls[k].second);
+    EXPECT_LE(calls[k].first, calls[k + 1].first);
+  }
+  EXPECT_GT(last_bytes, 12 * s.vertexCount());  // the scene came through the pipe
+  calls.clear();
+  loadScene("spheres:100", limits);
+  EXPECT_TRUE(calls.empty()) << "a built-in scene is no import";
+}
+
 }  // namespace
 }  // namespace hsr

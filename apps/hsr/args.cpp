@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <fmt/core.h>
+#include <unistd.h>
 #include <glm/geometric.hpp>
 
 #include "hsr/error.hpp"
@@ -306,6 +307,17 @@ void addViewOptions(CLI::App* app, Args& a) {
 hsr::ImportLimits importLimits(const Args& a) {
   hsr::ImportLimits limits;
   limits.allow_outside_references = a.allow_outside_refs;
+  // A long import shows how long it has run on a terminal (from its first second on)
+  if (!a.quiet && ::isatty(STDERR_FILENO)) {
+    const std::string name = fs::path(a.scene).filename().string();
+    limits.progress = [name, shown = false](double seconds, std::uint64_t bytes, bool done) mutable {
+      if (seconds < 1.0 && !shown) return;
+      shown = true;
+      fmt::print(stderr, "\r  importing {}: {:.1f} s{}{}", name, seconds,
+                 bytes > 0 ? fmt::format(", {:.0f} MiB received", bytes / 1048576.0) : std::string(),
+                 done ? "\n" : "");
+    };
+  }
   return limits;
 }
 

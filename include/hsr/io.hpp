@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -27,6 +28,10 @@ struct ImportLimits {
   int timeout_seconds = 120;
   std::uint64_t memory_bytes = 0;
   bool allow_outside_references = false;
+  // Called about four times a second while an import runs (never for a built-in scene), with
+  // the seconds spent and the bytes of the answer received so far, and once more with done
+  // when it has ended (answered, refused or timed out): for showing progress.
+  std::function<void(double seconds, std::uint64_t bytes_received, bool done)> progress;
 };
 // Loads SCENE: an existing file wins; otherwise a built-in name. Throws hsr::Error with a
 // one-line reason (missing file, unreadable format, empty scene, non-finite coordinates...).

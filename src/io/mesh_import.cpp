@@ -975,7 +975,9 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLim
     return n > 0;
   };
   bool timed_out = false;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_seconds);
+  const auto started = std::chrono::steady_clock::now();
+  auto next_progress = started + std::chrono::milliseconds(250);
+  const auto deadline = started + std::chrono::seconds(timeout_seconds);
   pollfd p[2] = {{fds[0], POLLIN, 0}, {err_fds[0], POLLIN, 0}};
   const nfds_t watched = err_fds[0] >= 0 ? 2 : 1;
   // Until the answer's EOF: the child closed its end (answered, or died)
@@ -987,12 +989,22 @@ Scene importIsolated(const fs::path& path, std::uintmax_t bytes, const ImportLim
       timed_out = true;
       break;
     }
-    if (::poll(p, watched, static_cast<int>(std::min<long long>(left, 1000))) <= 0) continue;
+    if (limits.progress) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now >= next_progress) {
+        limits.progress(std::chrono::duration<double>(now - started).count(), answer.size(), false);
+        next_progress = now + std::chrono::milliseconds(250);
+      }
+    }
+    if (::poll(p, watched, static_cast<int>(std::min<long long>(left, limits.progress ? 250 : 1000))) <= 0) continue;
     for (nfds_t k = 0; k < watched; ++k)
       if (p[k].fd >= 0 && (p[k].revents & (POLLIN | POLLHUP | POLLERR)) &&
           !drain(p[k].fd, k == 0 ? answer : child_stderr))
         p[k].fd = -1;
   }
+  if (limits.progress)
+    limits.progress(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+                    answer.size(), true);
   if (timed_out) ::kill(pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
