@@ -1,7 +1,7 @@
 // The A-buffer (abuffer.cpp). At one sample (the pixel centre) it is the z-buffer, bit for bit;
 // at any sample count its ids and depth still are (the nearest opaque fragment at the centre).
 // Its coverage masks: the sub-pixel version of "exactly once" along a fan's interior edges
-// (TESTING.md's A-buffer invariant), and within half a sample of the exact area of each
+// (the A-buffer invariant of docs/testing.md), and within half a sample of the exact area of each
 // triangle in each pixel. Transparency: the same picture whatever the submission order, and
 // the painter's picture within a colour level. A frame over its fragment memory is refused.
 // The pixel-centre property suites run it through the registry (tests/test_util.hpp).
