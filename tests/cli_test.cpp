@@ -410,6 +410,16 @@ TEST(Cli, NewUserPapercuts) {
   EXPECT_NE(away.err.find("outside the view"), std::string::npos) << away.err;
   const CliRun culled = runCli("render demo --size 32x24 --cull both -q -o " + png);
   EXPECT_NE(culled.err.find("--cull removed it"), std::string::npos) << culled.err;
+  // Names in any case, as OpenGL's: the same picture
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string lower = (d / "lower.png").string(), upper = (d / "upper.png").string();
+  ASSERT_EQ(runCli("render demo --size 32x24 -q --algorithm scanline --cull back --output ids -o " + lower).code, 0);
+  const CliRun mixed = runCli("render demo --size 32x24 -q --algorithm ScanLine --cull BACK --output IDS -o " + upper);
+  ASSERT_EQ(mixed.code, 0) << mixed.err;
+  EXPECT_EQ(slurp(lower), slurp(upper));
 }
 
 TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {

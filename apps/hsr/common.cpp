@@ -54,6 +54,24 @@ void refuseFlagsAsValues(CLI::App* app) {
   for (CLI::App* sub : app->get_subcommands({})) refuseFlagsAsValues(sub);
 }
 
+void lowercaseNameValues(CLI::App* app) {
+  static constexpr std::string_view kNamed[] = {
+      "cull",  "front-face", "facing",          "polygon-mode", "depth-func", "algorithm", "output", "depth",
+      "normals", "pose-convention", "camera-index", "bsp-splitter", "style", "hidden", "lines", "engine",
+      "fallback"};
+  const CLI::Validator lower(
+      [](std::string& v) {
+        std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
+        return std::string();
+      },
+      "", "lower case");
+  for (CLI::Option* o : app->get_options())
+    for (const std::string& n : o->get_lnames())
+      if (std::find(std::begin(kNamed), std::end(kNamed), n) != std::end(kNamed)) o->transform(lower);
+  if (CLI::Option* algorithm = app->get_option_no_throw("ALGORITHM")) algorithm->transform(lower);
+  for (CLI::App* sub : app->get_subcommands({})) lowercaseNameValues(sub);
+}
+
 std::string nearMissHint(CLI::App* app, int argc, const char* const* argv) {
   std::vector<std::string> names;
   allOptionNames(app, names);

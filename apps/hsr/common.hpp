@@ -27,6 +27,9 @@ namespace hsr::cli {
 // Every option of `app` and its subcommands that takes a value refuses one that is a flag
 // (`--stats --quiet` names no file called --quiet; `--eye -1,2,3` is still a value).
 void refuseFlagsAsValues(CLI::App* app);
+// Option values that are names (--cull BACK, --algorithm ZBuffer, --output Depth) are taken in
+// any case: one rule for every option, as OpenGL's names read in either.
+void lowercaseNameValues(CLI::App* app);
 // "did you mean --size?" for a token of argv that names no option of `app` but is near one
 // (edit distance at most 2); empty when none is.
 std::string nearMissHint(CLI::App* app, int argc, const char* const* argv);

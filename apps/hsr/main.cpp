@@ -359,6 +359,7 @@ int main(int argc, char** argv) {
 
   app.set_version_flag("--version", "hsr " HSR_VERSION);
   hsr::cli::refuseFlagsAsValues(&app);
+  hsr::cli::lowercaseNameValues(&app);
   // `hsr SCENE [options]` is `hsr render SCENE [options]`
   std::vector<const char*> args(argv, argv + argc);
   if (argc > 1) {
