@@ -823,5 +823,44 @@ TEST(MeshImport, ProgressIsReportedAndEndsDone) {
   EXPECT_TRUE(calls.empty()) << "a built-in scene is no import";
 }
 
+// An STL repeats each corner in every triangle: identical positions join into shared vertices
+// (0 and -0 alike), different ones stay apart, and the triangles keep their order and corners.
+TEST(MeshImport, IdenticalPositionsJoinIntoSharedVertices) {
+  const ScratchDir scratch("hsr_io_join");
+  // A unit cube's 12 triangles, some corners written with -0
+  const float c[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const int tri[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                          {3, 6, 2}, {3, 7, 6}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+  std::string stl(80, '\0');
+  const std::uint32_t n = 12;
+  stl.append(reinterpret_cast<const char*>(&n), 4);
+  for (int t = 0; t < 12; ++t) {
+    const float normal[3] = {0, 0, 0};
+    stl.append(reinterpret_cast<const char*>(normal), 12);
+    for (int k = 0; k < 3; ++k) {
+      float p[3] = {c[tri[t][k]][0], c[tri[t][k]][1], c[tri[t][k]][2]};
+      if (t % 2 == 1)
+        for (float& v : p) v = v == 0.0f ? -0.0f : v;  // -0 in every other triangle
+      stl.append(reinterpret_cast<const char*>(p), 12);
+    }
+    stl.append(2, '\0');
+  }
+  writeFile(scratch / "cube.stl", stl);
+  const Scene s = loadScene((scratch / "cube.stl").string());
+  ASSERT_EQ(s.polygonCount(), 12u);
+  EXPECT_EQ(s.vertexCount(), 8u);
+  for (PolygonId id = 0; id < 12; ++id)
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 p = s.position(s.polygon(id)[k]);
+      EXPECT_EQ(p, glm::vec3(c[tri[id][k]][0], c[tri[id][k]][1], c[tri[id][k]][2])) << id << "," << k;
+    }
+  // A position one float step away is another vertex
+  float moved = 1.0f;
+  moved = std::nextafter(moved, 2.0f);
+  std::memcpy(&stl[84 + 12 + 12], &moved, 4);  // triangle 0's second corner's x
+  writeFile(scratch / "moved.stl", stl);
+  EXPECT_EQ(loadScene((scratch / "moved.stl").string()).vertexCount(), 9u);
+}
+
 }  // namespace
 }  // namespace hsr

@@ -188,49 +188,53 @@ aiMatrix4x4 globalTransform(const aiNode* node) {
 class PositionJoin {
  public:
   void reset(const aiVector3D* vertices) {
-    slots_.assign(1024, kEmpty);
+    slots_.assign(1024, Slot{});
     used_ = 0;
     vertices_ = vertices;
   }
   unsigned find(unsigned v) {
     const aiVector3D& p = vertices_[v];
-    const std::uint32_t x = bits(p.x), y = bits(p.y), z = bits(p.z);
+    const Slot key{bits(p.x), bits(p.y), bits(p.z), v};
     const std::size_t mask = slots_.size() - 1;
-    for (std::size_t i = hash(x, y, z) & mask;; i = (i + 1) & mask) {
-      if (slots_[i] == kEmpty) {
-        slots_[i] = v;
+    for (std::size_t i = hash(key) & mask;; i = (i + 1) & mask) {
+      Slot& s = slots_[i];
+      if (s.index == kEmpty) {
+        s = key;
         if (2 * ++used_ > slots_.size()) grow();
         return v;
       }
-      const aiVector3D& q = vertices_[slots_[i]];
-      if (bits(q.x) == x && bits(q.y) == y && bits(q.z) == z) return slots_[i];
+      if (s.x == key.x && s.y == key.y && s.z == key.z) return s.index;
     }
   }
 
  private:
   static constexpr unsigned kEmpty = 0xFFFFFFFFu;
+  // The position's bits beside the index: one cache line read a lookup
+  struct Slot {
+    std::uint32_t x = 0, y = 0, z = 0;
+    unsigned index = kEmpty;
+  };
   static std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v + 0.0f); }  // -0 as 0
-  // The three words mixed (a multiply-xorshift finaliser), the table indexed by the top bits
-  static std::size_t hash(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    std::uint64_t h = (std::uint64_t{x} << 32 | y) * 0x9E3779B97F4A7C15ull ^ z * 0xC2B2AE3D27D4EB4Full;
+  // The three words mixed (a multiply-xorshift finaliser), the table indexed by the high bits
+  static std::size_t hash(const Slot& k) {
+    std::uint64_t h = (std::uint64_t{k.x} << 32 | k.y) * 0x9E3779B97F4A7C15ull ^ k.z * 0xC2B2AE3D27D4EB4Full;
     h ^= h >> 31;
     h *= 0xBF58476D1CE4E5B9ull;
     h ^= h >> 29;
     return static_cast<std::size_t>(h >> 24);
   }
   void grow() {
-    std::vector<unsigned> old(2 * slots_.size(), kEmpty);
+    std::vector<Slot> old(2 * slots_.size());
     old.swap(slots_);
     const std::size_t mask = slots_.size() - 1;
-    for (const unsigned v : old) {
-      if (v == kEmpty) continue;
-      const aiVector3D& p = vertices_[v];
-      std::size_t i = hash(bits(p.x), bits(p.y), bits(p.z)) & mask;
-      while (slots_[i] != kEmpty) i = (i + 1) & mask;
-      slots_[i] = v;
+    for (const Slot& s : old) {
+      if (s.index == kEmpty) continue;
+      std::size_t i = hash(s) & mask;
+      while (slots_[i].index != kEmpty) i = (i + 1) & mask;
+      slots_[i] = s;
     }
   }
-  std::vector<unsigned> slots_;
+  std::vector<Slot> slots_;
   std::size_t used_ = 0;
   const aiVector3D* vertices_ = nullptr;
 };
