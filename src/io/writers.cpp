@@ -367,20 +367,23 @@ void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const s
   writeRaw(dir, frame, scene, algorithm, &scene_data, &camera, depth, normals);
 }
 
-std::vector<std::uint32_t> objectsAt(const Frame& frame, const Scene& scene) {
+namespace {
+// Per pixel, what `of` says of the polygon shown (kNoPolygon where none is)
+std::vector<std::uint32_t> perPixel(const Frame& frame, const Scene& scene,
+                                    std::uint32_t (Scene::*of)(PolygonId) const) {
   std::vector<std::uint32_t> out(frame.ids.size(), kNoPolygon);
   for (std::size_t k = 0; k < out.size(); ++k)
-    if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene.polygonCount())
-      out[k] = scene.object(frame.ids[k]);
+    if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene.polygonCount()) out[k] = (scene.*of)(frame.ids[k]);
   return out;
+}
+}  // namespace
+
+std::vector<std::uint32_t> objectsAt(const Frame& frame, const Scene& scene) {
+  return perPixel(frame, scene, &Scene::object);
 }
 
 std::vector<std::uint32_t> materialsAt(const Frame& frame, const Scene& scene) {
-  std::vector<std::uint32_t> out(frame.ids.size(), kNoPolygon);
-  for (std::size_t k = 0; k < out.size(); ++k)
-    if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene.polygonCount())
-      out[k] = scene.material(frame.ids[k]);
-  return out;
+  return perPixel(frame, scene, &Scene::material);
 }
 
 NormalSpace normalSpaceNamed(std::string_view name) {
