@@ -312,8 +312,11 @@ TEST(CameraData, ObjectsMaterialsAndNormalsPerPixel) {
   c.eye = {6, 0, 0}, c.target = {0, 0, 0};  // from +x: world x is the eye's +z
   const Frame g = render(s, c);
   const std::vector<float> turned = normalsAt(g, s, c, NormalSpace::kEye);
-  for (std::size_t k = 0; k < g.ids.size(); ++k)
-    if (g.ids[k] != kNoPolygon) EXPECT_GT(turned[3 * k + 2], 0.0f) << "faces the eye";
+  for (std::size_t k = 0; k < g.ids.size(); ++k) {
+    if (g.ids[k] != kNoPolygon) {
+      EXPECT_GT(turned[3 * k + 2], 0.0f) << "faces the eye";
+    }
+  }
   EXPECT_EQ(normalSpaceNamed("eye"), NormalSpace::kEye);
   EXPECT_THROW(normalSpaceNamed("tangent"), Error);
 }

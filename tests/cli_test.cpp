@@ -18,6 +18,7 @@
 
 #include "hsr/compare.hpp"
 #include "hsr/io.hpp"
+#include "png_read.hpp"
 #include "test_util.hpp"
 
 namespace {

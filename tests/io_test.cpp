@@ -590,6 +590,28 @@ TEST(Writers, PictureByName) {
     EXPECT_EQ(hsr::picture(empty, k), std::vector<std::uint8_t>(12, 0)) << k;
 }
 
+// The id palette keeps neighbouring ids apart: ids k and k + 1 (a mesh's neighbouring faces,
+// mostly) and k + 2 differ clearly in colour, for every k of a long run.
+TEST(Writers, IdPaletteKeepsNeighbouringIdsApart) {
+  hsr::Frame f;
+  f.width = 4096, f.height = 1;
+  f.ids.resize(4096);
+  for (std::uint32_t k = 0; k < 4096; ++k) f.ids[k] = 1000 + k;
+  const std::vector<std::uint8_t> p = hsr::idPicture(f);
+  auto distance = [&](std::size_t a, std::size_t b) {
+    int d = 0;
+    for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(p[3 * a + c]) - int(p[3 * b + c])));
+    return d;
+  };
+  int closest1 = 255, closest2 = 255;
+  for (std::size_t k = 0; k + 2 < 4096; ++k) {
+    closest1 = std::min(closest1, distance(k, k + 1));
+    closest2 = std::min(closest2, distance(k, k + 2));
+  }
+  EXPECT_GE(closest1, 80) << "k and k + 1";
+  EXPECT_GE(closest2, 40) << "k and k + 2";
+}
+
 TEST(Writers, StatsJsonHasEveryCounter) {
   hsr::Frame f = tinyFrame();
   f.stats.polygons_in = 3;

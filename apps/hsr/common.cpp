@@ -2,6 +2,9 @@
 
 #include "common.hpp"
 
+#include "hsr/compare.hpp"
+#include "hsr/io.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -219,6 +222,45 @@ void warnIfNothingDrawn(const hsr::Frame& f, const hsr::RenderOptions& o) {
   else
     why = "no polygon reached a pixel";
   fmt::print(stderr, "hsr: warning: nothing was drawn: {}\n", why);
+}
+
+void addLegend(const hsr::Frame& f, std::string_view kind, std::vector<std::uint8_t>& rgb) {
+  if (kind != "depth" && kind != "overdraw") return;
+  constexpr int kBar = 150, kBarH = 8, kPad = 4, kText = 7;
+  const int w = f.width, h = f.height;
+  const int box_w = kBar + 2 * kPad, box_h = kPad + kText + 3 + kBarH + kPad;
+  if (w < box_w + 16 || h < 4 * box_h) return;  // a small picture stays as it is
+  if (rgb.size() != 3ull * w * h) return;
+  std::string left, right;
+  if (kind == "depth") {
+    const hsr::DepthRange r = hsr::drawnDepthRange(f);
+    if (!(r.hi >= r.lo)) return;  // nothing drawn
+    left = fmt::format("NEAR {:.5f}", r.lo);
+    right = fmt::format("FAR {:.5f}", r.hi);
+  } else {
+    const std::uint32_t max = f.overdraw.empty() ? 0 : *std::max_element(f.overdraw.begin(), f.overdraw.end());
+    if (max == 0) return;
+    left = "1";
+    right = fmt::format("MAX {}", max);
+  }
+  // A black box in the bottom-right corner: the two ends' values, then the ramp between them
+  const int x0 = w - box_w - 4, y0 = h - box_h - 4;
+  for (int y = y0; y < y0 + box_h; ++y)
+    for (int x = x0; x < x0 + box_w; ++x) {
+      const bool edge = y == y0 || y == y0 + box_h - 1 || x == x0 || x == x0 + box_w - 1;
+      std::uint8_t* p = &rgb[3 * (static_cast<std::size_t>(y) * w + x)];
+      p[0] = p[1] = p[2] = edge ? 128 : 0;
+    }
+  hsr::drawLabel(rgb, w, h, x0 + kPad, y0 + kPad, left, 1);
+  hsr::drawLabel(rgb, w, h, x0 + kPad + kBar - 6 * static_cast<int>(right.size()) + 1, y0 + kPad, right, 1);
+  for (int i = 0; i < kBar; ++i) {
+    std::uint8_t c[3];
+    const float t = static_cast<float>(i) / (kBar - 1);
+    if (kind == "depth") hsr::depthRampColor(t, c);
+    else hsr::overdrawRampColor(t, c);
+    for (int y = y0 + kPad + kText + 3; y < y0 + kPad + kText + 3 + kBarH; ++y)
+      std::copy(c, c + 3, &rgb[3 * (static_cast<std::size_t>(y) * w + x0 + kPad + i)]);
+  }
 }
 
 void printSummary(const hsr::Frame& f, const std::string& scene, const std::string& algorithm,

@@ -103,6 +103,9 @@ bool warnIfDepthUnresolvable(const hsr::Camera& cam);  // true when it warned
 std::vector<std::string> splitList(const std::string& s);
 void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm);
 // The frame's counts and stage times, and the camera used when given (its intrinsics too).
+// A legend in the bottom-right corner of the depth and overdraw pictures (the ramp and the
+// values at its ends: window depth, fragments), where the picture has room for it.
+void addLegend(const hsr::Frame& frame, std::string_view kind, std::vector<std::uint8_t>& rgb);
 // When no pixel shows a polygon: a warning on stderr saying why (all culled, clipped, too
 // small, or the depth function against the clear depth).
 void warnIfNothingDrawn(const hsr::Frame& frame, const hsr::RenderOptions& options);

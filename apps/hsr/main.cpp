@@ -164,7 +164,9 @@ int runRender(const Args& a, const Given& given) {
     if (k == 0 && !depth_unresolved) hsr::cli::warnIfNothingDrawn(frame, opt);  // that warning says why
     std::vector<std::pair<std::string, fs::path>> pictures;
     for (const std::string& kind : kinds) pictures.emplace_back(kind, pngPath(k, kind));
-    hsr::writePictures(frame, pictures);
+    hsr::writePictures(frame, pictures, [&frame](std::string_view kind, std::vector<std::uint8_t>& rgb) {
+      hsr::cli::addLegend(frame, kind, rgb);
+    });
     if (!views.many)
       for (const auto& [kind, p] : pictures) written.push_back(p.string());
     if (given.raw) {

@@ -56,9 +56,11 @@ Scene makeBuiltinScene(std::string_view spec, std::uint64_t max_triangles = kMax
 // of the same name is left as it was.
 void writePng(const std::filesystem::path& path, int width, int height, int channels,
               const std::uint8_t* pixels);
-// The frame's pictures (kinds as picture() names them) each to its path, encoded in parallel.
+// The frame's pictures (kinds as picture() names them) each to its path, encoded in parallel;
+// `decorate(kind, rgb)`, when given, draws on each before it is encoded (a legend).
 void writePictures(const Frame& frame,
-                   const std::vector<std::pair<std::string, std::filesystem::path>>& pictures);
+                   const std::vector<std::pair<std::string, std::filesystem::path>>& pictures,
+                   const std::function<void(std::string_view, std::vector<std::uint8_t>&)>& decorate = {});
 void writeNpy(const std::filesystem::path& path, int width, int height, const float* data);
 void writeNpy(const std::filesystem::path& path, int width, int height,
               const std::uint32_t* data);
@@ -140,8 +142,12 @@ struct DepthRange {
 };
 DepthRange drawnDepthRange(const Frame& frame);
 std::vector<std::uint8_t> depthPicture(const Frame& frame, DepthRange range);
-std::vector<std::uint8_t> idPicture(const Frame& frame);        // hashed palette, bg black
+std::vector<std::uint8_t> idPicture(const Frame& frame);        // golden-angle hues, bg black
 std::vector<std::uint8_t> overdrawPicture(const Frame& frame);  // heatmap
+// The two pictures' ramps at t in [0, 1], for legends: depth from the nearest drawn depth
+// (light) to the farthest (dark grey); overdraw from 1 fragment to the most, on a log scale.
+void depthRampColor(float t, std::uint8_t* rgb);
+void overdrawRampColor(float t, std::uint8_t* rgb);
 std::vector<std::uint8_t> picture(const Frame& frame, std::string_view kind);  // by name
 
 std::string statsJson(const Frame& frame, const std::string& scene, const std::string& algorithm);

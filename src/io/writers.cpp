@@ -192,12 +192,15 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
 }
 
 void writePictures(const Frame& frame,
-                   const std::vector<std::pair<std::string, std::filesystem::path>>& pictures) {
+                   const std::vector<std::pair<std::string, std::filesystem::path>>& pictures,
+                   const std::function<void(std::string_view, std::vector<std::uint8_t>&)>& decorate) {
   for (const auto& [kind, path] : pictures) checkPngSize(path, frame.width, frame.height, 3);
   // Drawn and encoded side by side (each picture is one thread's work), written in order
   std::vector<std::string> png(pictures.size());
   tbb::parallel_for(std::size_t{0}, pictures.size(), [&](std::size_t k) {
-    png[k] = encodePng(frame.width, frame.height, 3, picture(frame, pictures[k].first).data());
+    std::vector<std::uint8_t> rgb = picture(frame, pictures[k].first);
+    if (decorate) decorate(pictures[k].first, rgb);
+    png[k] = encodePng(frame.width, frame.height, 3, rgb.data());
   });
   for (std::size_t k = 0; k < pictures.size(); ++k) writeFileAtomically(pictures[k].second, {png[k]});
 }
@@ -457,15 +460,18 @@ std::vector<std::uint8_t> depthPicture(const Frame& frame, DepthRange range) {
   std::vector<std::uint8_t> rgb(n * 3, 0);
   if (frame.depth.size() != n) return rgb;
   const float span = range.hi > range.lo ? range.hi - range.lo : 1.0f;
-  constexpr float kNear = 255.0f, kFar = 48.0f;  // far stays visibly grey against black
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!depthDrawn(frame, k)) continue;
-    const float t = std::clamp((frame.depth[k] - range.lo) / span, 0.0f, 1.0f);
-    const auto g = static_cast<std::uint8_t>(std::lround(kNear + (kFar - kNear) * t));
-    rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = g;
-  }
+  for (std::size_t k = 0; k < n; ++k)
+    if (depthDrawn(frame, k)) depthRampColor((frame.depth[k] - range.lo) / span, &rgb[3 * k]);
   return rgb;
 }
+
+void depthRampColor(float t, std::uint8_t* rgb) {
+  constexpr float kNear = 255.0f, kFar = 48.0f;  // far stays visibly grey against black
+  const auto g = static_cast<std::uint8_t>(std::lround(kNear + (kFar - kNear) * std::clamp(t, 0.0f, 1.0f)));
+  rgb[0] = rgb[1] = rgb[2] = g;
+}
+
+void overdrawRampColor(float t, std::uint8_t* rgb) { heat(t, rgb); }
 
 std::vector<std::uint8_t> depthPicture(const Frame& frame) {
   // Normalised over the drawn pixels' depth range
@@ -479,10 +485,13 @@ std::vector<std::uint8_t> idPicture(const Frame& frame) {
   for (std::size_t k = 0; k < n; ++k) {
     const PolygonId id = frame.ids[k];
     if (id == kNoPolygon) continue;
-    // Hue from the hash's high bits, saturation and value from its low bits: always bright
+    // Hue by the golden angle: ids k and k + 1 (a mesh's neighbouring faces, mostly) lie 137.5
+    // degrees apart on the colour wheel, k + 2 85, k + 3 52; value alternates with k's parity
+    // and saturation with its hash, so that ids whose hues meet still differ: always bright
+    const double hue = static_cast<double>(id) * 0.6180339887498949;
     const std::uint32_t h = hashId(id);
-    hsvToRgb8(static_cast<float>(h >> 8) * 0x1.0p-24f, 0.55f + 0.4f * ((h & 0xF) / 15.0f),
-              0.8f + 0.2f * (((h >> 4) & 0xF) / 15.0f), &rgb[3 * k]);
+    hsvToRgb8(static_cast<float>(hue - std::floor(hue)), 0.55f + 0.4f * ((h & 0xF) / 15.0f),
+              (id & 1) ? 0.82f : 1.0f, &rgb[3 * k]);
   }
   return rgb;
 }
