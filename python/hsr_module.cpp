@@ -136,7 +136,8 @@ py::dict frameArrays(hsr::Frame&& f, const hsr::Scene& scene, const hsr::Camera&
 
 hsr::RenderOptions optionsOf(const std::string& algorithm, const std::string& cull, const std::string& front_face,
                              const std::string& polygon_mode, const std::string& depth_func, bool depth_test,
-                             bool depth_mask, bool outline, bool shade, int threads, int samples) {
+                             bool depth_mask, bool outline, bool shade, int threads, int samples,
+                             float point_size) {
   hsr::RenderOptions o;
   o.algorithm = algorithm;
   o.cull = hsr::parseCullMode(cull);
@@ -150,6 +151,7 @@ hsr::RenderOptions optionsOf(const std::string& algorithm, const std::string& cu
   if (threads < 0) throw hsr::Error("threads must be >= 0");
   o.threads = threads;
   o.samples = samples;
+  o.point_size = point_size;
   return o;
 }
 
@@ -273,9 +275,9 @@ PYBIND11_MODULE(_hsr, m) {
       [](const hsr::Scene& scene, const hsr::Camera& camera, const std::string& algorithm, const std::string& depth,
          const std::string& normals, const std::string& cull, const std::string& front_face,
          const std::string& polygon_mode, const std::string& depth_func, bool depth_test, bool depth_mask,
-         bool outline, bool shade, int threads, int samples) {
+         bool outline, bool shade, int threads, int samples, float point_size) {
         const hsr::RenderOptions o = optionsOf(algorithm, cull, front_face, polygon_mode, depth_func, depth_test,
-                                               depth_mask, outline, shade, threads, samples);
+                                               depth_mask, outline, shade, threads, samples, point_size);
         const hsr::DepthKind kind = hsr::depthKindNamed(depth);
         const hsr::NormalSpace space = normals.empty() ? hsr::NormalSpace::kNone : hsr::normalSpaceNamed(normals);
         hsr::Frame f;
@@ -289,7 +291,7 @@ PYBIND11_MODULE(_hsr, m) {
       py::arg("normals") = "", py::arg("cull") = "none", py::arg("front_face") = "ccw",
       py::arg("polygon_mode") = "fill", py::arg("depth_func") = "less", py::arg("depth_test") = true,
       py::arg("depth_mask") = true, py::arg("outline") = false, py::arg("shade") = true, py::arg("threads") = 0,
-      py::arg("samples") = 0);
+      py::arg("samples") = 0, py::arg("point_size") = 1.0f);
 
   m.def(
       "render_files",
@@ -341,6 +343,7 @@ PYBIND11_MODULE(_hsr, m) {
       .def("cullFace", &hsr::gl::Context::cullFace)
       .def("frontFace", &hsr::gl::Context::frontFace)
       .def("polygonMode", &hsr::gl::Context::polygonMode)
+      .def("pointSize", &hsr::gl::Context::pointSize)
       .def("setCamera", &hsr::gl::Context::setCamera)
       .def("draw", &hsr::gl::Context::draw, py::call_guard<py::gil_scoped_release>())
       .def("arrays", [](const hsr::gl::Context& c) {

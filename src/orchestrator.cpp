@@ -88,6 +88,8 @@ std::string unsupported(const AlgorithmInfo& info, const Camera& camera, const R
   const std::string lacks = "algorithm '" + std::string(info.name) + "' does not support ";
   if (o.polygon_mode != PolygonMode::Fill && !info.has(kPolygonModes))
     return lacks + "polygon modes other than fill";
+  if (!(o.point_size >= 1.0f && o.point_size <= 64.0f))
+    return "the point size must be from 1 to 64 pixels (got " + std::to_string(o.point_size) + ")";
   if (o.outline && !info.has(kOutline)) return lacks + "--outline";
   if ((o.depth_func != DepthFunc::Less || !o.depth_test) && !info.has(kDepthFuncs))
     return lacks + "depth functions other than less";

@@ -407,6 +407,8 @@ TEST(Cli, NewUserPapercuts) {
   EXPECT_EQ(cleared.code, 0);
   EXPECT_EQ(cleared.err.find("nothing was drawn"), std::string::npos) << cleared.err;
   expectCleanError("render demo --clear-depth 2", "--clear-depth must be in [0, 1]");
+  EXPECT_EQ(runCli("render demo --size 32x24 -q --polygon-mode point --point-size 3 -o " + png).code, 0);
+  expectCleanError("render demo --polygon-mode point --point-size 100", "point size must be from 1 to 64");
   const CliRun away = runCli("render demo --size 32x24 --eye 0,0,-1000 --target 0,0,-2000 -q -o " + png);
   EXPECT_NE(away.err.find("outside the view"), std::string::npos) << away.err;
   const CliRun culled = runCli("render demo --size 32x24 --cull both -q -o " + png);

@@ -218,6 +218,7 @@ hsr::RenderOptions makeOptions(const Args& a) {
   o.depth_func = hsr::parseDepthFunc(a.depth_func);
   o.depth_test = !a.no_depth_test;
   o.depth_mask = !a.no_depth_mask;
+  o.point_size = a.point_size;
   if (!a.clear_depth.empty()) {
     o.clear_depth = parseFloat(a.clear_depth, "--clear-depth");
     if (!(o.clear_depth >= 0.0f && o.clear_depth <= 1.0f))
@@ -281,6 +282,9 @@ void addViewOptions(CLI::App* app, Args& a) {
                   "facing test: window (OpenGL's window-space area) | eye (the notes' N.V)")
       ->capture_default_str();
   app->add_option("--polygon-mode", a.polygon_mode, "fill|line|point")->capture_default_str();
+  app->add_option("--point-size", a.point_size,
+                  "--polygon-mode point: each vertex as a square of this many pixels, as glPointSize (1 to 64)")
+      ->capture_default_str();
   app->add_option("--depth-func", a.depth_func,
                   "never|less|equal|lequal|greater|notequal|gequal|always")->capture_default_str();
   app->add_option("--clear-depth", a.clear_depth,

@@ -28,7 +28,8 @@ struct Args {
   std::string intrinsics;            // fx,fy,cx,cy (OpenCV convention, pixels)
   std::string pose_file;             // camera to world, 4x4
   std::string pose_convention = "opencv";
-  std::string clear_depth;  // empty: 1.0, OpenGL's glClearDepth default
+  std::string clear_depth;
+  float point_size = 1.0f;  // --polygon-mode point: glPointSize  // empty: 1.0, OpenGL's glClearDepth default
   std::string cull = "none", front_face = "ccw", polygon_mode = "fill", depth_func = "less";
   std::string facing = "window";
   bool no_depth_test = false, no_depth_mask = false, outline = false, flat = false;

@@ -48,6 +48,7 @@ struct RenderOptions {
   bool shade = true;         // headlight Lambert; false = flat material colour
   glm::vec3 clear_color{0.94f, 0.94f, 0.92f};  // light paper, so outlines read
   float clear_depth = 1.0f;
+  float point_size = 1.0f;  // polygon mode POINT: each vertex's square, in pixels, as glPointSize (1 to 64)
   int threads = 0;  // 0 = all hardware threads (more are clamped); results are identical for any
   BspOptions bsp;   // algorithm "bsp" only
   // Algorithms that antialias ("abuffer"): sub-pixel samples per pixel, 1, 4, 8, 16, 32 or 64

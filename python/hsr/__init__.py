@@ -46,17 +46,19 @@ class Frame:
 
 def render(scene, camera, algorithm="zbuffer", depth="window", normals=None, cull="none",
            front_face="ccw", polygon_mode="fill", depth_func="less", depth_test=True,
-           depth_mask=True, outline=False, shade=True, threads=0, samples=0):
+           depth_mask=True, outline=False, shade=True, threads=0, samples=0, point_size=1.0):
     """Renders `scene` from `camera` with `algorithm` (any of hsr.algorithms()).
 
     depth: "window" (OpenGL window z in [0, 1], 1 where nothing was drawn), "linear" (along the
     view axis) or "distance" (along the pixel's ray), both in scene units, inf where nothing
-    was drawn. normals: None, "world" or "eye". The rest are the OpenGL-style controls.
+    was drawn. normals: None, "world" or "eye". The rest are the OpenGL-style controls
+    (point_size: glPointSize for polygon_mode="point").
     """
     arrays = _hsr.render(scene, camera, algorithm=algorithm, depth=depth, normals=normals or "",
                          cull=cull, front_face=front_face, polygon_mode=polygon_mode,
                          depth_func=depth_func, depth_test=depth_test, depth_mask=depth_mask,
-                         outline=outline, shade=shade, threads=threads, samples=samples)
+                         outline=outline, shade=shade, threads=threads, samples=samples,
+                         point_size=point_size)
     return Frame(**arrays)
 
 

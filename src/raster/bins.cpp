@@ -20,12 +20,13 @@ PixelBox Bins::tileBox(std::size_t index, int width, int height) const {
           std::min(height, (ty + 1) * kTile) - 1};
 }
 
-PixelBox boxOf(const ScreenTriangle& t, int, int) { return t.box(); }
+PixelBox boxOf(const ScreenTriangle& t, int, int, float) { return t.box(); }
 
-PixelBox boxOf(const ScreenLine& l, int w, int h) {
-  // One pixel of margin on each side: rounding to the nearest centre and the 2x2 outline pen.
-  auto lo = [](float a, float b) { return std::floor(std::min(a, b)) - 1.0f; };
-  auto hi = [](float a, float b) { return std::ceil(std::max(a, b)) + 1.0f; };
+PixelBox boxOf(const ScreenLine& l, int w, int h, float margin) {
+  // A pixel of margin on each side: rounding to the nearest centre and the 2x2 outline pen;
+  // more for points drawn larger than a pixel.
+  auto lo = [margin](float a, float b) { return std::floor(std::min(a, b)) - margin; };
+  auto hi = [margin](float a, float b) { return std::ceil(std::max(a, b)) + margin; };
   const float x0 = std::max(lo(l.x0, l.x1), 0.0f), y0 = std::max(lo(l.y0, l.y1), 0.0f);
   const float x1 = std::min(hi(l.x0, l.x1), float(w - 1)),
               y1 = std::min(hi(l.y0, l.y1), float(h - 1));
@@ -36,7 +37,8 @@ PixelBox boxOf(const ScreenLine& l, int w, int h) {
 namespace {
 
 template <class T>
-void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std::size_t>& counts) {
+void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std::size_t>& counts,
+            float margin) {
   bins.tiles_x = (w + kTile - 1) >> kTileShift;
   bins.tiles_y = (h + kTile - 1) >> kTileShift;
   const std::size_t tiles = bins.tiles();
@@ -48,7 +50,7 @@ void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std:
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
     std::size_t* cnt = &counts[c * tiles];
     for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
-      const PixelBox b = boxOf(prims[i], w, h);
+      const PixelBox b = boxOf(prims[i], w, h, margin);
       if (b.empty()) continue;
       for (int ty = b.y0 >> kTileShift; ty <= b.y1 >> kTileShift; ++ty)
         for (int tx = b.x0 >> kTileShift; tx <= b.x1 >> kTileShift; ++tx)
@@ -74,7 +76,7 @@ void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std:
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
     std::size_t* off = &counts[c * tiles];
     for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
-      const PixelBox b = boxOf(prims[i], w, h);
+      const PixelBox b = boxOf(prims[i], w, h, margin);
       if (b.empty()) continue;
       for (int ty = b.y0 >> kTileShift; ty <= b.y1 >> kTileShift; ++ty)
         for (int tx = b.x0 >> kTileShift; tx <= b.x1 >> kTileShift; ++tx)
@@ -93,12 +95,12 @@ void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std:
 
 void binPrimitives(std::span<const ScreenTriangle> prims, int w, int h, Bins& bins,
                    std::vector<std::size_t>& counts) {
-  binAll(prims, w, h, bins, counts);
+  binAll(prims, w, h, bins, counts, 0.0f);
 }
 
 void binPrimitives(std::span<const ScreenLine> prims, int w, int h, Bins& bins,
-                   std::vector<std::size_t>& counts) {
-  binAll(prims, w, h, bins, counts);
+                   std::vector<std::size_t>& counts, float margin) {
+  binAll(prims, w, h, bins, counts, margin);
 }
 
 }  // namespace hsr::detail

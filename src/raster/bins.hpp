@@ -34,7 +34,9 @@ PixelBox boxOf(const ScreenLine& l, int width, int height);
 // Throws hsr::Error when the bins would exceed 2^31 entries.
 void binPrimitives(std::span<const ScreenTriangle> prims, int width, int height, Bins& bins,
                    std::vector<std::size_t>& counts);
+// Lines and points reach `margin` pixels beyond their ends (1: the nearest centre and the
+// outline pen; a point of size s: s / 2 + 1).
 void binPrimitives(std::span<const ScreenLine> prims, int width, int height, Bins& bins,
-                   std::vector<std::size_t>& counts);
+                   std::vector<std::size_t>& counts, float margin = 1.0f);
 
 }  // namespace hsr::detail

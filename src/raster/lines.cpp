@@ -73,6 +73,32 @@ void drawLine(const ScreenLine& l, const PixelBox& clip, const FrameView& fb, De
   }
 }
 
+void drawPoint(const ScreenLine& p, float size, const PixelBox& clip, const FrameView& fb, DepthFunc func,
+               bool depth_mask, FragmentCounts& c) {
+  if (!(size > 1.0f)) {
+    drawLine(p, clip, fb, func, depth_mask, c);
+    return;
+  }
+  const float half = 0.5f * size;
+  const int x0 = std::max(static_cast<int>(std::ceil(p.x0 - half)), clip.x0);
+  const int x1 = std::min(static_cast<int>(std::ceil(p.x0 + half)) - 1, clip.x1);
+  // Rows count from the top, so OpenGL's half-open [y - s/2, y + s/2) upwards is (y - s/2,
+  // y + s/2] here
+  const int y0 = std::max(static_cast<int>(std::floor(p.y0 - half)) + 1, clip.y0);
+  const int y1 = std::min(static_cast<int>(std::floor(p.y0 + half)), clip.y1);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const std::size_t idx = fb.index(x, y);
+      c.tested++;
+      if (!depthPasses(func, p.z0, fb.depth[idx])) continue;
+      c.written++;
+      fb.overdraw[idx]++;
+      if (depth_mask) fb.depth[idx] = p.z0;
+      fb.ids[idx] = p.id;
+      fb.rgba[idx] = p.rgba;
+    }
+}
+
 void drawOutlinePen(const ScreenLine& l, const PixelBox& clip, const FrameView& fb) {
   const Walk w = walkWithin(l, clip);
   for (int k = w.k0; k <= w.k1; ++k) {

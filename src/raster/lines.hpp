@@ -14,6 +14,14 @@ namespace hsr::detail {
 void drawLine(const ScreenLine& l, const PixelBox& clip, const FrameView& fb, DepthFunc func,
               bool depth_mask, FragmentCounts& c);
 
+// A point of polygon mode POINT with glPointSize(size): size 1 is the pixel of the nearest
+// centre (a line of length 0); larger, the pixels whose centres lie in the square of side
+// `size` centred on the point, half-open in OpenGL's window coordinates (x - size/2 <=
+// centre < x + size/2, and likewise upwards), as OpenGL
+// rasterizes points without antialiasing. One depth, the point's.
+void drawPoint(const ScreenLine& p, float size, const PixelBox& clip, const FrameView& fb, DepthFunc func,
+               bool depth_mask, FragmentCounts& c);
+
 // A silhouette edge drawn with a 2x2 pen over the finished fill, colour only. A pixel shows
 // the pen where nothing is drawn, where one of the edge's two polygons is the visible one, or
 // where the edge is nearer than what is there (2e-4 of tolerance); edges hidden behind other

@@ -139,7 +139,7 @@ void drawPolygons(const AlgorithmInput& in, Frame& frame) {
   const DepthFunc func = effectiveDepthFunc(in.options);
   for (const ScreenLine& l : in.prepared.lines) drawLine(l, viewport, fb, func, depth_mask, counts);
   for (const ScreenLine& p : in.prepared.points)
-    drawLine(p, viewport, fb, func, depth_mask, counts);
+    drawPoint(p, in.options.point_size, viewport, fb, func, depth_mask, counts);
   for (const ScreenLine& o : in.prepared.outline) drawOutlinePen(o, viewport, fb);
 
   if (in.trace && in.trace->wants(kStepDone, 0, 1))

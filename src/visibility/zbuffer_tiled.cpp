@@ -47,6 +47,7 @@ struct TileJob {
   DepthFunc func;
   bool depth_mask;
   SpanFn span;
+  float point_size;
 };
 
 template <class Fn>
@@ -78,7 +79,7 @@ FragmentCounts fillTile(const TileJob& job, std::size_t tile) {
     drawLine(ps.lines[i], box, job.fb, job.func, job.depth_mask, c);
   });
   forEachInTile(job.bins.point_bins, tile, [&](std::uint32_t i) {
-    drawLine(ps.points[i], box, job.fb, job.func, job.depth_mask, c);
+    drawPoint(ps.points[i], job.point_size, box, job.fb, job.func, job.depth_mask, c);
   });
   forEachInTile(job.bins.outline_bins, tile,
                 [&](std::uint32_t i) { drawOutlinePen(ps.outline[i], box, job.fb); });
@@ -102,7 +103,7 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
   Scratch& z = algorithmScratch(in, own);
   binPrimitives(ps.triangles, w, h, z.tri_bins, z.counts);
   binPrimitives(ps.lines, w, h, z.line_bins, z.counts);
-  binPrimitives(ps.points, w, h, z.point_bins, z.counts);
+  binPrimitives(ps.points, w, h, z.point_bins, z.counts, std::max(1.0f, 0.5f * in.options.point_size + 1.0f));
   binPrimitives(ps.outline, w, h, z.outline_bins, z.counts);
   frame.stats.addStage("bin", msSince(t0));
   const std::size_t tiles = z.tri_bins.tiles();
@@ -126,7 +127,7 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
   t0 = std::chrono::steady_clock::now();
   const FrameView fb(frame);
   const DepthFunc func = effectiveDepthFunc(in.options);
-  const TileJob job{ps, z, fb, func, depthWrites(in.options), spanFunction(func)};
+  const TileJob job{ps, z, fb, func, depthWrites(in.options), spanFunction(func), in.options.point_size};
   using TileFn = FragmentCounts (*)(const TileJob&, std::size_t);
   const TileFn fill = withDepthFunc(func, []<DepthFunc F>() -> TileFn { return &fillTile<F>; });
   z.per_tile.assign(tiles, FragmentCounts{});
