@@ -54,6 +54,18 @@ bool inside(const PixelBox& b, int x, int y) {
   return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1;
 }
 
+// One fragment of a line or point at fb[idx]: depth-tested, then written like a triangle's.
+void writeLineFragment(const ScreenLine& l, std::size_t idx, float z, const FrameView& fb, DepthFunc func,
+                       bool depth_mask, FragmentCounts& c) {
+  c.tested++;
+  if (!depthPasses(func, z, fb.depth[idx])) return;
+  c.written++;
+  fb.overdraw[idx]++;
+  if (depth_mask) fb.depth[idx] = z;
+  fb.ids[idx] = l.id;
+  fb.rgba[idx] = l.rgba;
+}
+
 }  // namespace
 
 void drawLine(const ScreenLine& l, const PixelBox& clip, const FrameView& fb, DepthFunc func,
@@ -62,14 +74,7 @@ void drawLine(const ScreenLine& l, const PixelBox& clip, const FrameView& fb, De
   for (int k = w.k0; k <= w.k1; ++k) {
     const LinePixel p = stepOf(l, w, k);
     if (!inside(clip, p.x, p.y)) continue;
-    const std::size_t idx = fb.index(p.x, p.y);
-    c.tested++;
-    if (!depthPasses(func, p.z, fb.depth[idx])) continue;
-    c.written++;
-    fb.overdraw[idx]++;
-    if (depth_mask) fb.depth[idx] = p.z;
-    fb.ids[idx] = l.id;
-    fb.rgba[idx] = l.rgba;
+    writeLineFragment(l, fb.index(p.x, p.y), p.z, fb, func, depth_mask, c);
   }
 }
 
@@ -87,16 +92,7 @@ void drawPoint(const ScreenLine& p, float size, const PixelBox& clip, const Fram
   const int y0 = std::max(static_cast<int>(std::floor(p.y0 - half)) + 1, clip.y0);
   const int y1 = std::min(static_cast<int>(std::floor(p.y0 + half)), clip.y1);
   for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) {
-      const std::size_t idx = fb.index(x, y);
-      c.tested++;
-      if (!depthPasses(func, p.z0, fb.depth[idx])) continue;
-      c.written++;
-      fb.overdraw[idx]++;
-      if (depth_mask) fb.depth[idx] = p.z0;
-      fb.ids[idx] = p.id;
-      fb.rgba[idx] = p.rgba;
-    }
+    for (int x = x0; x <= x1; ++x) writeLineFragment(p, fb.index(x, y), p.z0, fb, func, depth_mask, c);
 }
 
 void drawOutlinePen(const ScreenLine& l, const PixelBox& clip, const FrameView& fb) {
