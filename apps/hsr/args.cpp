@@ -82,6 +82,8 @@ void checkFrameable(const Args& a, const hsr::Scene& scene) {
 
 }  // namespace
 
+void parseImageSize(const std::string& s, int* w, int* h) { parseSize(s, w, h); }
+
 std::string readUserFile(const std::string& path, const char* option, std::uintmax_t limit) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))

@@ -52,6 +52,9 @@ struct Args {
   bool allow_outside_refs = false;
 };
 
+// "WxH" -> width and height, each within Camera's limits; else hsr::Error naming --size.
+void parseImageSize(const std::string& s, int* w, int* h);
+
 // Adds SCENE and the view options (--size, --eye, ..., --threads) to a CLI11 (sub)command.
 void addViewOptions(CLI::App* app, Args& a);
 

@@ -30,6 +30,7 @@
 #include "args.hpp"
 #include "bsp_verb.hpp"
 #include "svg_verb.hpp"
+#include "doom_verb.hpp"
 #include "common.hpp"
 
 namespace fs = std::filesystem;
@@ -312,6 +313,8 @@ int main(int argc, char** argv) {
                "  hsr bsp build spheres:100000 -o out/spheres.bsp\n"
                "  hsr bsp render out/spheres.bsp --orbit 12 -o out/orbit\n"
                "  hsr svg solids --hidden dashed --page A4-landscape -o out/solids.svg\n"
+               "  hsr doom build /usr/share/games/doom/freedoom2.wad -o out/freedoom2.wad\n"
+               "  hsr doom view /usr/share/games/doom/freedoom2.wad --map MAP01 -o out/map01.png\n"
                "  hsr scenes"};
   app.require_subcommand(0, 1);
   Args a;
@@ -358,6 +361,8 @@ int main(int argc, char** argv) {
   hsr::cli::addBspVerb(app, bsp);
   hsr::cli::SvgVerb svg;
   hsr::cli::addSvgVerb(app, svg);
+  hsr::cli::DoomVerb doom;
+  hsr::cli::addDoomVerb(app, doom);
 
   app.set_version_flag("--version", "hsr " HSR_VERSION);
   hsr::cli::refuseFlagsAsValues(&app);
@@ -367,7 +372,7 @@ int main(int argc, char** argv) {
   if (argc > 1) {
     const std::string_view first = argv[1];
     const bool verb = first == "render" || first == "compare" || first == "explain" || first == "scenes" ||
-                      first == "bsp" || first == "svg";
+                      first == "bsp" || first == "svg" || first == "doom";
     if (!verb && first != "-h" && first != "--help" && first != "--version") args.insert(args.begin() + 1, "render");
   }
   try {
@@ -410,6 +415,8 @@ int main(int argc, char** argv) {
       status = hsr::cli::runBsp(bsp);
     else if (*svg.verb)
       status = hsr::cli::runSvg(svg);
+    else if (*doom.verb)
+      status = hsr::cli::runDoom(doom);
     else if (*compare)
       status = runCompare(a, given);
     else if (*explain)
