@@ -2,7 +2,8 @@
 # Builds Release and runs every registered algorithm vs llvmpipe (bench/bench_algorithms.cpp)
 # and hsr's rays vs Embree (bench/bench_rays.cpp) with HSR_BENCH_THREADS=1 and 2, and hsr's
 # line drawings vs Open CASCADE's hidden-line removal (bench/bench_lines.cpp; OCCT runs on one
-# thread, so the race runs once, at 1 thread, with hsr alone again at the others)
+# thread, so the race runs once, at 1 thread, with hsr alone again at the others), and the Doom
+# node builder vs ZDBSP (bench/bench_doom.cpp, once: both build on one thread)
 # (plus any thread counts given as arguments, e.g. `scripts/bench.sh 4 8`), then prints the
 # ratio tables of all runs together. BUILD_DIR (default build) and JOBS (default 2)
 # may be set; extra Google Benchmark flags go in BENCH_ARGS.
@@ -11,7 +12,7 @@ cd "$(dirname "$0")/.."
 build_dir="${BUILD_DIR:-build}"
 jobs="${JOBS:-2}"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DHSR_BUILD_BENCH=ON >/dev/null
-cmake --build "$build_dir" --target hsr_bench hsr_bench_rays hsr_bench_lines -j "$jobs"
+cmake --build "$build_dir" --target hsr_bench hsr_bench_rays hsr_bench_lines hsr_bench_doom -j "$jobs"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 for t in 1 2 "$@"; do
@@ -46,3 +47,5 @@ for t in 1 2 "$@"; do
   sed -n '/^full drawings/,$p' "$out/lines-$t.txt"
   echo
 done
+echo "=== Doom node builder vs ZDBSP (whole WAD, whole process; ZDBSP is single-threaded, so is hsr's build) ==="
+"$build_dir/hsr_bench_doom"

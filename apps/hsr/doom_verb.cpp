@@ -136,6 +136,7 @@ int runView(DoomVerb& v) {
   } else {
     hsr::RenderOptions options;
     options.algorithm = v.algorithm;
+    options.shade = false;  // the materials' flat colours, as the column renderer starts from
     frame = hsr::render(level.scene, camera, options);
   }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

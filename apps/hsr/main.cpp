@@ -31,6 +31,7 @@
 #include "bsp_verb.hpp"
 #include "svg_verb.hpp"
 #include "doom_verb.hpp"
+#include "hsr/doom.hpp"
 #include "common.hpp"
 
 namespace fs = std::filesystem;
@@ -257,7 +258,26 @@ int runCompare(const Args& a, const Given& given) {
   return 0;
 }
 
-int runExplain(const Args& a, const std::string& dir_arg, const Given& given) {
+// `hsr explain bsp2d WAD --map MAP`: Doom's walk of the map's tree from player 1's start.
+int runExplainDoom(const Args& a, const std::string& map_name, const fs::path& dir) {
+  namespace doom = hsr::doom;
+  if (map_name.empty()) throw hsr::Error("explain bsp2d draws a Doom map: give the WAD and --map MAP01");
+  int width = 640, height = 400;
+  if (!a.size.empty()) hsr::cli::parseImageSize(a.size, &width, &height);
+  const doom::Map map = doom::readMap(doom::readWad(a.scene), map_name);
+  const doom::Nodes nodes = doom::buildNodes(map);
+  const doom::Level level = doom::levelScene(map, nodes);
+  const hsr::Camera camera = doom::viewCamera(map, nodes, doom::playerStart(map), width, height);
+  const hsr::Explanation e = hsr::explainDoomView(map, nodes, level, camera, dir);
+  if (!a.quiet) {
+    fmt::print("hsr explain bsp2d {} {}  {}x{}: {} steps\n", a.scene, map.name, width, height, e.steps.size());
+    for (const hsr::ExplainedStep& s : e.steps) fmt::print("  {:>2}. {:<19} {}\n", s.number, s.name, s.caption);
+    fmt::print("  wrote {} pictures, {} and {}\n", e.steps.size(), e.sheet.string(), e.index.string());
+  }
+  return 0;
+}
+
+int runExplain(const Args& a, const std::string& dir_arg, const std::string& map_name, const Given& given) {
   if (given.explain_dir && dir_arg.empty())
     throw hsr::Error("-o \"\": an empty path names no directory");
   const fs::path dir =
@@ -265,6 +285,8 @@ int runExplain(const Args& a, const std::string& dir_arg, const Given& given) {
                       : fs::path(dir_arg);
   OutputPlan plan(a.scene);
   plan.directory("-o", dir.string());
+  if (a.algorithm == "bsp2d") return runExplainDoom(a, map_name, dir);
+  if (!map_name.empty()) throw hsr::Error("--map names a Doom map, for explain bsp2d");
   const hsr::Scene scene = hsr::loadScene(a.scene, hsr::cli::importLimits(a));
   const hsr::Camera cam = makeCamera(a, scene);
   warnIfDepthUnresolvable(cam);
@@ -310,6 +332,7 @@ int main(int argc, char** argv) {
                "  hsr compare demo --sheet out/sheet.png\n"
                "  hsr compare spheres:100000 --views 12\n"
                "  hsr explain zbuffer-textbook demo -o out/explain\n"
+               "  hsr explain bsp2d /usr/share/games/doom/freedoom2.wad --map MAP01 -o out/explain-doom\n"
                "  hsr bsp build spheres:100000 -o out/spheres.bsp\n"
                "  hsr bsp render out/spheres.bsp --orbit 12 -o out/orbit\n"
                "  hsr svg solids --hidden dashed --page A4-landscape -o out/solids.svg\n"
@@ -351,11 +374,14 @@ int main(int argc, char** argv) {
                       "(what an algorithm keeps, such as the octree, is reused); ids compared on every view");
   CLI::App* explain = app.add_subcommand(
       "explain", "explain ALGORITHM on SCENE step by step: numbered pictures and a contact sheet");
-  explain->add_option("ALGORITHM", a.algorithm, "an algorithm that can explain itself")->required();
+  explain->add_option("ALGORITHM", a.algorithm, "an algorithm that can explain itself, or bsp2d (a WAD and --map)")->required();
   addViewOptions(explain, a);
   std::string explain_dir;
   explain->add_option("-o", explain_dir, "output directory (default out/explain-ALGORITHM-SCENE)");
   explain->add_flag("-q,--quiet", a.quiet, "no summary");
+  std::string explain_map;
+  explain->add_option("--map", explain_map,
+                      "with ALGORITHM bsp2d and a WAD for SCENE: the Doom map whose tree is walked");
   CLI::App* scenes = app.add_subcommand("scenes", "list built-in scenes and algorithms");
   hsr::cli::BspVerb bsp;
   hsr::cli::addBspVerb(app, bsp);
@@ -420,7 +446,7 @@ int main(int argc, char** argv) {
     else if (*compare)
       status = runCompare(a, given);
     else if (*explain)
-      status = runExplain(a, explain_dir, given);
+      status = runExplain(a, explain_dir, explain_map, given);
     else
       status = runRender(a, given);  // `render`, or no verb at all: the demo scene
   } catch (const hsr::Error& e) {

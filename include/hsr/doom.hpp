@@ -89,7 +89,8 @@ struct Map {
                                  // shipped nodes' split vertices, found as those no linedef uses
                                  // past the last one a linedef uses)
   std::vector<Sector> sectors;
-  std::optional<Nodes> shipped;  // the nodes the WAD holds, when it holds them and they check
+  std::optional<Nodes> shipped;  // the nodes the WAD holds, when it holds them in the vanilla
+                                 // formats, every index in range, as one tree
 };
 
 struct Lump {
@@ -108,8 +109,8 @@ Wad readWad(const std::filesystem::path& path);
 Wad parseWad(std::string_view bytes, const std::string& name);
 // A map of the WAD by marker name (case-insensitive). Refused with one line: no such map, a
 // lump missing, a size that is not a whole number of records, an index out of range (a
-// linedef's vertex or sidedef, a sidedef's sector), a map beyond the vanilla limits. Shipped
-// nodes that do not check (indices out of range) are dropped, not refused.
+// linedef's vertex or sidedef, a sidedef's sector). Shipped nodes that are not one tree with
+// every index in range are dropped, not refused.
 Map readMap(const Wad& wad, std::string_view map_name);
 
 // How the partition line is chosen at each node (buildNodes). Every distinct line through the
@@ -134,7 +135,7 @@ struct BuildStats {
 };
 // Builds the tree. Split points are rounded to whole map units, as the vanilla formats store
 // them. Throws hsr::Error when the tree would pass the vanilla limits (65,535 segs or vertices,
-// 32,767 nodes or subsectors).
+// 32,767 nodes or subsectors) or 1,024 levels, or a linedef is too long for a partition.
 Nodes buildNodes(const Map& map, const BuildOptions& options = {}, BuildStats* stats = nullptr);
 // The same figures for a tree read from a WAD.
 BuildStats nodeStats(const Map& map, const Nodes& nodes);
@@ -162,6 +163,7 @@ void writeWad(const Wad& wad, const std::map<std::string, Nodes>& nodes,
               const std::filesystem::path& path);
 
 // ---- The level in 3D, and as Doom draws it -----------------------------------------------
+// `nodes` below: a tree of the map, as buildNodes makes and readMap keeps (indices in range).
 // A viewpoint on the map: position, facing (degrees, 0 east, counterclockwise) and eye height
 // above the floor under it (Doom's 41).
 struct Viewpoint { double x = 0, y = 0, angle_degrees = 0, eye_height = 41; };
@@ -202,8 +204,8 @@ Level levelScene(const Map& map, const Nodes& nodes);
 // left; each column of it drawn top to bottom: the ceiling down to the wall, the upper wall,
 // the middle (a one-sided line: the column closes) or the opening, the lower wall, the floor.
 // Through `camera` (viewCamera's: no pitch), pixel for pixel as the z-buffer samples the level's
-// scene: ids are the Level's polygon ids, depth window z, colour the material's, shaded as
-// the pipeline shades it. `trace`, when given, receives each seg drawn with its columns.
+// scene: ids are the Level's polygon ids, depth window z, colour the material's dimmed with
+// distance as Doom dims it. `trace`, when given, receives each seg drawn with its columns.
 struct ViewStep {
   std::uint16_t seg = 0;
   int x0 = 0, x1 = 0;      // the columns it spans on screen, [x0, x1)

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hsr/doom.hpp"
 #include "hsr/render.hpp"
 
 namespace hsr {
@@ -38,5 +39,11 @@ struct Explanation {
 // itself (no kExplain capability) or a file cannot be written.
 Explanation explain(const Scene& scene, const Camera& camera, const RenderOptions& options,
                     const std::filesystem::path& dir, const ExplainOptions& explain_options = {});
+
+// `hsr explain bsp2d`: Doom's front-to-back walk of a map's tree (doom::renderView), the
+// columns each seg drew outlined, into `dir` as above.
+Explanation explainDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
+                            const Camera& camera, const std::filesystem::path& dir,
+                            const ExplainOptions& explain_options = {});
 
 }  // namespace hsr

@@ -15,6 +15,7 @@
 #include "hsr/io.hpp"
 #include "hsr/output.hpp"
 #include "orchestrator.hpp"
+#include "visibility/doom_view.hpp"
 
 namespace hsr {
 namespace {
@@ -173,6 +174,31 @@ Picture contactSheet(const std::vector<Picture>& thumbs, const std::vector<Expla
 
 }  // namespace
 
+namespace {
+
+// The contact sheet and steps.md of a finished trace, then the directory put in place.
+void finish(OutputDirectory& files, Recorder& recorder, Explanation& out, const std::string& title,
+            const std::string& source) {
+  out.steps = std::move(recorder.steps());
+  const Picture sheet = contactSheet(recorder.thumbs(), out.steps);
+  out.sheet = files.path() / "sheet.png";
+  files.write("sheet.png", {encodePng(sheet.width, sheet.height, 3, sheet.rgb.data())});
+  // The index: every step's caption, linked to its picture.
+  out.index = files.path() / "steps.md";
+  std::ostringstream md;
+  md << "# " << title << "\n\n"
+     << "Source: " << source << ". Left: the colour buffer; right: the depth buffer "
+     << "(near is light); what the step works on is outlined in red.\n\n"
+     << "![contact sheet](sheet.png)\n\n";
+  for (const ExplainedStep& s : out.steps)
+    md << s.number << ". **" << s.name << "**: " << s.caption << " [picture]("
+       << s.picture.filename().string() << ")\n";
+  files.write("steps.md", {md.str()});
+  files.commit();
+}
+
+}  // namespace
+
 Explanation explain(const Scene& scene, const Camera& camera, const RenderOptions& options,
                     const std::filesystem::path& dir, const ExplainOptions& explain_options) {
   const AlgorithmInfo& info = findAlgorithm(options.algorithm);
@@ -185,22 +211,21 @@ Explanation explain(const Scene& scene, const Camera& camera, const RenderOption
   Recorder recorder(files, drawnDepthRange(out.frame), explain_options.pictures_per_step);
   Frame traced;
   detail::renderInto(scene, camera, options, traced, detail::DrawMode::kClear, &recorder);
-  out.steps = std::move(recorder.steps());
-  const Picture sheet = contactSheet(recorder.thumbs(), out.steps);
-  out.sheet = files.path() / "sheet.png";
-  files.write("sheet.png", {encodePng(sheet.width, sheet.height, 3, sheet.rgb.data())});
-  // The index: every step's caption, linked to its picture.
-  out.index = files.path() / "steps.md";
-  std::ostringstream md;
-  md << "# " << info.name << ": " << info.summary << "\n\n"
-     << "Source: " << info.source << ". Left: the colour buffer; right: the depth buffer "
-     << "(near is light); what the step works on is outlined in red.\n\n"
-     << "![contact sheet](sheet.png)\n\n";
-  for (const ExplainedStep& s : out.steps)
-    md << s.number << ". **" << s.name << "**: " << s.caption << " [picture]("
-       << s.picture.filename().string() << ")\n";
-  files.write("steps.md", {md.str()});
-  files.commit();
+  finish(files, recorder, out, std::string(info.name) + ": " + std::string(info.summary), std::string(info.source));
+  return out;
+}
+
+Explanation explainDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
+                            const Camera& camera, const std::filesystem::path& dir,
+                            const ExplainOptions& explain_options) {
+  OutputDirectory files(dir);
+  Explanation out;
+  out.frame = doom::renderView(map, nodes, level, camera);
+  Recorder recorder(files, drawnDepthRange(out.frame), explain_options.pictures_per_step);
+  (void)detail::renderDoomView(map, nodes, level, camera, nullptr, &recorder);
+  finish(files, recorder, out,
+         "bsp2d: " + map.name + " seen as Doom's renderer sees it, the 2D BSP walked front to back",
+         "the notes' BSP trees and \"the first FPS\"; Doom's R_RenderBSPNode (id Software, 1993)");
   return out;
 }
 

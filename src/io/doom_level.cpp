@@ -83,9 +83,11 @@ void walkRegions(const Nodes& nodes, const Region& root, VisitNode visit_node, V
     int depth;
   };
   std::vector<Item> stack{{static_cast<std::uint16_t>(nodes.nodes.size() - 1), root, 0}};
+  std::size_t visits = 0;
   while (!stack.empty()) {
     Item it = std::move(stack.back());
     stack.pop_back();
+    if (++visits > 2 * nodes.nodes.size() + 1) throw Error("the nodes are not one tree");
     if (it.child & kSubsectorBit) {
       visit_leaf(static_cast<std::uint16_t>(it.child & ~kSubsectorBit), it.region, it.depth);
       continue;

@@ -157,6 +157,26 @@ std::optional<Nodes> shippedNodes(const Lump* vertexes, const Lump* segs, const 
       if ((c & kSubsectorBit) ? (c & ~kSubsectorBit) >= n.subsectors.size() : c >= n.nodes.size())
         return {};
     }
+  // One tree from the root (the last node): every node and subsector reached exactly once, so
+  // that whatever walks it ends.
+  std::vector<char> node_seen(n.nodes.size()), ss_seen(n.subsectors.size());
+  std::vector<std::uint16_t> stack;
+  if (n.nodes.empty()) {
+    if (n.subsectors.size() != 1) return {};
+    ss_seen[0] = 1;
+  } else {
+    stack.push_back(static_cast<std::uint16_t>(n.nodes.size() - 1));
+  }
+  while (!stack.empty()) {
+    const std::uint16_t id = stack.back();
+    stack.pop_back();
+    if (node_seen[id]++) return {};
+    for (std::uint16_t c : n.nodes[id].child) {
+      if (!(c & kSubsectorBit)) stack.push_back(c);
+      else if (ss_seen[c & ~kSubsectorBit]++) return {};
+    }
+  }
+  if (std::count(node_seen.begin(), node_seen.end(), 0) || std::count(ss_seen.begin(), ss_seen.end(), 0)) return {};
   return n;
 }
 

@@ -48,7 +48,7 @@ namespace hsr::doom {
 namespace {
 
 constexpr int kBlock = 16;
-constexpr std::size_t kMaxTreeDepth = 4096;
+constexpr std::size_t kMaxTreeDepth = 1024;  // Freedoom's deepest: 105 (the recursion's bound)
 
 // A seg while the tree is built: its (rounded, integer) endpoints and what it came from.
 struct BuildSeg {

@@ -23,22 +23,24 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
+
+#include <fmt/core.h>
 
 #include "core/frame.hpp"
 #include "hsr/doom.hpp"
 #include "hsr/error.hpp"
 #include "pipeline/pipeline.hpp"
+#include "visibility/doom_view.hpp"
 
 namespace hsr::doom {
 
-namespace {
-
+// Not in an anonymous namespace: detail::renderDoomView below drives it too.
 class ColumnRenderer {
  public:
   ColumnRenderer(const Map& map, const Nodes& nodes, const Level& level, const Camera& camera, Frame& frame,
-                 std::vector<ViewStep>* trace)
-      : map_(map), nodes_(nodes), level_(level), camera_(camera), frame_(frame), trace_(trace),
+                 std::vector<ViewStep>* steps, detail::Trace* trace, std::uint64_t traced_segs)
+      : map_(map), nodes_(nodes), level_(level), camera_(camera), frame_(frame), steps_(steps), trace_(trace),
+        traced_segs_(traced_segs),
         m_(detail::deviceFromWorld(camera)), world_from_device_(glm::inverse(m_)),
         ceiling_clip_(std::size_t(camera.width), -1), floor_clip_(std::size_t(camera.width), camera.height),
         solid_(std::size_t(camera.width), 0), open_columns_(camera.width) {}
@@ -48,14 +50,16 @@ class ColumnRenderer {
     std::vector<std::uint16_t> stack;
     stack.push_back(nodes_.nodes.empty() ? std::uint16_t(kSubsectorBit)
                                          : static_cast<std::uint16_t>(nodes_.nodes.size() - 1));
+    std::size_t visits = 0;
     while (!stack.empty() && open_columns_ > 0) {
       const std::uint16_t child = stack.back();
       stack.pop_back();
+      if (++visits > 2 * nodes_.nodes.size() + 1) throw Error("the nodes are not one tree");
       if (child & kSubsectorBit) {
         subsector(static_cast<std::uint16_t>(child & ~kSubsectorBit));
         continue;
       }
-      const Node& n = nodes_.nodes[child];
+      const Node& n = nodes_.nodes.at(child);
       const double side = double(n.dx) * (camera_.eye.y - n.y) - double(n.dy) * (camera_.eye.x - n.x);
       const int near = side < 0 ? 0 : 1;  // Doom's R_PointOnSide: the right is the front
       stack.push_back(n.child[std::size_t(1 - near)]);
@@ -79,6 +83,7 @@ class ColumnRenderer {
 
   void subsector(std::uint16_t ss) {
     const Subsector& s = nodes_.subsectors.at(ss);
+    if (std::size_t(s.first) + s.count > nodes_.segs.size()) throw Error("a subsector's segs out of range");
     for (std::size_t i = s.first; i < std::size_t(s.first) + s.count && open_columns_ > 0; ++i) seg(i);
   }
 
@@ -115,7 +120,25 @@ class ColumnRenderer {
       ++step.drawn;
       column(x, va, vb, sg, front, back);
     }
-    if (trace_ && step.drawn > 0) trace_->push_back(step);
+    if (step.drawn == 0) return;
+    if (steps_) steps_->push_back(step);
+    ++segs_drawn_;
+    if (trace_ && trace_->wants(detail::kStepDrawSeg, segs_drawn_ - 1, traced_segs_)) {
+      const float left = float(x0) - 0.5f, right = float(x1) - 0.5f, bottom = float(camera_.height) - 0.5f;
+      trace_->record({detail::kStepDrawSeg,
+                      fmt::format("Seg {}, the {} side of linedef {}, spans columns {} to {}; the {} of them "
+                                  "still open get its walls{}. {} columns remain open.{}",
+                                  index, sg.side ? "back" : "front", sg.linedef, x0, x1 - 1, step.drawn,
+                                  back ? ", and what lies beyond may draw only in the opening its upper and lower "
+                                         "walls leave"
+                                       : " and close (a one-sided line)",
+                                  open_columns_,
+                                  segs_drawn_ == 1 ? " Segs come front to back: at each node the tree is walked on "
+                                                     "the eye's side of the partition line first."
+                                                   : ""),
+                      &frame_,
+                      {{{left, -0.5f}, {right, -0.5f}, {right, bottom}, {left, bottom}}}});
+    }
   }
 
   // Step 3, one column.
@@ -131,6 +154,7 @@ class ColumnRenderer {
     const double w = clipW(px, py);
     if (!(w > 0)) return;
     const float depth = static_cast<float>(devZ(px, py, 0, w));
+    const double contrast = va.y == vb.y ? 0.85 : va.x == vb.x ? 1.0 : 0.93;
     int& top = ceiling_clip_[std::size_t(x)];
     int& bottom = floor_clip_[std::size_t(x)];
     const int wall_top = rowAt(devY(px, py, front.ceiling, w));
@@ -148,7 +172,7 @@ class ColumnRenderer {
 
     if (!back) {
       fill(x, std::max(wall_top, top + 1), std::min(wall_bottom, bottom), level_.wall(linedef, side, WallPart::kMiddle),
-           depth);
+           depth, w, contrast);
       close(x);
       return;
     }
@@ -156,7 +180,7 @@ class ColumnRenderer {
     if (back->ceiling < front.ceiling) {
       const int upper_bottom = rowAt(devY(px, py, std::max<double>(back->ceiling, front.floor), w));
       fill(x, std::max(wall_top, top + 1), std::min(upper_bottom, bottom), level_.wall(linedef, side, WallPart::kUpper),
-           depth);
+           depth, w, contrast);
       new_top = std::max(top, std::min(upper_bottom, bottom) - 1);
     } else if (mark_ceiling) {
       new_top = std::max(top, std::min(wall_top, bottom) - 1);
@@ -164,7 +188,7 @@ class ColumnRenderer {
     if (back->floor > front.floor) {
       const int lower_top = rowAt(devY(px, py, std::min<double>(back->floor, front.ceiling), w));
       fill(x, std::max(lower_top, top + 1), std::min(wall_bottom, bottom), level_.wall(linedef, side, WallPart::kLower),
-           depth);
+           depth, w, contrast);
       new_bottom = std::min(bottom, std::max(lower_top, top + 1));
     } else if (mark_floor) {
       new_bottom = std::min(bottom, std::max(wall_bottom, top + 1));
@@ -177,19 +201,19 @@ class ColumnRenderer {
     if (!solid_[std::size_t(x)]) solid_[std::size_t(x)] = 1, --open_columns_;
   }
 
-  void put(int x, int row, PolygonId id, float depth) {
+  void put(int x, int row, PolygonId id, float depth, double distance, double contrast = 1.0) {
     const std::size_t p = std::size_t(row) * std::size_t(camera_.width) + std::size_t(x);
     frame_.ids[p] = id;
     frame_.depth[p] = depth;
-    frame_.color[p] = colour(id);
+    frame_.color[p] = colour(id, distance, contrast);
     ++frame_.overdraw[p];
     ++frame_.stats.fragments_written;
   }
 
-  void fill(int x, int from, int to, PolygonId id, float depth) {
+  void fill(int x, int from, int to, PolygonId id, float depth, double distance, double contrast) {
     from = std::max(from, 0), to = std::min(to, camera_.height);
     if (id == kNoPolygon) return;
-    for (int row = from; row < to; ++row) put(x, row, id, depth);
+    for (int row = from; row < to; ++row) put(x, row, id, depth, distance, contrast);
   }
 
   // Rows [from, to) of column x on the plane at `height`: each pixel's ray to the plane, the
@@ -207,16 +231,19 @@ class ColumnRenderer {
       const PolygonId id = (ceiling ? level_.ceilings : level_.floors)[ss];
       if (id == kNoPolygon) continue;
       const double w = clipW(px, py);
-      put(x, row, id, static_cast<float>(devZ(px, py, height, w)));
+      put(x, row, id, static_cast<float>(devZ(px, py, height, w)), w);
     }
   }
 
-  std::uint32_t colour(PolygonId id) {
-    const auto it = colours_.find(id);
-    if (it != colours_.end()) return it->second;
-    const std::uint32_t c = detail::shadedColour(level_.scene, camera_, RenderOptions{}, id);
-    colours_.emplace(id, c);
-    return c;
+  // The material's colour dimmed with distance as Doom dims it (full up close, a quarter far
+  // off), walls along the map's x axis a little darker than those along y (Doom's "fake
+  // contrast"): a picture to read, not data (the ids and depth are).
+  std::uint32_t colour(PolygonId id, double distance, double contrast) const {
+    const std::uint32_t m = level_.scene.material(id);
+    const glm::vec3 c = m < level_.scene.materials.size() ? level_.scene.materials[m].color : glm::vec3(0.8f);
+    const double light = std::clamp(1.25 - distance / 2400.0, 0.25, 1.0) * contrast;
+    const auto byte = [&](float v) { return std::uint32_t(std::clamp(std::lround(v * light * 255.0), 0l, 255l)); };
+    return byte(c.r) | byte(c.g) << 8 | byte(c.b) << 16 | 0xFF000000u;
   }
 
   const Map& map_;
@@ -224,25 +251,18 @@ class ColumnRenderer {
   const Level& level_;
   const Camera& camera_;
   Frame& frame_;
-  std::vector<ViewStep>* trace_;
+  std::vector<ViewStep>* steps_;
+  detail::Trace* trace_;
+  std::uint64_t traced_segs_, segs_drawn_ = 0;
   glm::dmat4 m_, world_from_device_;
   std::vector<int> ceiling_clip_, floor_clip_;  // per column: the rows above and below the opening
   std::vector<char> solid_;
   int open_columns_;
-  std::unordered_map<PolygonId, std::uint32_t> colours_;
 };
-
-}  // namespace
 
 Frame renderView(const Map& map, const Nodes& nodes, const Level& level, const Camera& camera,
                  std::vector<ViewStep>* trace) {
-  camera.validate();
-  if (camera.ortho) throw Error("the Doom view is a perspective view");
-  Frame frame;
-  detail::clearFrame(frame, camera.width, camera.height, RenderOptions{});
-  frame.stats.polygons_in = level.scene.polygonCount();
-  ColumnRenderer(map, nodes, level, camera, frame, trace).walk();
-  return frame;
+  return detail::renderDoomView(map, nodes, level, camera, trace, nullptr);
 }
 
 Agreement wallAgreement(const Level& level, const Frame& view, const Frame& reference) {
@@ -272,3 +292,32 @@ Agreement wallAgreement(const Level& level, const Frame& view, const Frame& refe
 }
 
 }  // namespace hsr::doom
+
+namespace hsr::detail {
+
+Frame renderDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level, const Camera& camera,
+                     std::vector<doom::ViewStep>* steps, Trace* trace) {
+  camera.validate();
+  if (camera.ortho) throw Error("the Doom view is a perspective view");
+  Frame frame;
+  // Traced: a first pass counts the segs drawn, so that the trace can space its pictures.
+  std::vector<doom::ViewStep> counted;
+  if (trace) {
+    clearFrame(frame, camera.width, camera.height, RenderOptions{});
+    doom::ColumnRenderer(map, nodes, level, camera, frame, &counted, nullptr, 0).walk();
+  }
+  clearFrame(frame, camera.width, camera.height, RenderOptions{});
+  frame.stats.polygons_in = level.scene.polygonCount();
+  doom::ColumnRenderer renderer(map, nodes, level, camera, frame, steps, trace, counted.size());
+  renderer.walk();
+  if (trace && trace->wants(kStepAllClosed, 0, 1))
+    trace->record({kStepAllClosed,
+                   fmt::format("{} segs drew {} pixels; the walk stopped when every column was closed or the tree "
+                               "was done. No depth was compared: the order of the walk is the visibility.",
+                               counted.size(), frame.stats.fragments_written),
+                   &frame,
+                   {}});
+  return frame;
+}
+
+}  // namespace hsr::detail

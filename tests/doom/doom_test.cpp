@@ -144,8 +144,9 @@ TEST(DoomWad, WrittenBackReadsTheSameTree) {
     for (std::size_t i = 0; i < wad.lumps.size(); ++i) {
       EXPECT_EQ(back.lumps[i].name, wad.lumps[i].name);
       const std::string& n = wad.lumps[i].name;
-      if (n != "VERTEXES" && n != "SEGS" && n != "SSECTORS" && n != "NODES")
+      if (n != "VERTEXES" && n != "SEGS" && n != "SSECTORS" && n != "NODES") {
         EXPECT_TRUE(back.lumps[i].bytes == wad.lumps[i].bytes) << n << " at " << i;
+      }
     }
     for (const auto& [name, nodes] : built) {
       const doom::Map map = doom::readMap(back, name);
@@ -193,7 +194,7 @@ std::string le32(std::int32_t v) {
 }
 std::string dirEntry(std::int32_t pos, std::int32_t size, const char* name) {
   char n[8] = {};
-  std::strncpy(n, name, 8);
+  std::memcpy(n, name, std::min<std::size_t>(8, std::strlen(name)));
   return le32(pos) + le32(size) + std::string(n, 8);
 }
 
