@@ -553,4 +553,52 @@ TEST(Cli, CameraInsideModelStillRenders) {
   EXPECT_NE(r.err.find("inside"), std::string::npos) << r.err;
 }
 
+// hsr doom: the three sub-verbs write what they promise; a bad WAD is one line and exit 2.
+TEST(CliDoom, BuildMapViewAndExplain) {
+  const ScratchDir d("hsr_cli_doom");
+  const std::string wad = std::string(HSR_DOOM_WADS) + "/freedoom2.wad";
+  const std::string out = (d / "ours.wad").string();
+  CliRun r = runCli("doom build " + wad + " --map MAP02 --check -o " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("MAP02"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("every tree holds"), std::string::npos) << r.out;
+  // The written WAD builds again from its own nodes' map, and its nodes check.
+  r = runCli("doom map " + out + " --map MAP02 --shipped --svg " + (d / "map02.svg").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream svg(d / "map02.svg");
+  const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+  EXPECT_NE(text.find("subsector 0"), std::string::npos);
+  EXPECT_NE(text.find("node depth 0"), std::string::npos);
+  r = runCli("doom view " + wad + " --map MAP02 --size 160x100 -o " + (d / "view.png").string() + " --raw " +
+             (d / "raw").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("0 differ away from an edge"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(d / "view.png"));
+  EXPECT_TRUE(fs::exists(d / "raw" / "ids.npy"));
+  r = runCli("explain bsp2d " + wad + " --map MAP02 --size 160x100 -q -o " + (d / "explain").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / "explain" / "sheet.png"));
+  EXPECT_TRUE(fs::exists(d / "explain" / "steps.md"));
+  // Any verb reads a map as a scene
+  r = runCli("render " + wad + ":MAP02 --size 160x100 -q -o " + (d / "render.png").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
+TEST(CliDoom, BadInputIsOneLine) {
+  const ScratchDir d("hsr_cli_doom_bad");
+  {
+    std::ofstream bad(d / "bad.wad", std::ios::binary);
+    bad << "PWAD" << std::string("\xff\xff\xff\x7f\x0c\0\0\0", 8);
+  }
+  expectCleanError("doom build " + (d / "bad.wad").string(), "past the end");
+  expectCleanError("doom build " + (d / "missing.wad").string(), "no such file");
+  const std::string wad = std::string(HSR_DOOM_WADS) + "/freedoom2.wad";
+  expectCleanError("doom build " + wad + " --map MAP77", "no map MAP77");
+  expectCleanError("doom view " + wad + " --map MAP01 --from 1,2 -o " + (d / "v.png").string(), "--from");
+  expectCleanError("doom map " + wad + " --map MAP01 --split-cost -3 --svg " + (d / "m.svg").string(), "split");
+  expectCleanError("explain bsp2d " + wad + " -o " + (d / "e").string(), "--map");
+  expectCleanError("explain zbuffer demo --map MAP01 -o " + (d / "e2").string(), "--map");
+}
+
 }  // namespace

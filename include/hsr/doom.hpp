@@ -198,6 +198,11 @@ struct Level {
 };
 Level levelScene(const Map& map, const Nodes& nodes);
 
+// A map as a scene for every verb and algorithm of hsr: "FILE.wad:MAP01" (or FILE.wad, its
+// first map) -> the level scene of the map's tree as buildNodes makes it, with player 1's start
+// as the scene's camera (90 degrees across a 16:10 picture). loadScene reads this spelling.
+Scene loadLevel(const std::filesystem::path& wad, std::string_view map_name = {});
+
 // The first-person view drawn as Doom's renderer draws it (R_RenderBSPNode): the tree walked
 // front to back from the eye; each seg facing the eye projected to the columns it spans and
 // clipped against the columns solid walls have closed and the openings two-sided ones have

@@ -33,7 +33,8 @@ struct ImportLimits {
   // when it has ended (answered, refused or timed out): for showing progress.
   std::function<void(double seconds, std::uint64_t bytes_received, bool done)> progress;
 };
-// Loads SCENE: an existing file wins; otherwise a built-in name. Throws hsr::Error with a
+// Loads SCENE: an existing file wins (a Doom WAD's first map as a level, hsr/doom.hpp:
+// loadLevel; FILE.wad:MAP01 names another); otherwise a built-in name. Throws hsr::Error with a
 // one-line reason (missing file, unreadable format, empty scene, non-finite coordinates...).
 Scene loadScene(std::string_view spec, const ImportLimits& limits = {});
 // Mesh files: anything assimp reads. Polygons stay polygons (no triangulation), node

@@ -153,7 +153,9 @@ Level levelScene(const Map& map, const Nodes& nodes) {
   for (std::size_t s = 0; s < map.sectors.size(); ++s) {
     if (facing[s].empty()) continue;
     scene.beginObject(fmt::format("sector {} walls", s));
-    for (const auto& [i, side] : facing[s]) {
+    for (const auto& facing_side : facing[s]) {
+      const std::uint32_t i = facing_side.first;  // (not a structured binding: clang 14 cannot
+      const int side = facing_side.second;        // capture one in the lambda below)
       const Linedef& l = map.linedefs[i];
       const Vertex a = map.vertices[side == 0 ? l.v1 : l.v2], b = map.vertices[side == 0 ? l.v2 : l.v1];
       if (a.x == b.x && a.y == b.y) continue;
@@ -225,6 +227,24 @@ Camera viewCamera(const Map& map, const Nodes& nodes, const Viewpoint& view, int
   c.far = static_cast<float>(std::hypot(b.right - b.left, b.top - b.bottom) + 2 * kMargin);
   c.validate();
   return c;
+}
+
+Scene loadLevel(const std::filesystem::path& path, std::string_view map_name) {
+  const Wad wad = readWad(path);
+  const auto maps = wad.maps();
+  if (maps.empty()) throw Error(path.string() + ": the WAD holds no map");
+  const Map map = readMap(wad, map_name.empty() ? std::string_view(maps.front()) : map_name);
+  const Nodes nodes = buildNodes(map);
+  Level level = levelScene(map, nodes);
+  const Camera view = viewCamera(map, nodes, playerStart(map), 1600, 1000);
+  SceneCamera c;
+  c.eye = view.eye, c.target = view.target, c.up = view.up;
+  c.fov_deg = view.fov_deg;
+  c.far = view.far;
+  c.near = std::max(view.near, view.far / 999.0f);  // within the ratio fromSceneCamera keeps as it is
+  level.scene.cameras.push_back(c);
+  level.scene.name = path.filename().string() + ":" + map.name;
+  return std::move(level.scene);
 }
 
 std::string mapSvg(const Map& map, const Nodes& nodes, int max_depth) {

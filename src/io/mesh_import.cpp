@@ -33,6 +33,7 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "hsr/doom.hpp"
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/scene.hpp"
@@ -1103,7 +1104,18 @@ Scene loadScene(std::string_view spec, const ImportLimits& limits) {
   if (!spec.empty()) {
     std::error_code ec;
     const fs::path path{std::string(spec)};
-    if (fs::exists(path, ec)) return loadMeshFile(path, limits);
+    const auto isWad = [](const fs::path& p) {
+      std::string ext = p.extension().string();
+      for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      return ext == ".wad";
+    };
+    if (fs::exists(path, ec)) return isWad(path) ? doom::loadLevel(path) : loadMeshFile(path, limits);
+    // FILE.wad:MAP01, a Doom map (hsr/doom.hpp)
+    const std::size_t colon = spec.rfind(':');
+    if (colon != std::string_view::npos) {
+      const fs::path wad{std::string(spec.substr(0, colon))};
+      if (isWad(wad) && fs::exists(wad, ec)) return doom::loadLevel(wad, spec.substr(colon + 1));
+    }
     // A path that exists but cannot be reached (a loop of links, a folder it may not search)
     if (ec && ec != std::errc::no_such_file_or_directory && ec != std::errc::not_a_directory)
       throw Error(std::string(spec) + ": " + ec.message());
