@@ -254,7 +254,7 @@ void addBspBuildOptions(CLI::App* app, Args& a) {
 }
 
 void addViewOptions(CLI::App* app, Args& a) {
-  app->add_option("scene", a.scene, "mesh file (OBJ, PLY, STL, OFF, glTF, ...) or built-in scene")
+  app->add_option("scene", a.scene, "mesh file (OBJ, PLY, STL, OFF, glTF, ...), a Doom map (FILE.wad:MAP01) or built-in scene")
       ->capture_default_str();
   app->add_option("--size", a.size, "image size WxH (default 800x600, or --camera's)");
   app->add_option("--eye", a.eye, "camera position X,Y,Z (gluLookAt eye)");

@@ -337,7 +337,10 @@ class Builder {
           static_cast<std::int64_t>(std::nearbyint(angle / (2 * M_PI) * 65536.0)) & 0xFFFF));
       const Linedef& l = map_.linedefs[s.linedef];
       const Vertex start = map_.vertices[s.side == 0 ? l.v1 : l.v2];
-      out.offset = static_cast<std::int16_t>(std::nearbyint(std::hypot(s.x1 - start.x, s.y1 - start.y)));
+      const double offset = std::nearbyint(std::hypot(s.x1 - start.x, s.y1 - start.y));
+      if (offset > 32767)
+        throw Error(fmt::format("map {}: linedef {} is too long for a vanilla seg's offset", map_.name, s.linedef));
+      out.offset = static_cast<std::int16_t>(offset);
       nodes_.segs.push_back(out);
     }
     nodes_.subsectors.push_back(ss);

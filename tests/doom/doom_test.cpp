@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 
@@ -210,6 +212,34 @@ TEST(DoomLevel, EveryAlgorithmDrawsTheLevelAsTheZBufferDoes) {
   // The first map when none is named; a map that is not there is refused.
   EXPECT_EQ(hsr::loadScene(kWads[0]).name, "freedoom1.wad:E1M1");
   EXPECT_THROW((void)hsr::loadScene(kWads[1] + ":MAP99"), hsr::Error);
+}
+
+// The fuzzer's WAD seeds (fuzz/seeds/wad/), found bugs among them: every map is read and
+// built, or refused with hsr::Error (a linedef longer than a vanilla seg's offset can say was
+// undefined behaviour before it was refused), and a tree built is one checkNodes accepts.
+TEST(DoomWad, FuzzSeedsAreReadOrRefused) {
+  int files = 0, built = 0;
+  for (const auto& e : std::filesystem::directory_iterator(HSR_FUZZ_SEEDS "/wad")) {
+    SCOPED_TRACE(e.path().string());
+    ++files;
+    std::ifstream in(e.path(), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    try {
+      const doom::Wad wad = doom::parseWad(bytes, e.path().string());
+      for (const std::string& name : wad.maps()) {
+        try {
+          const doom::Map map = doom::readMap(wad, name);
+          const doom::Nodes nodes = doom::buildNodes(map);
+          EXPECT_TRUE(doom::checkNodes(map, nodes).empty());
+          ++built;
+        } catch (const hsr::Error&) {
+        }
+      }
+    } catch (const hsr::Error&) {
+    }
+  }
+  EXPECT_GE(files, 5);
+  EXPECT_GE(built, 2);
 }
 
 // ---- malformed WADs ------------------------------------------------------------------------
