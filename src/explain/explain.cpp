@@ -15,7 +15,7 @@
 #include "hsr/io.hpp"
 #include "hsr/output.hpp"
 #include "orchestrator.hpp"
-#include "visibility/doom_view.hpp"
+#include "doom_level.hpp"
 
 namespace hsr {
 namespace {
@@ -222,7 +222,7 @@ Explanation explainDoomView(const doom::Map& map, const doom::Nodes& nodes, cons
   Explanation out;
   out.frame = doom::renderView(map, nodes, level, camera);
   Recorder recorder(files, drawnDepthRange(out.frame), explain_options.pictures_per_step);
-  (void)detail::renderDoomView(map, nodes, level, camera, nullptr, &recorder);
+  (void)detail::renderDoomViewTraced(map, nodes, level, camera, &recorder);
   finish(files, recorder, out,
          "bsp2d: " + map.name + " seen as Doom's renderer sees it, the 2D BSP walked front to back",
          "the notes' BSP trees and \"the first FPS\"; Doom's R_RenderBSPNode (id Software, 1993)");

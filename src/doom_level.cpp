@@ -1,6 +1,7 @@
 // A Doom map seen by the rest of hsr: the level as a 3D Scene (walls from the linedefs,
 // floors and ceilings from the tree's subsector regions), Doom's camera at a viewpoint, and
 // the bird's-eye drawing of the partition (SVG). include/hsr/doom.hpp says what each holds.
+// It stands beside the orchestrator: it joins the WAD reader (io) and the tree (visibility).
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +9,9 @@
 
 #include <fmt/core.h>
 
-#include "hsr/doom.hpp"
+#include "doom_level.hpp"
 #include "hsr/error.hpp"
+#include "visibility/doom_view.hpp"
 
 namespace hsr::doom {
 
@@ -317,3 +319,12 @@ std::string mapSvg(const Map& map, const Nodes& nodes, int max_depth) {
 }
 
 }  // namespace hsr::doom
+
+namespace hsr::detail {
+
+Frame renderDoomViewTraced(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
+                           const Camera& camera, Trace* trace) {
+  return renderDoomView(map, nodes, level, camera, nullptr, trace);
+}
+
+}  // namespace hsr::detail
