@@ -115,14 +115,12 @@ class Builder {
   Nodes build(BuildStats& stats) {
     std::vector<BuildSeg> segs = initialSegs(stats);
     if (segs.empty()) throw Error(fmt::format("map {}: no linedef of nonzero length", map_.name));
-    std::uint64_t depth = 0;
     Box box;
-    buildNode(std::move(segs), 0, depth, box);
+    buildNode(std::move(segs), 0, box);
     if (nodes_.segs.size() > 65535 || nodes_.vertices.size() > 65535 || nodes_.nodes.size() > 32767 ||
         nodes_.subsectors.size() > 32767)
       throw Error(fmt::format("map {}: the tree passes the vanilla limits ({} segs, {} vertices, {} nodes)",
                               map_.name, nodes_.segs.size(), nodes_.vertices.size(), nodes_.nodes.size()));
-    stats.depth = depth;
     return std::move(nodes_);
   }
 
@@ -285,13 +283,13 @@ class Builder {
   }
 
   // Steps 2 to 4 for one node; returns its child number (kSubsectorBit for a subsector).
-  std::uint16_t buildNode(std::vector<BuildSeg> segs, std::uint64_t level, std::uint64_t& depth, Box& box) {
+  std::uint16_t buildNode(std::vector<BuildSeg> segs, std::uint64_t level, Box& box) {
     if (level >= kMaxTreeDepth)
       throw Error(fmt::format("map {}: the tree passes {} levels", map_.name, kMaxTreeDepth));
     std::vector<char> refused(segs.size(), 0);
     for (;;) {
       const std::ptrdiff_t chosen = choose(segs, refused);
-      if (chosen < 0) return leaf(segs, level, depth, box);
+      if (chosen < 0) return leaf(segs, box);
       const Line l = lineOf(segs[std::size_t(chosen)]);
       std::vector<BuildSeg> front, back;
       partition(segs, l, front, back);
@@ -308,8 +306,8 @@ class Builder {
         throw Error(fmt::format("map {}: a linedef too long for a vanilla node's partition", map_.name));
       node.dx = static_cast<std::int16_t>(l.dx), node.dy = static_cast<std::int16_t>(l.dy);
       Box front_box, back_box;
-      node.child[0] = buildNode(std::move(front), level + 1, depth, front_box);
-      node.child[1] = buildNode(std::move(back), level + 1, depth, back_box);
+      node.child[0] = buildNode(std::move(front), level + 1, front_box);
+      node.child[1] = buildNode(std::move(back), level + 1, back_box);
       node.box[0] = front_box.vanilla();
       node.box[1] = back_box.vanilla();
       box = front_box;
@@ -319,8 +317,7 @@ class Builder {
     }
   }
 
-  std::uint16_t leaf(const std::vector<BuildSeg>& segs, std::uint64_t level, std::uint64_t& depth, Box& box) {
-    depth = std::max(depth, level);
+  std::uint16_t leaf(const std::vector<BuildSeg>& segs, Box& box) {
     Subsector ss;
     ss.first = static_cast<std::uint16_t>(nodes_.segs.size());
     ss.count = static_cast<std::uint16_t>(segs.size());
@@ -362,9 +359,9 @@ Nodes buildNodes(const Map& map, const BuildOptions& options, BuildStats* stats)
   if (options.split_cost < 1 || options.split_cost > 1 << 16)
     throw Error(fmt::format("split cost {} is outside 1..65536", options.split_cost));
   const auto start = std::chrono::steady_clock::now();
-  BuildStats built;
-  Nodes nodes = Builder(map, options).build(built);
-  BuildStats s = nodeStats(map, nodes);
+  BuildStats sides;
+  Nodes nodes = Builder(map, options).build(sides);
+  BuildStats s = nodeStats(map, nodes);  // the figures of the tree as it is
   s.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = s;
   return nodes;
