@@ -67,26 +67,33 @@ int main(int argc, char** argv) {
   const fs::path dir = fs::temp_directory_path() / ("hsr_bench_doom_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string hsr = HSR_CLI_PATH, zdbsp = HSR_ZDBSP_PATH;
-  std::printf("Doom node builders, whole WAD, whole process, median of %d runs (2-core figures in README)\n\n", runs);
+  std::printf(
+      "Doom node builders, whole WAD, whole process, median of %d runs (2-core figures in "
+      "README)\n\n",
+      runs);
   bool bars = true;
   for (const char* file : {"freedoom2.wad", "freedoom1.wad"}) {
     const std::string wad = std::string(HSR_DOOM_WADS) + "/" + file;
     const std::string ours_out = (dir / "ours.wad").string(), z_out = (dir / "z.wad").string(),
-                      zf_out = (dir / "zfewest.wad").string(), zn_out = (dir / "znodes.wad").string();
+                      zf_out = (dir / "zfewest.wad").string(),
+                      zn_out = (dir / "znodes.wad").string();
     std::vector<double> t_ours, t_z, t_zf, t_zn;
     for (int r = 0; r < runs; ++r) {  // interleaved, so that a noisy moment hits all of them
       t_ours.push_back(secondsOf(hsr + " doom build -q '" + wad + "' -o '" + ours_out + "'"));
       t_z.push_back(secondsOf(zdbsp + " -t -o '" + z_out + "' '" + wad + "' > /dev/null"));
-      t_zf.push_back(secondsOf(zdbsp + " -t -p 4096 -s 64 -o '" + zf_out + "' '" + wad + "' > /dev/null"));
+      t_zf.push_back(
+          secondsOf(zdbsp + " -t -p 4096 -s 64 -o '" + zf_out + "' '" + wad + "' > /dev/null"));
       t_zn.push_back(secondsOf(zdbsp + " -t -b -E -o '" + zn_out + "' '" + wad + "' > /dev/null"));
     }
     const auto ours = figuresOf(doom::readWad(ours_out)), z = figuresOf(doom::readWad(z_out)),
                zf = figuresOf(doom::readWad(zf_out)), shipped = figuresOf(doom::readWad(wad));
     std::printf("%s: splits / nodes / deepest subsector, per map\n", file);
-    std::printf("%-6s %20s %20s %20s %20s\n", "map", "hsr", "ZDBSP defaults", "ZDBSP fewest", "shipped");
+    std::printf("%-6s %20s %20s %20s %20s\n", "map", "hsr", "ZDBSP defaults", "ZDBSP fewest",
+                "shipped");
     Figures tot[4];
     for (const auto& [name, f] : ours) {
-      const Figures* all[4] = {&f, &z.at(name), &zf.at(name), shipped.count(name) ? &shipped.at(name) : nullptr};
+      const Figures* all[4] = {&f, &z.at(name), &zf.at(name),
+                               shipped.count(name) ? &shipped.at(name) : nullptr};
       std::printf("%-6s", name.c_str());
       for (int i = 0; i < 4; ++i) {
         if (!all[i]) {
@@ -94,7 +101,8 @@ int main(int argc, char** argv) {
           continue;
         }
         std::printf(" %7llu %6llu %5llu", static_cast<unsigned long long>(all[i]->splits),
-                    static_cast<unsigned long long>(all[i]->nodes), static_cast<unsigned long long>(all[i]->depth));
+                    static_cast<unsigned long long>(all[i]->nodes),
+                    static_cast<unsigned long long>(all[i]->depth));
         tot[i].splits += all[i]->splits, tot[i].nodes += all[i]->nodes;
         tot[i].depth = std::max(tot[i].depth, all[i]->depth);
       }
@@ -102,20 +110,27 @@ int main(int argc, char** argv) {
     }
     std::printf("%-6s", "total");
     for (const Figures& f : tot)
-      std::printf(" %7llu %6llu %5llu", static_cast<unsigned long long>(f.splits), static_cast<unsigned long long>(f.nodes),
+      std::printf(" %7llu %6llu %5llu", static_cast<unsigned long long>(f.splits),
+                  static_cast<unsigned long long>(f.nodes),
                   static_cast<unsigned long long>(f.depth));
     const double mo = median(t_ours), mz = median(t_z), mzf = median(t_zf), mzn = median(t_zn);
-    std::printf("\n%s: time %.3f s (hsr), %.3f s (ZDBSP defaults), %.3f s (fewest-splits), %.3f s (ZDBSP nodes only, -b -E)\n",
-                file, mo, mz, mzf, mzn);
-    std::printf("%s: splits hsr / ZDBSP fewest %.3f (%llu / %llu), hsr / shipped %.3f; time hsr / ZDBSP defaults %.2fx, "
-                "/ fewest %.2fx, / nodes only %.2fx\n\n",
-                file, double(tot[0].splits) / double(tot[2].splits), static_cast<unsigned long long>(tot[0].splits),
-                static_cast<unsigned long long>(tot[2].splits), double(tot[0].splits) / double(tot[3].splits), mo / mz,
-                mo / mzf, mo / mzn);
+    std::printf(
+        "\n%s: time %.3f s (hsr), %.3f s (ZDBSP defaults), %.3f s (fewest-splits), %.3f s (ZDBSP "
+        "nodes only, -b -E)\n",
+        file, mo, mz, mzf, mzn);
+    std::printf(
+        "%s: splits hsr / ZDBSP fewest %.3f (%llu / %llu), hsr / shipped %.3f; time hsr / ZDBSP "
+        "defaults %.2fx, "
+        "/ fewest %.2fx, / nodes only %.2fx\n\n",
+        file, double(tot[0].splits) / double(tot[2].splits),
+        static_cast<unsigned long long>(tot[0].splits),
+        static_cast<unsigned long long>(tot[2].splits),
+        double(tot[0].splits) / double(tot[3].splits), mo / mz, mo / mzf, mo / mzn);
     bars = bars && tot[0].splits < tot[2].splits && mo <= 2 * mz;
   }
   fs::remove_all(dir);
-  std::printf("bars (fewer splits than ZDBSP's fewest-splits setting, within 2x its default time): %s\n",
-              bars ? "met" : "NOT met");
+  std::printf(
+      "bars (fewer splits than ZDBSP's fewest-splits setting, within 2x its default time): %s\n",
+      bars ? "met" : "NOT met");
   return 0;
 }

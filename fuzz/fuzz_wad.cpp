@@ -24,7 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (map.shipped) (void)doom::checkNodes(map, *map.shipped);
         const doom::Nodes nodes = doom::buildNodes(map);
         (void)doom::checkNodes(map, nodes);
-        const doom::Map back = doom::readMap(doom::parseWad(doom::wadBytes(wad, {{name, nodes}}), "back.wad"), name);
+        const doom::Map back =
+            doom::readMap(doom::parseWad(doom::wadBytes(wad, {{name, nodes}}), "back.wad"), name);
         if (!back.shipped) __builtin_trap();  // our own nodes must read back as a tree
         const doom::Level level = doom::levelScene(map, nodes);
         (void)doom::mapSvg(map, nodes);

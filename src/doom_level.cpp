@@ -60,21 +60,26 @@ MapBox boxOf(const Map& map) {
   MapBox b;
   for (const Linedef& l : map.linedefs)
     for (std::uint16_t v : {l.v1, l.v2}) {
-      b.left = std::min(b.left, double(map.vertices[v].x)), b.right = std::max(b.right, double(map.vertices[v].x));
-      b.bottom = std::min(b.bottom, double(map.vertices[v].y)), b.top = std::max(b.top, double(map.vertices[v].y));
+      b.left = std::min(b.left, double(map.vertices[v].x)),
+      b.right = std::max(b.right, double(map.vertices[v].x));
+      b.bottom = std::min(b.bottom, double(map.vertices[v].y)),
+      b.top = std::max(b.top, double(map.vertices[v].y));
     }
   return b;
 }
 
 Region outerRegion(const Map& map) {
   const MapBox b = boxOf(map);
-  return {{b.left - kMargin, b.bottom - kMargin}, {b.right + kMargin, b.bottom - kMargin},
-          {b.right + kMargin, b.top + kMargin}, {b.left - kMargin, b.top + kMargin}};
+  return {{b.left - kMargin, b.bottom - kMargin},
+          {b.right + kMargin, b.bottom - kMargin},
+          {b.right + kMargin, b.top + kMargin},
+          {b.left - kMargin, b.top + kMargin}};
 }
 
 // Walks the tree from the root with each node's region: visit(node or subsector, region, depth).
 template <typename VisitNode, typename VisitLeaf>
-void walkRegions(const Nodes& nodes, const Region& root, VisitNode visit_node, VisitLeaf visit_leaf) {
+void walkRegions(const Nodes& nodes, const Region& root, VisitNode visit_node,
+                 VisitLeaf visit_leaf) {
   if (nodes.nodes.empty()) {
     visit_leaf(std::uint16_t{0}, root, 0);
     return;
@@ -122,7 +127,8 @@ Level levelScene(const Map& map, const Nodes& nodes) {
   level.regions.assign(nodes.subsectors.size(), {});
 
   double lo = 1e300, hi = -1e300;
-  for (const Sector& s : map.sectors) lo = std::min(lo, double(s.floor)), hi = std::max(hi, double(s.ceiling));
+  for (const Sector& s : map.sectors)
+    lo = std::min(lo, double(s.floor)), hi = std::max(hi, double(s.ceiling));
   const double span = std::max(1.0, hi - lo);
 
   // Materials: a wall's by its part and its sector's light (16 steps), a flat's by height (32).
@@ -135,15 +141,18 @@ Level levelScene(const Map& map, const Nodes& nodes) {
   const auto wallMaterial = [&](WallPart part, const Sector& sector) {
     const int step = std::clamp(sector.light / 16, 0, 15);
     const float light = 0.4f + 0.6f * float(step) / 15.0f;
-    static const glm::vec3 colours[3] = {{0.55f, 0.62f, 0.45f}, {0.78f, 0.70f, 0.60f}, {0.66f, 0.52f, 0.44f}};
+    static const glm::vec3 colours[3] = {
+        {0.55f, 0.62f, 0.45f}, {0.78f, 0.70f, 0.60f}, {0.66f, 0.52f, 0.44f}};
     static const char* names[3] = {"lower wall, light", "wall, light", "upper wall, light"};
     return material(int(part), step, colours[int(part)] * light, names[int(part)]);
   };
   const auto flatMaterial = [&](bool ceiling, double height) {
     const int step = std::clamp(int((height - lo) / span * 31.0 + 0.5), 0, 31);
     const double t = step / 31.0;
-    return ceiling ? material(4, step, mix({0.30f, 0.22f, 0.20f}, {0.85f, 0.72f, 0.55f}, t), "ceiling, height")
-                   : material(3, step, mix({0.16f, 0.20f, 0.36f}, {0.55f, 0.68f, 0.88f}, t), "floor, height");
+    return ceiling ? material(4, step, mix({0.30f, 0.22f, 0.20f}, {0.85f, 0.72f, 0.55f}, t),
+                              "ceiling, height")
+                   : material(3, step, mix({0.16f, 0.20f, 0.36f}, {0.55f, 0.68f, 0.88f}, t),
+                              "floor, height");
   };
 
   // Walls, one object per sector they face: lower, middle, upper.
@@ -151,7 +160,8 @@ Level levelScene(const Map& map, const Nodes& nodes) {
   for (std::size_t i = 0; i < map.linedefs.size(); ++i)
     for (int side = 0; side < 2; ++side)
       if (map.linedefs[i].side[std::size_t(side)] != kNoSide)
-        facing[map.sidedefs[map.linedefs[i].side[std::size_t(side)]].sector].push_back({std::uint32_t(i), side});
+        facing[map.sidedefs[map.linedefs[i].side[std::size_t(side)]].sector].push_back(
+            {std::uint32_t(i), side});
   for (std::size_t s = 0; s < map.sectors.size(); ++s) {
     if (facing[s].empty()) continue;
     scene.beginObject(fmt::format("sector {} walls", s));
@@ -159,16 +169,19 @@ Level levelScene(const Map& map, const Nodes& nodes) {
       const std::uint32_t i = facing_side.first;  // (not a structured binding: clang 14 cannot
       const int side = facing_side.second;        // capture one in the lambda below)
       const Linedef& l = map.linedefs[i];
-      const Vertex a = map.vertices[side == 0 ? l.v1 : l.v2], b = map.vertices[side == 0 ? l.v2 : l.v1];
+      const Vertex a = map.vertices[side == 0 ? l.v1 : l.v2],
+                   b = map.vertices[side == 0 ? l.v2 : l.v1];
       if (a.x == b.x && a.y == b.y) continue;
       const Sector& front = map.sectors[s];
       const std::uint16_t back_side = l.side[std::size_t(1 - side)];
       const auto quad = [&](WallPart part, double z0, double z1) {
         if (!(z1 > z0)) return;
         // Counterclockwise seen from the front (the right of a -> b): a is on the viewer's left.
-        const glm::vec3 corners[4] = {{a.x, a.y, z0}, {b.x, b.y, z0}, {b.x, b.y, z1}, {a.x, a.y, z1}};
+        const glm::vec3 corners[4] = {
+            {a.x, a.y, z0}, {b.x, b.y, z0}, {b.x, b.y, z1}, {a.x, a.y, z1}};
         level.walls[(std::size_t(i) * 2 + std::size_t(side)) * 3 + std::size_t(part)] =
-            scene.addPolygonVertices({corners[0], corners[1], corners[2], corners[3]}, wallMaterial(part, front));
+            scene.addPolygonVertices({corners[0], corners[1], corners[2], corners[3]},
+                                     wallMaterial(part, front));
       };
       if (back_side == kNoSide) {
         quad(WallPart::kMiddle, front.floor, front.ceiling);
@@ -199,7 +212,8 @@ Level levelScene(const Map& map, const Nodes& nodes) {
       if (r.size() < 3 || area(r) < 1e-6 || !(sector.ceiling > sector.floor)) continue;
       std::vector<glm::vec3> up, down;
       for (const Point& p : r) up.push_back({p[0], p[1], double(sector.floor)});
-      for (auto it = r.rbegin(); it != r.rend(); ++it) down.push_back({(*it)[0], (*it)[1], double(sector.ceiling)});
+      for (auto it = r.rbegin(); it != r.rend(); ++it)
+        down.push_back({(*it)[0], (*it)[1], double(sector.ceiling)});
       level.floors[ss] = scene.addPolygonVertices(up, flatMaterial(false, sector.floor));
       level.ceilings[ss] = scene.addPolygonVertices(down, flatMaterial(true, sector.ceiling));
     }
@@ -214,7 +228,8 @@ Viewpoint playerStart(const Map& map) {
   throw Error(fmt::format("map {}: no player 1 start", map.name));
 }
 
-Camera viewCamera(const Map& map, const Nodes& nodes, const Viewpoint& view, int width, int height) {
+Camera viewCamera(const Map& map, const Nodes& nodes, const Viewpoint& view, int width,
+                  int height) {
   const Sector& sector = map.sectors.at(sectorByTree(map, nodes, view.x, view.y));
   const MapBox b = boxOf(map);
   Camera c;
@@ -243,7 +258,8 @@ Scene loadLevel(const std::filesystem::path& path, std::string_view map_name) {
   c.eye = view.eye, c.target = view.target, c.up = view.up;
   c.fov_deg = view.fov_deg;
   c.far = view.far;
-  c.near = std::max(view.near, view.far / 999.0f);  // within the ratio fromSceneCamera keeps as it is
+  c.near =
+      std::max(view.near, view.far / 999.0f);  // within the ratio fromSceneCamera keeps as it is
   level.scene.cameras.push_back(c);
   level.scene.name = path.filename().string() + ":" + map.name;
   return std::move(level.scene);
@@ -254,14 +270,17 @@ std::string mapSvg(const Map& map, const Nodes& nodes, int max_depth) {
   const double w = b.right - b.left + 2 * kMargin, h = b.top - b.bottom + 2 * kMargin;
   const double scale = 1600.0 / std::max(w, h);  // the drawing about 1600 px on its long side
   std::string out = fmt::format(
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.0f}\" height=\"{:.0f}\" viewBox=\"{} {} {} {}\">\n"
-      "<title>{}: {} subsectors, {} nodes</title>\n<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#ffffff\"/>\n"
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.0f}\" height=\"{:.0f}\" viewBox=\"{} "
+      "{} {} {}\">\n"
+      "<title>{}: {} subsectors, {} nodes</title>\n<rect x=\"{}\" y=\"{}\" width=\"{}\" "
+      "height=\"{}\" fill=\"#ffffff\"/>\n"
       "<g transform=\"scale(1,-1)\">\n",
-      w * scale, h * scale, b.left - kMargin, -(b.top + kMargin), w, h, map.name, nodes.subsectors.size(),
-      nodes.nodes.size(), b.left - kMargin, -(b.top + kMargin), w, h);
+      w * scale, h * scale, b.left - kMargin, -(b.top + kMargin), w, h, map.name,
+      nodes.subsectors.size(), nodes.nodes.size(), b.left - kMargin, -(b.top + kMargin), w, h);
   const auto path = [](const Region& r) {
     std::string d;
-    for (std::size_t i = 0; i < r.size(); ++i) d += fmt::format("{}{:.1f},{:.1f}", i ? " L" : "M", r[i][0], r[i][1]);
+    for (std::size_t i = 0; i < r.size(); ++i)
+      d += fmt::format("{}{:.1f},{:.1f}", i ? " L" : "M", r[i][0], r[i][1]);
     return d + " Z";
   };
   std::string regions, partitions;
@@ -277,17 +296,23 @@ std::string mapSvg(const Map& map, const Nodes& nodes, int max_depth) {
           const Point& q = r[(i + 1) % r.size()];
           const double sp = double(n.dx) * (p[1] - n.y) - double(n.dy) * (p[0] - n.x);
           const double sq = double(n.dx) * (q[1] - n.y) - double(n.dy) * (q[0] - n.x);
-          if (sp == 0) hits.push_back(p);
-          else if ((sp < 0) != (sq < 0) && sq != 0) hits.push_back({p[0] + sp / (sp - sq) * (q[0] - p[0]), p[1] + sp / (sp - sq) * (q[1] - p[1])});
+          if (sp == 0)
+            hits.push_back(p);
+          else if ((sp < 0) != (sq < 0) && sq != 0)
+            hits.push_back(
+                {p[0] + sp / (sp - sq) * (q[0] - p[0]), p[1] + sp / (sp - sq) * (q[1] - p[1])});
         }
         if (hits.size() < 2) return;
         const double t = std::min(1.0, depth / 12.0);  // red at the root to blue 12 levels down
-        const int red = int(220 * (1 - t) + 40 * t), green = int(40 + 60 * t), blue = int(40 * (1 - t) + 220 * t);
+        const int red = int(220 * (1 - t) + 40 * t), green = int(40 + 60 * t),
+                  blue = int(40 * (1 - t) + 220 * t);
         partitions += fmt::format(
-            "<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#{:02x}{:02x}{:02x}\" "
-            "stroke-width=\"{:.2f}\" stroke-opacity=\"{:.2f}\"><title>node depth {}</title></line>\n",
-            hits[0][0], hits[0][1], hits[1][0], hits[1][1], red, green, blue, stroke * std::max(0.6, 4.0 - depth * 0.3),
-            std::max(0.35, 1.0 - depth * 0.05), depth);
+            "<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" "
+            "stroke=\"#{:02x}{:02x}{:02x}\" "
+            "stroke-width=\"{:.2f}\" stroke-opacity=\"{:.2f}\"><title>node depth "
+            "{}</title></line>\n",
+            hits[0][0], hits[0][1], hits[1][0], hits[1][1], red, green, blue,
+            stroke * std::max(0.6, 4.0 - depth * 0.3), std::max(0.35, 1.0 - depth * 0.05), depth);
       },
       [&](std::uint16_t ss, const Region& r, int) {
         if (r.size() < 3) return;
@@ -298,22 +323,27 @@ std::string mapSvg(const Map& map, const Nodes& nodes, int max_depth) {
         const int k = int(hue);
         const double c[6][3] = {{1, x, 0}, {x, 1, 0}, {0, 1, x}, {0, x, 1}, {x, 0, 1}, {1, 0, x}};
         for (int i = 0; i < 3; ++i) rgb[i] = 0.72 + 0.25 * c[k % 6][i];
-        regions += fmt::format("<path d=\"{}\" fill=\"#{:02x}{:02x}{:02x}\"><title>subsector {}</title></path>\n",
-                               path(r), int(rgb[0] * 255), int(rgb[1] * 255), int(rgb[2] * 255), ss);
+        regions += fmt::format(
+            "<path d=\"{}\" fill=\"#{:02x}{:02x}{:02x}\"><title>subsector {}</title></path>\n",
+            path(r), int(rgb[0] * 255), int(rgb[1] * 255), int(rgb[2] * 255), ss);
       });
-  out += "<g stroke=\"none\">\n" + regions + "</g>\n<g stroke-linecap=\"round\">\n" + partitions + "</g>\n";
+  out += "<g stroke=\"none\">\n" + regions + "</g>\n<g stroke-linecap=\"round\">\n" + partitions +
+         "</g>\n";
   out += "<g stroke-linecap=\"round\">\n";
   for (const Linedef& l : map.linedefs) {
     const Vertex a = map.vertices[l.v1], c = map.vertices[l.v2];
     const bool two = l.side[0] != kNoSide && l.side[1] != kNoSide;
-    out += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{:.2f}\"/>\n", a.x, a.y,
-                       c.x, c.y, two ? "#707070" : "#000000", stroke * (two ? 1.0 : 2.2));
+    out += fmt::format(
+        "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{:.2f}\"/>\n",
+        a.x, a.y, c.x, c.y, two ? "#707070" : "#000000", stroke * (two ? 1.0 : 2.2));
   }
   out += "</g>\n";
   for (const Thing& t : map.things)
     if (t.type == 1)
-      out += fmt::format("<circle cx=\"{}\" cy=\"{}\" r=\"{:.1f}\" fill=\"#10a010\"><title>player 1 start</title></circle>\n",
-                         t.x, t.y, 5 * stroke * 4);
+      out += fmt::format(
+          "<circle cx=\"{}\" cy=\"{}\" r=\"{:.1f}\" fill=\"#10a010\"><title>player 1 "
+          "start</title></circle>\n",
+          t.x, t.y, 5 * stroke * 4);
   out += "</g>\n</svg>\n";
   return out;
 }

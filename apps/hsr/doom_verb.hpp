@@ -10,7 +10,8 @@ namespace hsr::cli {
 struct DoomVerb {
   CLI::App* verb = nullptr;
   CLI::App *build = nullptr, *map = nullptr, *view = nullptr;
-  std::string wad, map_name, output, svg, from = "player", size = "960x600", raw_dir, algorithm = "bsp2d";
+  std::string wad, map_name, output, svg, from = "player", size = "960x600", raw_dir,
+                                          algorithm = "bsp2d";
   int split_cost = 0, max_depth = 64;
   bool check = false, shipped = false, quiet = false;
 };

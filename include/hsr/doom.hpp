@@ -29,13 +29,15 @@
 
 namespace hsr::doom {
 
-constexpr std::uint16_t kNoSide = 0xFFFF;          // a linedef side without a sidedef
-constexpr std::uint16_t kSubsectorBit = 0x8000;    // a node child that is a subsector
+constexpr std::uint16_t kNoSide = 0xFFFF;        // a linedef side without a sidedef
+constexpr std::uint16_t kSubsectorBit = 0x8000;  // a node child that is a subsector
 
 using Name = std::array<char, 8>;  // a lump or texture name, NUL-padded, not terminated
 std::string nameText(const Name& name);
 
-struct Vertex { std::int16_t x = 0, y = 0; };
+struct Vertex {
+  std::int16_t x = 0, y = 0;
+};
 struct Linedef {
   std::uint16_t v1 = 0, v2 = 0, flags = 0, special = 0, tag = 0;
   std::array<std::uint16_t, 2> side{kNoSide, kNoSide};  // front (right of v1->v2), back
@@ -50,7 +52,9 @@ struct Sector {
   Name floor_flat{}, ceiling_flat{};
   std::int16_t light = 0, special = 0, tag = 0;
 };
-struct Thing { std::int16_t x = 0, y = 0, angle = 0, type = 0, flags = 0; };
+struct Thing {
+  std::int16_t x = 0, y = 0, angle = 0, type = 0, flags = 0;
+};
 
 // A seg: the part of one linedef side that lies in one subsector. `side` 0 runs v1->v2 of the
 // linedef, 1 runs v2->v1; `offset` is its start's distance from that side's first vertex;
@@ -62,7 +66,9 @@ struct Seg {
   std::int16_t side = 0;
   std::int16_t offset = 0;
 };
-struct Subsector { std::uint16_t count = 0, first = 0; };
+struct Subsector {
+  std::uint16_t count = 0, first = 0;
+};
 // A partition line through (x, y) along (dx, dy). child[0] is the front (right) side, child[1]
 // the back; kSubsectorBit marks a subsector. box[c] = {top, bottom, left, right} of child c.
 struct Node {
@@ -122,12 +128,12 @@ struct BuildOptions {
   int split_cost = 128;
 };
 struct BuildStats {
-  std::uint64_t sides = 0;        // linedef sides of nonzero length (the segs before splits)
+  std::uint64_t sides = 0;  // linedef sides of nonzero length (the segs before splits)
   std::uint64_t segs = 0;
-  std::uint64_t splits = 0;       // segs - sides
+  std::uint64_t splits = 0;  // segs - sides
   std::uint64_t nodes = 0;
   std::uint64_t subsectors = 0;
-  std::uint64_t depth = 0;        // nodes on the longest root-to-subsector path
+  std::uint64_t depth = 0;  // nodes on the longest root-to-subsector path
   // Subsectors whose segs face more than one sector: convex, but where the map's sectors are
   // not closed or overlap (Doom shades such a subsector's floor as its first seg's sector).
   std::uint64_t mixed_subsectors = 0;
@@ -166,14 +172,15 @@ void writeWad(const Wad& wad, const std::map<std::string, Nodes>& nodes,
 // `nodes` below: a tree of the map, as buildNodes makes and readMap keeps (indices in range).
 // A viewpoint on the map: position, facing (degrees, 0 east, counterclockwise) and eye height
 // above the floor under it (Doom's 41).
-struct Viewpoint { double x = 0, y = 0, angle_degrees = 0, eye_height = 41; };
+struct Viewpoint {
+  double x = 0, y = 0, angle_degrees = 0, eye_height = 41;
+};
 // Player 1's start (thing type 1); refused when the map has none.
 Viewpoint playerStart(const Map& map);
 
 // Doom's camera for a viewpoint: the horizontal field of view 90 degrees across `width`, no
 // pitch, the eye at the floor of the sector under it plus eye_height; map units, z up.
-Camera viewCamera(const Map& map, const Nodes& nodes, const Viewpoint& view, int width,
-                  int height);
+Camera viewCamera(const Map& map, const Nodes& nodes, const Viewpoint& view, int width, int height);
 
 // The level as a Scene, z up, map units: every linedef side a wall of up to three quads (the
 // lower and upper walls between two sectors' floors and ceilings, the middle of a one-sided
@@ -213,9 +220,9 @@ Scene loadLevel(const std::filesystem::path& wad, std::string_view map_name = {}
 // distance as Doom dims it. `trace`, when given, receives each seg drawn with its columns.
 struct ViewStep {
   std::uint16_t seg = 0;
-  int x0 = 0, x1 = 0;      // the columns it spans on screen, [x0, x1)
-  int drawn = 0;           // of which it drew (the others were closed)
-  bool closes = false;     // a solid wall: its columns close
+  int x0 = 0, x1 = 0;   // the columns it spans on screen, [x0, x1)
+  int drawn = 0;        // of which it drew (the others were closed)
+  bool closes = false;  // a solid wall: its columns close
 };
 Frame renderView(const Map& map, const Nodes& nodes, const Level& level, const Camera& camera,
                  std::vector<ViewStep>* trace = nullptr);

@@ -30,8 +30,8 @@ constexpr std::uint64_t kMaxWadBytes = 1ull << 31;  // the format's offsets are 
 
 // The lumps that may follow a map's marker, in the order Doom writes them.
 constexpr std::array<std::string_view, 10> kMapLumps = {
-    "THINGS", "LINEDEFS", "SIDEDEFS", "VERTEXES", "SEGS", "SSECTORS", "NODES", "SECTORS",
-    "REJECT", "BLOCKMAP"};
+    "THINGS",   "LINEDEFS", "SIDEDEFS", "VERTEXES", "SEGS",
+    "SSECTORS", "NODES",    "SECTORS",  "REJECT",   "BLOCKMAP"};
 
 bool isMapLump(std::string_view name) {
   return std::find(kMapLumps.begin(), kMapLumps.end(), name) != kMapLumps.end() ||
@@ -73,7 +73,8 @@ class Out {
   }
   void i16(std::int16_t v) { u16(static_cast<std::uint16_t>(v)); }
   void i32(std::int32_t v) {
-    for (int i = 0; i < 4; ++i) s_.push_back(static_cast<char>((static_cast<std::uint32_t>(v) >> (8 * i)) & 0xFF));
+    for (int i = 0; i < 4; ++i)
+      s_.push_back(static_cast<char>((static_cast<std::uint32_t>(v) >> (8 * i)) & 0xFF));
   }
   void raw(std::string_view b) { s_.append(b); }
   std::string take() { return std::move(s_); }
@@ -89,7 +90,8 @@ std::string upper(std::string_view s) {
   return u;
 }
 
-// The records of one lump, refused unless it is a whole number of them.
+// The records of one lump, refused unless it is a whole number of them. `read` makes one from
+// its fields in file order (a braced initializer evaluates its elements left to right).
 template <typename T, typename Read>
 std::vector<T> records(const Lump& lump, std::size_t size, const std::string& where, Read read) {
   if (lump.bytes.size() % size != 0)
@@ -112,42 +114,26 @@ std::optional<Nodes> shippedNodes(const Lump* vertexes, const Lump* segs, const 
     return {};
   Nodes n;
   n.vertices = records<Vertex>(*vertexes, 4, where, [](Fields& f) {
-    Vertex v;
-    v.x = f.i16();
-    v.y = f.i16();
-    return v;
+    return Vertex{f.i16(), f.i16()};
   });
   n.segs = records<Seg>(*segs, 12, where, [](Fields& f) {
-    Seg s;
-    s.v1 = f.u16();
-    s.v2 = f.u16();
-    s.angle = f.i16();
-    s.linedef = f.u16();
-    s.side = f.i16();
-    s.offset = f.i16();
-    return s;
+    return Seg{f.u16(), f.u16(), f.i16(), f.u16(), f.i16(), f.i16()};
   });
   n.subsectors = records<Subsector>(*subsectors, 4, where, [](Fields& f) {
-    Subsector s;
-    s.count = f.u16();
-    s.first = f.u16();
-    return s;
+    return Subsector{f.u16(), f.u16()};
   });
   n.nodes = records<Node>(*nodes, 28, where, [](Fields& f) {
-    Node d;
-    d.x = f.i16();
-    d.y = f.i16();
-    d.dx = f.i16();
-    d.dy = f.i16();
-    for (auto& box : d.box)
-      for (auto& v : box) v = f.i16();
-    d.child[0] = f.u16();
-    d.child[1] = f.u16();
-    return d;
+    return Node{f.i16(),
+                f.i16(),
+                f.i16(),
+                f.i16(),
+                {{{f.i16(), f.i16(), f.i16(), f.i16()}, {f.i16(), f.i16(), f.i16(), f.i16()}}},
+                {f.u16(), f.u16()}};
   });
   for (const Seg& s : n.segs) {
-    if (s.v1 >= n.vertices.size() || s.v2 >= n.vertices.size() || s.linedef >= map.linedefs.size() ||
-        (s.side != 0 && s.side != 1) || map.linedefs[s.linedef].side[s.side] == kNoSide)
+    if (s.v1 >= n.vertices.size() || s.v2 >= n.vertices.size() ||
+        s.linedef >= map.linedefs.size() || (s.side != 0 && s.side != 1) ||
+        map.linedefs[s.linedef].side[s.side] == kNoSide)
       return {};
   }
   for (const Subsector& s : n.subsectors)
@@ -172,11 +158,15 @@ std::optional<Nodes> shippedNodes(const Lump* vertexes, const Lump* segs, const 
     stack.pop_back();
     if (node_seen[id]++) return {};
     for (std::uint16_t c : n.nodes[id].child) {
-      if (!(c & kSubsectorBit)) stack.push_back(c);
-      else if (ss_seen[c & ~kSubsectorBit]++) return {};
+      if (!(c & kSubsectorBit))
+        stack.push_back(c);
+      else if (ss_seen[c & ~kSubsectorBit]++)
+        return {};
     }
   }
-  if (std::count(node_seen.begin(), node_seen.end(), 0) || std::count(ss_seen.begin(), ss_seen.end(), 0)) return {};
+  if (std::count(node_seen.begin(), node_seen.end(), 0) ||
+      std::count(ss_seen.begin(), ss_seen.end(), 0))
+    return {};
   return n;
 }
 
@@ -196,7 +186,8 @@ std::vector<std::string> Wad::maps() const {
 }
 
 Wad parseWad(std::string_view b, const std::string& name) {
-  if (b.size() < 12) throw Error(fmt::format("{}: not a WAD file (shorter than its 12-byte header)", name));
+  if (b.size() < 12)
+    throw Error(fmt::format("{}: not a WAD file (shorter than its 12-byte header)", name));
   Wad wad;
   wad.kind = std::string(b.substr(0, 4));
   if (wad.kind != "IWAD" && wad.kind != "PWAD")
@@ -205,9 +196,10 @@ Wad parseWad(std::string_view b, const std::string& name) {
   if (count < 0 || dir < 0)
     throw Error(fmt::format("{}: a negative lump count or directory offset", name));
   if (std::uint64_t(dir) + std::uint64_t(count) * 16 > b.size())
-    throw Error(fmt::format("{}: its directory of {} lumps at byte {} runs past the end of the file "
-                            "({} bytes)",
-                            name, count, dir, b.size()));
+    throw Error(
+        fmt::format("{}: its directory of {} lumps at byte {} runs past the end of the file "
+                    "({} bytes)",
+                    name, count, dir, b.size()));
   wad.lumps.reserve(static_cast<std::size_t>(count));
   for (std::int32_t i = 0; i < count; ++i) {
     const std::size_t at = std::size_t(dir) + std::size_t(i) * 16;
@@ -218,10 +210,12 @@ Wad parseWad(std::string_view b, const std::string& name) {
       if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126)
         throw Error(fmt::format("{}: lump {} has a name that is not printable text", name, i));
     if (pos < 0 || size < 0 || std::uint64_t(pos) + std::uint64_t(size) > b.size())
-      throw Error(fmt::format("{}: lump {} ({}) of {} bytes at byte {} runs past the end of the file "
-                              "({} bytes)",
-                              name, i, lump_name, size, pos, b.size()));
-    wad.lumps.push_back({upper(lump_name), std::string(b.substr(std::size_t(pos), std::size_t(size)))});
+      throw Error(
+          fmt::format("{}: lump {} ({}) of {} bytes at byte {} runs past the end of the file "
+                      "({} bytes)",
+                      name, i, lump_name, size, pos, b.size()));
+    wad.lumps.push_back(
+        {upper(lump_name), std::string(b.substr(std::size_t(pos), std::size_t(size)))});
   }
   return wad;
 }
@@ -238,7 +232,8 @@ Wad readWad(const std::filesystem::path& path) {
   if (!in) throw Error(fmt::format("{}: cannot be opened", name));
   std::string bytes(static_cast<std::size_t>(size), '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(size));
-  if (static_cast<std::uint64_t>(in.gcount()) != size) throw Error(fmt::format("{}: could not be read", name));
+  if (static_cast<std::uint64_t>(in.gcount()) != size)
+    throw Error(fmt::format("{}: could not be read", name));
   return parseWad(bytes, name);
 }
 
@@ -252,9 +247,10 @@ Map readMap(const Wad& wad, std::string_view map_name) {
     }
   if (marker == wad.lumps.size()) {
     const auto names = wad.maps();
-    throw Error(fmt::format("no map {} in the WAD{}", want,
-                            names.empty() ? " (it holds no map)"
-                                          : fmt::format(" (it holds {} to {})", names.front(), names.back())));
+    throw Error(fmt::format(
+        "no map {} in the WAD{}", want,
+        names.empty() ? " (it holds no map)"
+                      : fmt::format(" (it holds {} to {})", names.front(), names.back())));
   }
   const std::string where = "map " + want;
   std::map<std::string, const Lump*> lumps;
@@ -268,51 +264,19 @@ Map readMap(const Wad& wad, std::string_view map_name) {
   Map map;
   map.name = want;
   map.things = records<Thing>(*lumps["THINGS"], 10, where, [](Fields& f) {
-    Thing t;
-    t.x = f.i16();
-    t.y = f.i16();
-    t.angle = f.i16();
-    t.type = f.i16();
-    t.flags = f.i16();
-    return t;
+    return Thing{f.i16(), f.i16(), f.i16(), f.i16(), f.i16()};
   });
   map.linedefs = records<Linedef>(*lumps["LINEDEFS"], 14, where, [](Fields& f) {
-    Linedef l;
-    l.v1 = f.u16();
-    l.v2 = f.u16();
-    l.flags = f.u16();
-    l.special = f.u16();
-    l.tag = f.u16();
-    l.side[0] = f.u16();
-    l.side[1] = f.u16();
-    return l;
+    return Linedef{f.u16(), f.u16(), f.u16(), f.u16(), f.u16(), {f.u16(), f.u16()}};
   });
   map.sidedefs = records<Sidedef>(*lumps["SIDEDEFS"], 30, where, [](Fields& f) {
-    Sidedef s;
-    s.x_offset = f.i16();
-    s.y_offset = f.i16();
-    s.upper = f.name();
-    s.lower = f.name();
-    s.middle = f.name();
-    s.sector = f.u16();
-    return s;
+    return Sidedef{f.i16(), f.i16(), f.name(), f.name(), f.name(), f.u16()};
   });
   map.vertices = records<Vertex>(*lumps["VERTEXES"], 4, where, [](Fields& f) {
-    Vertex v;
-    v.x = f.i16();
-    v.y = f.i16();
-    return v;
+    return Vertex{f.i16(), f.i16()};
   });
   map.sectors = records<Sector>(*lumps["SECTORS"], 26, where, [](Fields& f) {
-    Sector s;
-    s.floor = f.i16();
-    s.ceiling = f.i16();
-    s.floor_flat = f.name();
-    s.ceiling_flat = f.name();
-    s.light = f.i16();
-    s.special = f.i16();
-    s.tag = f.i16();
-    return s;
+    return Sector{f.i16(), f.i16(), f.name(), f.name(), f.i16(), f.i16(), f.i16()};
   });
   if (map.linedefs.empty()) throw Error(where + ": no linedefs");
   if (map.sectors.empty()) throw Error(where + ": no sectors");
@@ -320,24 +284,26 @@ Map readMap(const Wad& wad, std::string_view map_name) {
   for (std::size_t i = 0; i < map.linedefs.size(); ++i) {
     const Linedef& l = map.linedefs[i];
     if (l.v1 >= map.vertices.size() || l.v2 >= map.vertices.size())
-      throw Error(fmt::format("{}: linedef {} names vertex {} of {}", where, i, std::max(l.v1, l.v2),
-                              map.vertices.size()));
+      throw Error(fmt::format("{}: linedef {} names vertex {} of {}", where, i,
+                              std::max(l.v1, l.v2), map.vertices.size()));
     for (std::uint16_t s : l.side)
       if (s != kNoSide && s >= map.sidedefs.size())
-        throw Error(fmt::format("{}: linedef {} names sidedef {} of {}", where, i, s, map.sidedefs.size()));
+        throw Error(
+            fmt::format("{}: linedef {} names sidedef {} of {}", where, i, s, map.sidedefs.size()));
     if (l.side[0] == kNoSide && l.side[1] == kNoSide)
       throw Error(fmt::format("{}: linedef {} has no sidedef on either side", where, i));
     used = std::max<std::size_t>(used, std::max(l.v1, l.v2) + 1u);
   }
   for (std::size_t i = 0; i < map.sidedefs.size(); ++i)
     if (map.sidedefs[i].sector >= map.sectors.size())
-      throw Error(fmt::format("{}: sidedef {} names sector {} of {}", where, i, map.sidedefs[i].sector,
-                              map.sectors.size()));
+      throw Error(fmt::format("{}: sidedef {} names sector {} of {}", where, i,
+                              map.sidedefs[i].sector, map.sectors.size()));
   const auto find = [&](const char* n) -> const Lump* {
     const auto it = lumps.find(n);
     return it == lumps.end() ? nullptr : it->second;
   };
-  map.shipped = shippedNodes(find("VERTEXES"), find("SEGS"), find("SSECTORS"), find("NODES"), map, where);
+  map.shipped =
+      shippedNodes(find("VERTEXES"), find("SEGS"), find("SSECTORS"), find("NODES"), map, where);
   map.vertices.resize(used);  // the shipped nodes' split vertices follow the linedefs' own
   return map;
 }
@@ -367,7 +333,8 @@ std::string wadBytes(const Wad& wad, const std::map<std::string, Nodes>& replace
   std::vector<Lump> lumps;
   for (std::size_t i = 0; i < wad.lumps.size();) {
     const Lump& lump = wad.lumps[i];
-    const bool marker = i + 1 < wad.lumps.size() && wad.lumps[i + 1].name == "THINGS" && !isMapLump(lump.name);
+    const bool marker =
+        i + 1 < wad.lumps.size() && wad.lumps[i + 1].name == "THINGS" && !isMapLump(lump.name);
     const auto it = marker ? replaced.find(lump.name) : replaced.end();
     if (it == replaced.end()) {
       lumps.push_back(lump);
@@ -377,7 +344,8 @@ std::string wadBytes(const Wad& wad, const std::map<std::string, Nodes>& replace
     lumps.push_back(lump);
     std::map<std::string, const Lump*> group;
     std::size_t j = i + 1;
-    for (; j < wad.lumps.size() && isMapLump(wad.lumps[j].name); ++j) group.emplace(wad.lumps[j].name, &wad.lumps[j]);
+    for (; j < wad.lumps.size() && isMapLump(wad.lumps[j].name); ++j)
+      group.emplace(wad.lumps[j].name, &wad.lumps[j]);
     auto fresh = encode(it->second);
     for (std::string_view n : kMapLumps) {
       const std::string key(n);
@@ -408,7 +376,8 @@ std::string wadBytes(const Wad& wad, const std::map<std::string, Nodes>& replace
   return out.take();
 }
 
-void writeWad(const Wad& wad, const std::map<std::string, Nodes>& nodes, const std::filesystem::path& path) {
+void writeWad(const Wad& wad, const std::map<std::string, Nodes>& nodes,
+              const std::filesystem::path& path) {
   const std::string bytes = wadBytes(wad, nodes);
   writeFileAtomically(path, {bytes});
 }

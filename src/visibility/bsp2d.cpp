@@ -76,7 +76,8 @@ enum class Side { kFront, kBack, kSpanning };
 Side classify(const BuildSeg& s, const Line& l, double& c1, double& c2) {
   c1 = l.side(s.x1, s.y1);
   c2 = l.side(s.x2, s.y2);
-  if (s.line == l.id || (c1 == 0 && c2 == 0)) return (s.x2 - s.x1) * l.dx + (s.y2 - s.y1) * l.dy > 0 ? Side::kFront : Side::kBack;
+  if (s.line == l.id || (c1 == 0 && c2 == 0))
+    return (s.x2 - s.x1) * l.dx + (s.y2 - s.y1) * l.dy > 0 ? Side::kFront : Side::kBack;
   if (c1 <= 0 && c2 <= 0) return Side::kFront;
   if (c1 >= 0 && c2 >= 0) return Side::kBack;
   return Side::kSpanning;
@@ -109,7 +110,8 @@ class Builder {
   Builder(const Map& map, const BuildOptions& options) : map_(map), options_(options) {
     nodes_.vertices = map.vertices;
     for (std::size_t i = 0; i < map.vertices.size(); ++i)
-      vertex_index_.emplace(key(map.vertices[i].x, map.vertices[i].y), static_cast<std::uint32_t>(i));
+      vertex_index_.emplace(key(map.vertices[i].x, map.vertices[i].y),
+                            static_cast<std::uint32_t>(i));
   }
 
   Nodes build(BuildStats& stats) {
@@ -117,16 +119,18 @@ class Builder {
     if (segs.empty()) throw Error(fmt::format("map {}: no linedef of nonzero length", map_.name));
     Box box;
     buildNode(std::move(segs), 0, box);
-    if (nodes_.segs.size() > 65535 || nodes_.vertices.size() > 65535 || nodes_.nodes.size() > 32767 ||
-        nodes_.subsectors.size() > 32767)
-      throw Error(fmt::format("map {}: the tree passes the vanilla limits ({} segs, {} vertices, {} nodes)",
-                              map_.name, nodes_.segs.size(), nodes_.vertices.size(), nodes_.nodes.size()));
+    if (nodes_.segs.size() > 65535 || nodes_.vertices.size() > 65535 ||
+        nodes_.nodes.size() > 32767 || nodes_.subsectors.size() > 32767)
+      throw Error(
+          fmt::format("map {}: the tree passes the vanilla limits ({} segs, {} vertices, {} nodes)",
+                      map_.name, nodes_.segs.size(), nodes_.vertices.size(), nodes_.nodes.size()));
     return std::move(nodes_);
   }
 
  private:
   static std::uint64_t key(std::int64_t x, std::int64_t y) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) | static_cast<std::uint32_t>(y);
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) |
+           static_cast<std::uint32_t>(y);
   }
 
   // Step 1: a seg for every linedef side with a sidedef; collinear linedefs share a line.
@@ -143,7 +147,8 @@ class Builder {
       const std::int64_t g = std::gcd(std::gcd(A, B), C);
       A /= g, B /= g, C /= g;
       if (A < 0 || (A == 0 && B < 0)) A = -A, B = -B, C = -C;
-      const auto [it, fresh] = lines.emplace(fmt::format("{},{},{}", A, B, C), static_cast<std::uint32_t>(lines.size()));
+      const auto [it, fresh] =
+          lines.emplace(fmt::format("{},{},{}", A, B, C), static_cast<std::uint32_t>(lines.size()));
       (void)fresh;
       for (std::uint16_t side = 0; side < 2; ++side) {
         if (l.side[side] == kNoSide) continue;
@@ -168,7 +173,8 @@ class Builder {
   // The partition along a seg: its linedef's own line (exact integers), in the seg's direction.
   Line lineOf(const BuildSeg& s) const {
     const Linedef& l = map_.linedefs[s.linedef];
-    const Vertex a = map_.vertices[s.side == 0 ? l.v1 : l.v2], b = map_.vertices[s.side == 0 ? l.v2 : l.v1];
+    const Vertex a = map_.vertices[s.side == 0 ? l.v1 : l.v2],
+                 b = map_.vertices[s.side == 0 ? l.v2 : l.v1];
     return {double(a.x), double(a.y), double(b.x) - a.x, double(b.y) - a.y, s.line};
   }
 
@@ -185,15 +191,18 @@ class Builder {
   };
 
   // Step 3's count for one candidate, stopping when split_cost * splits reaches `best`.
-  Count count(const std::vector<BuildSeg>& segs, const Blocks& blocks, const Line& l, double best) const {
+  Count count(const std::vector<BuildSeg>& segs, const Blocks& blocks, const Line& l,
+              double best) const {
     Count c;
     const double limit = best / options_.split_cost;
     for (std::size_t b = 0; b < blocks.boxes.size(); ++b) {
       const Box& box = blocks.boxes[b];
       const std::size_t first = b * kBlock, last = std::min(segs.size(), first + kBlock);
       // The extremes of the side function over the box: it is linear in x and y.
-      const double hi = l.dx * ((l.dx > 0 ? box.top : box.bottom) - l.y) - l.dy * ((l.dy > 0 ? box.left : box.right) - l.x);
-      const double lo = l.dx * ((l.dx > 0 ? box.bottom : box.top) - l.y) - l.dy * ((l.dy > 0 ? box.right : box.left) - l.x);
+      const double hi = l.dx * ((l.dx > 0 ? box.top : box.bottom) - l.y) -
+                        l.dy * ((l.dy > 0 ? box.left : box.right) - l.x);
+      const double lo = l.dx * ((l.dx > 0 ? box.bottom : box.top) - l.y) -
+                        l.dy * ((l.dy > 0 ? box.right : box.left) - l.x);
       if (hi < 0) {
         c.front += static_cast<std::uint32_t>(last - first);
         continue;
@@ -205,8 +214,12 @@ class Builder {
       for (std::size_t i = first; i < last; ++i) {
         double c1, c2;
         switch (classify(segs[i], l, c1, c2)) {
-          case Side::kFront: ++c.front; break;
-          case Side::kBack: ++c.back; break;
+          case Side::kFront:
+            ++c.front;
+            break;
+          case Side::kBack:
+            ++c.back;
+            break;
           case Side::kSpanning:
             ++c.front, ++c.back, ++c.splits;
             if (c.splits >= limit) {
@@ -231,17 +244,18 @@ class Builder {
       seen_[segs[i].line] = 1;
       const Count c = count(segs, blocks_, lineOf(segs[i]), best);
       if (c.gave_up || (c.back == 0 && c.splits == 0)) continue;
-      const double cost = double(options_.split_cost) * c.splits +
-                          std::abs(double(c.front) - double(c.back));
+      const double cost =
+          double(options_.split_cost) * c.splits + std::abs(double(c.front) - double(c.back));
       if (cost < best) best = cost, chosen = static_cast<std::ptrdiff_t>(i);
     }
     return chosen;
   }
 
   std::uint32_t vertexAt(double x, double y) {
-    const auto [it, fresh] = vertex_index_.emplace(key(std::int64_t(x), std::int64_t(y)),
-                                                   static_cast<std::uint32_t>(nodes_.vertices.size()));
-    if (fresh) nodes_.vertices.push_back({static_cast<std::int16_t>(x), static_cast<std::int16_t>(y)});
+    const auto [it, fresh] = vertex_index_.emplace(
+        key(std::int64_t(x), std::int64_t(y)), static_cast<std::uint32_t>(nodes_.vertices.size()));
+    if (fresh)
+      nodes_.vertices.push_back({static_cast<std::int16_t>(x), static_cast<std::int16_t>(y)});
     return it->second;
   }
 
@@ -303,7 +317,8 @@ class Builder {
       Node node;
       node.x = static_cast<std::int16_t>(l.x), node.y = static_cast<std::int16_t>(l.y);
       if (l.dx < -32768 || l.dx > 32767 || l.dy < -32768 || l.dy > 32767)
-        throw Error(fmt::format("map {}: a linedef too long for a vanilla node's partition", map_.name));
+        throw Error(
+            fmt::format("map {}: a linedef too long for a vanilla node's partition", map_.name));
       node.dx = static_cast<std::int16_t>(l.dx), node.dy = static_cast<std::int16_t>(l.dy);
       Box front_box, back_box;
       node.child[0] = buildNode(std::move(front), level + 1, front_box);
@@ -336,12 +351,14 @@ class Builder {
       const Vertex start = map_.vertices[s.side == 0 ? l.v1 : l.v2];
       const double offset = std::nearbyint(std::hypot(s.x1 - start.x, s.y1 - start.y));
       if (offset > 32767)
-        throw Error(fmt::format("map {}: linedef {} is too long for a vanilla seg's offset", map_.name, s.linedef));
+        throw Error(fmt::format("map {}: linedef {} is too long for a vanilla seg's offset",
+                                map_.name, s.linedef));
       out.offset = static_cast<std::int16_t>(offset);
       nodes_.segs.push_back(out);
     }
     nodes_.subsectors.push_back(ss);
-    return static_cast<std::uint16_t>(kSubsectorBit | std::min<std::size_t>(nodes_.subsectors.size() - 1, 0x7FFF));
+    return static_cast<std::uint16_t>(kSubsectorBit |
+                                      std::min<std::size_t>(nodes_.subsectors.size() - 1, 0x7FFF));
   }
 
   const Map& map_;
@@ -362,7 +379,8 @@ Nodes buildNodes(const Map& map, const BuildOptions& options, BuildStats* stats)
   BuildStats sides;
   Nodes nodes = Builder(map, options).build(sides);
   BuildStats s = nodeStats(map, nodes);  // the figures of the tree as it is
-  s.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  s.build_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = s;
   return nodes;
 }

@@ -46,7 +46,8 @@ BuildStats nodeStats(const Map& map, const Nodes& nodes) {
   // The longest root-to-subsector path, walked with a stack (a corrupt tree is not trusted here:
   // checkNodes says what is wrong; a child index out of range ends its path).
   std::vector<std::pair<std::uint16_t, std::uint64_t>> stack;
-  if (!nodes.nodes.empty()) stack.push_back({static_cast<std::uint16_t>(nodes.nodes.size() - 1), 1});
+  if (!nodes.nodes.empty())
+    stack.push_back({static_cast<std::uint16_t>(nodes.nodes.size() - 1), 1});
   std::uint64_t visits = 0;
   while (!stack.empty() && ++visits <= 4 * nodes.nodes.size() + 4) {
     const auto [n, level] = stack.back();
@@ -90,8 +91,8 @@ std::optional<std::uint16_t> sectorByLinedefs(const Map& map, double x, double y
     const double denom = rx * ey - ry * ex;
     if (denom == 0) continue;
     const double wx = double(a.x) - x, wy = double(a.y) - y;
-    const double t = (wx * ey - wy * ex) / denom;   // along the ray
-    const double u = (wx * ry - wy * rx) / denom;   // along the linedef
+    const double t = (wx * ey - wy * ex) / denom;  // along the ray
+    const double u = (wx * ry - wy * rx) / denom;  // along the linedef
     if (t <= 0 || u < 0 || u > 1 || t >= nearest) continue;
     nearest = t;
     const double side = ex * (y - a.y) - ey * (x - a.x);  // < 0: the point is on the right (front)
@@ -121,12 +122,14 @@ std::vector<std::string> checkNodes(const Map& map, const Nodes& n, double toler
       problem(fmt::format("vertex {} moved", i));
   for (std::size_t i = 0; i < n.segs.size(); ++i) {
     const Seg& s = n.segs[i];
-    if (s.v1 >= n.vertices.size() || s.v2 >= n.vertices.size() || s.linedef >= map.linedefs.size() ||
-        (s.side != 0 && s.side != 1) || map.linedefs[s.linedef].side[std::size_t(s.side)] == kNoSide)
+    if (s.v1 >= n.vertices.size() || s.v2 >= n.vertices.size() ||
+        s.linedef >= map.linedefs.size() || (s.side != 0 && s.side != 1) ||
+        map.linedefs[s.linedef].side[std::size_t(s.side)] == kNoSide)
       problem(fmt::format("seg {}: an index out of range", i));
   }
   for (std::size_t i = 0; i < n.subsectors.size(); ++i)
-    if (n.subsectors[i].count == 0 || std::size_t(n.subsectors[i].first) + n.subsectors[i].count > n.segs.size())
+    if (n.subsectors[i].count == 0 ||
+        std::size_t(n.subsectors[i].first) + n.subsectors[i].count > n.segs.size())
       problem(fmt::format("subsector {}: segs out of range", i));
   if (n.subsectors.empty()) problem("no subsector");
   if (!problems.empty()) return finish();
@@ -147,8 +150,10 @@ std::vector<std::string> checkNodes(const Map& map, const Nodes& n, double toler
       for (std::uint16_t c : n.nodes[id].child) {
         const std::uint16_t i = c & ~kSubsectorBit;
         if (c & kSubsectorBit) {
-          if (i >= n.subsectors.size()) problem(fmt::format("node {}: subsector {} out of range", id, i));
-          else ++ss_seen[i];
+          if (i >= n.subsectors.size())
+            problem(fmt::format("node {}: subsector {} out of range", id, i));
+          else
+            ++ss_seen[i];
         } else if (c >= n.nodes.size()) {
           problem(fmt::format("node {}: child {} out of range", id, c));
         } else {
@@ -169,14 +174,17 @@ std::vector<std::string> checkNodes(const Map& map, const Nodes& n, double toler
     for (std::size_t a = ss.first; a < std::size_t(ss.first) + ss.count; ++a) {
       const Seg& sa = n.segs[a];
       const Linedef& l = map.linedefs[sa.linedef];
-      const Vertex p = map.vertices[sa.side == 0 ? l.v1 : l.v2], q = map.vertices[sa.side == 0 ? l.v2 : l.v1];
+      const Vertex p = map.vertices[sa.side == 0 ? l.v1 : l.v2],
+                   q = map.vertices[sa.side == 0 ? l.v2 : l.v1];
       const double dx = double(q.x) - p.x, dy = double(q.y) - p.y, len = std::hypot(dx, dy);
       for (std::size_t b = ss.first; b < std::size_t(ss.first) + ss.count; ++b) {
         if (b == a) continue;
         for (std::uint16_t v : {n.segs[b].v1, n.segs[b].v2}) {
           const double d = (dx * (at(v).y - p.y) - dy * (at(v).x - p.x)) / len;  // > 0: behind
           if (d > tolerance)
-            problem(fmt::format("subsector {}: not convex (seg {} has an end {:.2f} units behind seg {})", i, b, d, a));
+            problem(fmt::format(
+                "subsector {}: not convex (seg {} has an end {:.2f} units behind seg {})", i, b, d,
+                a));
         }
       }
     }
@@ -187,7 +195,8 @@ std::vector<std::string> checkNodes(const Map& map, const Nodes& n, double toler
   for (std::size_t i = 0; i < n.segs.size(); ++i) {
     const Seg& s = n.segs[i];
     const Linedef& l = map.linedefs[s.linedef];
-    const Vertex p = map.vertices[s.side == 0 ? l.v1 : l.v2], q = map.vertices[s.side == 0 ? l.v2 : l.v1];
+    const Vertex p = map.vertices[s.side == 0 ? l.v1 : l.v2],
+                 q = map.vertices[s.side == 0 ? l.v2 : l.v1];
     const double dx = double(q.x) - p.x, dy = double(q.y) - p.y, len = std::hypot(dx, dy);
     if (len == 0) {
       problem(fmt::format("seg {}: on a linedef of zero length", i));
@@ -197,12 +206,15 @@ std::vector<std::string> checkNodes(const Map& map, const Nodes& n, double toler
     int k = 0;
     for (std::uint16_t v : {s.v1, s.v2}) {
       const double off = std::abs(dx * (at(v).y - p.y) - dy * (at(v).x - p.x)) / len;
-      if (off > tolerance) problem(fmt::format("seg {}: an end {:.2f} units off linedef {}", i, off, s.linedef));
+      if (off > tolerance)
+        problem(fmt::format("seg {}: an end {:.2f} units off linedef {}", i, off, s.linedef));
       t[k++] = (dx * (at(v).x - p.x) + dy * (at(v).y - p.y)) / len;
     }
-    if (!(t[1] > t[0])) problem(fmt::format("seg {}: runs against its linedef side or has no length", i));
+    if (!(t[1] > t[0]))
+      problem(fmt::format("seg {}: runs against its linedef side or has no length", i));
     if (std::abs(t[0] - s.offset) > tolerance + 0.5)
-      problem(fmt::format("seg {}: offset {} where its start is {:.2f} along the linedef", i, s.offset, t[0]));
+      problem(fmt::format("seg {}: offset {} where its start is {:.2f} along the linedef", i,
+                          s.offset, t[0]));
     cover[std::size_t(s.linedef) * 2 + std::size_t(s.side)].push_back({t[0], t[1]});
   }
   for (std::size_t i = 0; i < map.linedefs.size(); ++i) {
@@ -222,11 +234,13 @@ std::vector<std::string> checkNodes(const Map& map, const Nodes& n, double toler
       for (const auto& [t0, t1] : c) {
         if (std::abs(t0 - reached) > tolerance)
           problem(fmt::format("linedef {} side {}: {} at {:.2f} to {:.2f}", i, side,
-                              t0 > reached ? "a gap" : "an overlap", std::min(t0, reached), std::max(t0, reached)));
+                              t0 > reached ? "a gap" : "an overlap", std::min(t0, reached),
+                              std::max(t0, reached)));
         reached = t1;
       }
       if (std::abs(reached - len) > tolerance)
-        problem(fmt::format("linedef {} side {}: covered to {:.2f} of {:.2f}", i, side, reached, len));
+        problem(
+            fmt::format("linedef {} side {}: covered to {:.2f} of {:.2f}", i, side, reached, len));
     }
   }
   return finish();

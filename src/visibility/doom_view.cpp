@@ -37,13 +37,23 @@ namespace hsr::doom {
 // Not in an anonymous namespace: detail::renderDoomView below drives it too.
 class ColumnRenderer {
  public:
-  ColumnRenderer(const Map& map, const Nodes& nodes, const Level& level, const Camera& camera, Frame& frame,
-                 std::vector<ViewStep>* steps, detail::Trace* trace, std::uint64_t traced_segs)
-      : map_(map), nodes_(nodes), level_(level), camera_(camera), frame_(frame), steps_(steps), trace_(trace),
+  ColumnRenderer(const Map& map, const Nodes& nodes, const Level& level, const Camera& camera,
+                 Frame& frame, std::vector<ViewStep>* steps, detail::Trace* trace,
+                 std::uint64_t traced_segs)
+      : map_(map),
+        nodes_(nodes),
+        level_(level),
+        camera_(camera),
+        frame_(frame),
+        steps_(steps),
+        trace_(trace),
         traced_segs_(traced_segs),
-        m_(detail::deviceFromWorld(camera)), world_from_device_(glm::inverse(m_)),
-        ceiling_clip_(std::size_t(camera.width), -1), floor_clip_(std::size_t(camera.width), camera.height),
-        solid_(std::size_t(camera.width), 0), open_columns_(camera.width) {}
+        m_(detail::deviceFromWorld(camera)),
+        world_from_device_(glm::inverse(m_)),
+        ceiling_clip_(std::size_t(camera.width), -1),
+        floor_clip_(std::size_t(camera.width), camera.height),
+        solid_(std::size_t(camera.width), 0),
+        open_columns_(camera.width) {}
 
   // Step 1: the walk, front to back, with a stack.
   void walk() {
@@ -60,7 +70,8 @@ class ColumnRenderer {
         continue;
       }
       const Node& n = nodes_.nodes.at(child);
-      const double side = double(n.dx) * (camera_.eye.y - n.y) - double(n.dy) * (camera_.eye.x - n.x);
+      const double side =
+          double(n.dx) * (camera_.eye.y - n.y) - double(n.dy) * (camera_.eye.x - n.x);
       const int near = side < 0 ? 0 : 1;  // Doom's R_PointOnSide: the right is the front
       stack.push_back(n.child[std::size_t(1 - near)]);
       stack.push_back(n.child[std::size_t(near)]);
@@ -69,7 +80,9 @@ class ColumnRenderer {
 
  private:
   // Device x (pixel centres at integers) and clip w of a map point; both ignore height.
-  double devX(double x, double y) const { return (m_[0][0] * x + m_[1][0] * y + m_[3][0]) / clipW(x, y); }
+  double devX(double x, double y) const {
+    return (m_[0][0] * x + m_[1][0] * y + m_[3][0]) / clipW(x, y);
+  }
   double clipW(double x, double y) const { return m_[0][3] * x + m_[1][3] * y + m_[3][3]; }
   // Device y (top row 0, centres at integers) of height z at a map point with clip w `w`.
   double devY(double x, double y, double z, double w) const {
@@ -83,8 +96,10 @@ class ColumnRenderer {
 
   void subsector(std::uint16_t ss) {
     const Subsector& s = nodes_.subsectors.at(ss);
-    if (std::size_t(s.first) + s.count > nodes_.segs.size()) throw Error("a subsector's segs out of range");
-    for (std::size_t i = s.first; i < std::size_t(s.first) + s.count && open_columns_ > 0; ++i) seg(i);
+    if (std::size_t(s.first) + s.count > nodes_.segs.size())
+      throw Error("a subsector's segs out of range");
+    for (std::size_t i = s.first; i < std::size_t(s.first) + s.count && open_columns_ > 0; ++i)
+      seg(i);
   }
 
   // Step 2.
@@ -94,7 +109,8 @@ class ColumnRenderer {
     const Vertex& vb = nodes_.vertices[sg.v2];
     double ax = va.x, ay = va.y, bx = vb.x, by = vb.y;
     const double dx = bx - ax, dy = by - ay;
-    if (dx * (camera_.eye.y - ay) - dy * (camera_.eye.x - ax) >= 0) return;  // faces away (or edge-on)
+    if (dx * (camera_.eye.y - ay) - dy * (camera_.eye.x - ax) >= 0)
+      return;  // faces away (or edge-on)
     // Cut at the near plane: keep w >= near.
     const double near = camera_.near;
     double wa = clipW(ax, ay), wb = clipW(bx, by);
@@ -107,13 +123,15 @@ class ColumnRenderer {
       bx -= t * dx, by -= t * dy, wb = near;
     }
     const double xa = devX(ax, ay), xb = devX(bx, by);
-    const int x0 = std::max(0, rowAt(std::min(xa, xb))), x1 = std::min(camera_.width, rowAt(std::max(xa, xb)));
+    const int x0 = std::max(0, rowAt(std::min(xa, xb))),
+              x1 = std::min(camera_.width, rowAt(std::max(xa, xb)));
     if (x0 >= x1) return;
 
     const Linedef& l = map_.linedefs[sg.linedef];
     const Sector& front = map_.sectors[map_.sidedefs[l.side[std::size_t(sg.side) & 1]].sector];
     const std::uint16_t back_side = l.side[std::size_t(1 - (sg.side & 1))];
-    const Sector* back = back_side == kNoSide ? nullptr : &map_.sectors[map_.sidedefs[back_side].sector];
+    const Sector* back =
+        back_side == kNoSide ? nullptr : &map_.sectors[map_.sidedefs[back_side].sector];
     ViewStep step{static_cast<std::uint16_t>(index), x0, x1, 0, back == nullptr};
     for (int x = x0; x < x1; ++x) {
       if (solid_[std::size_t(x)]) continue;
@@ -124,25 +142,29 @@ class ColumnRenderer {
     if (steps_) steps_->push_back(step);
     ++segs_drawn_;
     if (trace_ && trace_->wants(detail::kStepDrawSeg, segs_drawn_ - 1, traced_segs_)) {
-      const float left = float(x0) - 0.5f, right = float(x1) - 0.5f, bottom = float(camera_.height) - 0.5f;
-      trace_->record({detail::kStepDrawSeg,
-                      fmt::format("Seg {}, the {} side of linedef {}, spans columns {} to {}; the {} of them "
-                                  "still open get its walls{}. {} columns remain open.{}",
-                                  index, sg.side ? "back" : "front", sg.linedef, x0, x1 - 1, step.drawn,
-                                  back ? ", and what lies beyond may draw only in the opening its upper and lower "
-                                         "walls leave"
-                                       : " and close (a one-sided line)",
-                                  open_columns_,
-                                  segs_drawn_ == 1 ? " Segs come front to back: at each node the tree is walked on "
-                                                     "the eye's side of the partition line first."
-                                                   : ""),
-                      &frame_,
-                      {{{left, -0.5f}, {right, -0.5f}, {right, bottom}, {left, bottom}}}});
+      const float left = float(x0) - 0.5f, right = float(x1) - 0.5f,
+                  bottom = float(camera_.height) - 0.5f;
+      trace_->record(
+          {detail::kStepDrawSeg,
+           fmt::format(
+               "Seg {}, the {} side of linedef {}, spans columns {} to {}; the {} of them "
+               "still open get its walls{}. {} columns remain open.{}",
+               index, sg.side ? "back" : "front", sg.linedef, x0, x1 - 1, step.drawn,
+               back ? ", and what lies beyond may draw only in the opening its upper and lower "
+                      "walls leave"
+                    : " and close (a one-sided line)",
+               open_columns_,
+               segs_drawn_ == 1 ? " Segs come front to back: at each node the tree is walked on "
+                                  "the eye's side of the partition line first."
+                                : ""),
+           &frame_,
+           {{{left, -0.5f}, {right, -0.5f}, {right, bottom}, {left, bottom}}}});
     }
   }
 
   // Step 3, one column.
-  void column(int x, const Vertex& va, const Vertex& vb, const Seg& sg, const Sector& front, const Sector* back) {
+  void column(int x, const Vertex& va, const Vertex& vb, const Seg& sg, const Sector& front,
+              const Sector* back) {
     // The point of the seg's line seen through the column's centre.
     const double r0a = m_[0][0] * va.x + m_[1][0] * va.y + m_[3][0], r3a = clipW(va.x, va.y);
     const double r0d = m_[0][0] * (vb.x - va.x) + m_[1][0] * (vb.y - va.y);
@@ -171,24 +193,24 @@ class ColumnRenderer {
     if (mark_floor) flat(x, std::max(wall_bottom, top + 1), bottom, front.floor, false);
 
     if (!back) {
-      fill(x, std::max(wall_top, top + 1), std::min(wall_bottom, bottom), level_.wall(linedef, side, WallPart::kMiddle),
-           depth, w, contrast);
+      fill(x, std::max(wall_top, top + 1), std::min(wall_bottom, bottom),
+           level_.wall(linedef, side, WallPart::kMiddle), depth, w, contrast);
       close(x);
       return;
     }
     int new_top = top, new_bottom = bottom;
     if (back->ceiling < front.ceiling) {
       const int upper_bottom = rowAt(devY(px, py, std::max<double>(back->ceiling, front.floor), w));
-      fill(x, std::max(wall_top, top + 1), std::min(upper_bottom, bottom), level_.wall(linedef, side, WallPart::kUpper),
-           depth, w, contrast);
+      fill(x, std::max(wall_top, top + 1), std::min(upper_bottom, bottom),
+           level_.wall(linedef, side, WallPart::kUpper), depth, w, contrast);
       new_top = std::max(top, std::min(upper_bottom, bottom) - 1);
     } else if (mark_ceiling) {
       new_top = std::max(top, std::min(wall_top, bottom) - 1);
     }
     if (back->floor > front.floor) {
       const int lower_top = rowAt(devY(px, py, std::min<double>(back->floor, front.ceiling), w));
-      fill(x, std::max(lower_top, top + 1), std::min(wall_bottom, bottom), level_.wall(linedef, side, WallPart::kLower),
-           depth, w, contrast);
+      fill(x, std::max(lower_top, top + 1), std::min(wall_bottom, bottom),
+           level_.wall(linedef, side, WallPart::kLower), depth, w, contrast);
       new_bottom = std::min(bottom, std::max(lower_top, top + 1));
     } else if (mark_floor) {
       new_bottom = std::min(bottom, std::max(wall_bottom, top + 1));
@@ -240,9 +262,12 @@ class ColumnRenderer {
   // contrast"): a picture to read, not data (the ids and depth are).
   std::uint32_t colour(PolygonId id, double distance, double contrast) const {
     const std::uint32_t m = level_.scene.material(id);
-    const glm::vec3 c = m < level_.scene.materials.size() ? level_.scene.materials[m].color : glm::vec3(0.8f);
+    const glm::vec3 c =
+        m < level_.scene.materials.size() ? level_.scene.materials[m].color : glm::vec3(0.8f);
     const double light = std::clamp(1.25 - distance / 2400.0, 0.25, 1.0) * contrast;
-    const auto byte = [&](float v) { return std::uint32_t(std::clamp(std::lround(v * light * 255.0), 0l, 255l)); };
+    const auto byte = [&](float v) {
+      return std::uint32_t(std::clamp(std::lround(v * light * 255.0), 0l, 255l));
+    };
     return byte(c.r) | byte(c.g) << 8 | byte(c.b) << 16 | 0xFF000000u;
   }
 
@@ -270,7 +295,9 @@ Agreement wallAgreement(const Level& level, const Frame& view, const Frame& refe
     throw Error("wallAgreement: frames of different sizes");
   Agreement a;
   const int w = reference.width, h = reference.height;
-  const auto id = [&](int x, int y) { return reference.ids[std::size_t(y) * std::size_t(w) + std::size_t(x)]; };
+  const auto id = [&](int x, int y) {
+    return reference.ids[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+  };
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const PolygonId r = id(x, y);
@@ -295,8 +322,8 @@ Agreement wallAgreement(const Level& level, const Frame& view, const Frame& refe
 
 namespace hsr::detail {
 
-Frame renderDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level, const Camera& camera,
-                     std::vector<doom::ViewStep>* steps, Trace* trace) {
+Frame renderDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
+                     const Camera& camera, std::vector<doom::ViewStep>* steps, Trace* trace) {
   camera.validate();
   if (camera.ortho) throw Error("the Doom view is a perspective view");
   Frame frame;
@@ -311,12 +338,14 @@ Frame renderDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom:
   doom::ColumnRenderer renderer(map, nodes, level, camera, frame, steps, trace, counted.size());
   renderer.walk();
   if (trace && trace->wants(kStepAllClosed, 0, 1))
-    trace->record({kStepAllClosed,
-                   fmt::format("{} segs drew {} pixels; the walk stopped when every column was closed or the tree "
-                               "was done. No depth was compared: the order of the walk is the visibility.",
-                               counted.size(), frame.stats.fragments_written),
-                   &frame,
-                   {}});
+    trace->record(
+        {kStepAllClosed,
+         fmt::format(
+             "{} segs drew {} pixels; the walk stopped when every column was closed or the tree "
+             "was done. No depth was compared: the order of the walk is the visibility.",
+             counted.size(), frame.stats.fragments_written),
+         &frame,
+         {}});
   return frame;
 }
 

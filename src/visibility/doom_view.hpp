@@ -11,7 +11,7 @@ namespace hsr::detail {
 inline constexpr std::string_view kStepDrawSeg = "draw seg";
 inline constexpr std::string_view kStepAllClosed = "every column closed";
 
-Frame renderDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level, const Camera& camera,
-                     std::vector<doom::ViewStep>* steps, Trace* trace);
+Frame renderDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
+                     const Camera& camera, std::vector<doom::ViewStep>* steps, Trace* trace);
 
 }  // namespace hsr::detail

@@ -16,8 +16,10 @@ namespace {
 
 namespace doom = hsr::doom;
 
-doom::Wad zdbspNodes(const std::string& wad, const std::string& flags, const std::filesystem::path& out) {
-  const std::string cmd = std::string(HSR_ZDBSP_PATH) + " " + flags + " -t -o '" + out.string() + "' '" + wad + "' >/dev/null";
+doom::Wad zdbspNodes(const std::string& wad, const std::string& flags,
+                     const std::filesystem::path& out) {
+  const std::string cmd = std::string(HSR_ZDBSP_PATH) + " " + flags + " -t -o '" + out.string() +
+                          "' '" + wad + "' >/dev/null";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   return doom::readWad(out);
 }
@@ -44,11 +46,13 @@ TEST(ZdbspAgreement, SameSectorsAndFewerSplitsOnEveryMap) {
         // covered once hold. What it also reports there, and only there, is ZDBSP's rounding: segs
         // that rounding shrank to no length, and offsets off by two units.
         for (const std::string& p : doom::checkNodes(theirs, *theirs.shipped)) {
-          const bool rounding = p.find("has no length") != std::string::npos || p.find("offset") != std::string::npos ||
+          const bool rounding = p.find("has no length") != std::string::npos ||
+                                p.find("offset") != std::string::npos ||
                                 p.find(" more") != std::string::npos;
           EXPECT_TRUE(rounding) << "in ZDBSP's tree: " << p;
         }
-        (peer == &fewest ? fewest_splits : default_splits) += doom::nodeStats(theirs, *theirs.shipped).splits;
+        (peer == &fewest ? fewest_splits : default_splits) +=
+            doom::nodeStats(theirs, *theirs.shipped).splits;
         // ZDBSP keeps the map's linedefs, sidedefs and sectors (it may drop unused sidedefs,
         // so the sectors are compared by number).
         ASSERT_EQ(theirs.linedefs.size(), map.linedefs.size());
@@ -67,18 +71,21 @@ TEST(ZdbspAgreement, SameSectorsAndFewerSplitsOnEveryMap) {
           for (const doom::Linedef& l : map.linedefs) {
             const doom::Vertex p = map.vertices[l.v1], q = map.vertices[l.v2];
             const double dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
-            const double t = len2 > 0 ? std::clamp(((x - p.x) * dx + (y - p.y) * dy) / len2, 0.0, 1.0) : 0.0;
+            const double t =
+                len2 > 0 ? std::clamp(((x - p.x) * dx + (y - p.y) * dy) / len2, 0.0, 1.0) : 0.0;
             near = near || std::hypot(x - (p.x + t * dx), y - (p.y + t * dy)) < 2.0;
           }
           if (near) continue;
           ++compared;
-          differ += doom::sectorByTree(map, nodes, x, y) != doom::sectorByTree(theirs, *theirs.shipped, x, y);
+          differ += doom::sectorByTree(map, nodes, x, y) !=
+                    doom::sectorByTree(theirs, *theirs.shipped, x, y);
         }
         EXPECT_EQ(differ, 0) << "of " << compared;
       }
     }
     std::printf("%s: splits ours %llu, ZDBSP fewest-splits %llu, ZDBSP defaults %llu\n", file,
-                static_cast<unsigned long long>(our_splits), static_cast<unsigned long long>(fewest_splits),
+                static_cast<unsigned long long>(our_splits),
+                static_cast<unsigned long long>(fewest_splits),
                 static_cast<unsigned long long>(default_splits));
     EXPECT_LT(our_splits, fewest_splits);
   }

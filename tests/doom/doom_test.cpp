@@ -46,7 +46,8 @@ Box boxOf(const doom::Map& map) {
 // Random points inside the map (the linedefs put them in a sector) and more than two units
 // from every linedef (a split point is rounded by up to 0.71 units): the tree must name the
 // same sector. Returns the points compared; counts mismatches.
-int compareSectors(const doom::Map& map, const doom::Nodes& nodes, int tries, std::uint32_t seed, int& mismatches) {
+int compareSectors(const doom::Map& map, const doom::Nodes& nodes, int tries, std::uint32_t seed,
+                   int& mismatches) {
   const Box b = boxOf(map);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> ux(b.left, b.right), uy(b.bottom, b.top);
@@ -59,7 +60,8 @@ int compareSectors(const doom::Map& map, const doom::Nodes& nodes, int tries, st
     for (const doom::Linedef& l : map.linedefs) {
       const doom::Vertex p = map.vertices[l.v1], q = map.vertices[l.v2];
       const double dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
-      const double t = len2 > 0 ? std::clamp(((x - p.x) * dx + (y - p.y) * dy) / len2, 0.0, 1.0) : 0.0;
+      const double t =
+          len2 > 0 ? std::clamp(((x - p.x) * dx + (y - p.y) * dy) / len2, 0.0, 1.0) : 0.0;
       if (std::hypot(x - (p.x + t * dx), y - (p.y + t * dy)) < 2.0) {
         near_line = true;
         break;
@@ -104,7 +106,8 @@ TEST(DoomNodes, EveryMapBuildsAndChecks) {
       if (map.shipped) shipped[w] += doom::nodeStats(map, *map.shipped).splits;
     }
     std::printf("%s: %llu splits (the shipped nodes: %llu)\n", kWads[w].c_str(),
-                static_cast<unsigned long long>(splits[w]), static_cast<unsigned long long>(shipped[w]));
+                static_cast<unsigned long long>(splits[w]),
+                static_cast<unsigned long long>(shipped[w]));
     // The default heuristic beats the nodes the WAD ships with (ZDBSP's fewest-splits setting
     // makes about 1.6 times as many: tests/agreement/zdbsp_test.cpp, bench/bench_doom.cpp).
     EXPECT_LT(splits[w], shipped[w]);
@@ -117,7 +120,8 @@ TEST(DoomNodes, CheckFindsBrokenTrees) {
   const doom::Nodes good = doom::buildNodes(map);
   ASSERT_TRUE(doom::checkNodes(map, good).empty());
   doom::Nodes n = good;
-  n.vertices.push_back({static_cast<std::int16_t>(n.vertices[n.segs[5].v2].x + 40), n.vertices[n.segs[5].v2].y});
+  n.vertices.push_back(
+      {static_cast<std::int16_t>(n.vertices[n.segs[5].v2].x + 40), n.vertices[n.segs[5].v2].y});
   n.segs[5].v2 = static_cast<std::uint16_t>(n.vertices.size() - 1);
   EXPECT_FALSE(doom::checkNodes(map, n).empty());
   n = good;
@@ -132,7 +136,9 @@ TEST(DoomNodes, CheckFindsBrokenTrees) {
 }
 
 bool sameNodes(const doom::Nodes& a, const doom::Nodes& b) {
-  const auto bytes = [](const auto& v) { return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0])); };
+  const auto bytes = [](const auto& v) {
+    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+  };
   return bytes(a.vertices) == bytes(b.vertices) && bytes(a.segs) == bytes(b.segs) &&
          bytes(a.subsectors) == bytes(b.subsectors) && bytes(a.nodes) == bytes(b.nodes);
 }
@@ -143,7 +149,8 @@ TEST(DoomWad, WrittenBackReadsTheSameTree) {
   for (int w = 0; w < 2; ++w) {
     const doom::Wad& wad = wadAt(w);
     std::map<std::string, doom::Nodes> built;
-    for (const std::string& name : wad.maps()) built.emplace(name, doom::buildNodes(doom::readMap(wad, name)));
+    for (const std::string& name : wad.maps())
+      built.emplace(name, doom::buildNodes(doom::readMap(wad, name)));
     const doom::Wad back = doom::parseWad(doom::wadBytes(wad, built), "written");
     ASSERT_EQ(back.lumps.size(), wad.lumps.size());
     for (std::size_t i = 0; i < wad.lumps.size(); ++i) {
@@ -163,7 +170,8 @@ TEST(DoomWad, WrittenBackReadsTheSameTree) {
   const doom::Wad& wad = wadAt(1);
   const doom::Wad same = doom::parseWad(doom::wadBytes(wad, {}), "copy");
   ASSERT_EQ(same.lumps.size(), wad.lumps.size());
-  for (std::size_t i = 0; i < wad.lumps.size(); ++i) EXPECT_TRUE(same.lumps[i].bytes == wad.lumps[i].bytes);
+  for (std::size_t i = 0; i < wad.lumps.size(); ++i)
+    EXPECT_TRUE(same.lumps[i].bytes == wad.lumps[i].bytes);
 }
 
 // The column renderer, walking our tree front to back, against the z-buffer on the level as a
@@ -180,8 +188,9 @@ TEST(DoomView, AgreesWithTheZBufferOnWallsFromEveryStart) {
       const hsr::Frame view = doom::renderView(map, nodes, level, camera);
       const hsr::Frame zbuffer = hsr::render(level.scene, camera);
       const doom::Agreement a = doom::wallAgreement(level, view, zbuffer);
-      std::printf("%s %s: walls %.3f%% of %llu pixels, %llu away from edges\n", kWads[w].c_str(), name.c_str(),
-                  100.0 * a.fraction(), static_cast<unsigned long long>(a.wall_pixels),
+      std::printf("%s %s: walls %.3f%% of %llu pixels, %llu away from edges\n", kWads[w].c_str(),
+                  name.c_str(), 100.0 * a.fraction(),
+                  static_cast<unsigned long long>(a.wall_pixels),
                   static_cast<unsigned long long>(a.away_from_edges));
       EXPECT_GT(a.wall_pixels, 1000u);
       EXPECT_GE(a.fraction(), 0.99);
@@ -246,7 +255,8 @@ TEST(DoomWad, FuzzSeedsAreReadOrRefused) {
 
 std::string le32(std::int32_t v) {
   std::string s(4, '\0');
-  for (int i = 0; i < 4; ++i) s[std::size_t(i)] = static_cast<char>((static_cast<std::uint32_t>(v) >> (8 * i)) & 0xFF);
+  for (int i = 0; i < 4; ++i)
+    s[std::size_t(i)] = static_cast<char>((static_cast<std::uint32_t>(v) >> (8 * i)) & 0xFF);
   return s;
 }
 std::string dirEntry(std::int32_t pos, std::int32_t size, const char* name) {
@@ -291,10 +301,15 @@ std::string le16(int v) { return le32(v).substr(0, 2); }
 std::string linedef(int v1, int v2, int s0, int s1) {
   return le16(v1) + le16(v2) + le16(0) + le16(0) + le16(0) + le16(s0) + le16(s1);
 }
-std::string sidedef(int sector) { return std::string(4, '\0') + std::string(24, '-') + le16(sector); }
-std::string sector(int floor, int ceiling) { return le16(floor) + le16(ceiling) + std::string(16, 'F') + std::string(6, '\0'); }
+std::string sidedef(int sector) {
+  return std::string(4, '\0') + std::string(24, '-') + le16(sector);
+}
+std::string sector(int floor, int ceiling) {
+  return le16(floor) + le16(ceiling) + std::string(16, 'F') + std::string(6, '\0');
+}
 
-void expectMapRefused(const std::vector<std::pair<std::string, std::string>>& lumps, const std::string& mention) {
+void expectMapRefused(const std::vector<std::pair<std::string, std::string>>& lumps,
+                      const std::string& mention) {
   const doom::Wad wad = doom::parseWad(wadWith(lumps), "bad.wad");
   try {
     (void)doom::readMap(wad, "MAP01");
@@ -305,14 +320,16 @@ void expectMapRefused(const std::vector<std::pair<std::string, std::string>>& lu
 }
 
 TEST(DoomWad, RefusesMalformedMaps) {
-  const std::string square = le16(0) + le16(0) + le16(64) + le16(0) + le16(64) + le16(64) + le16(0) + le16(64);
+  const std::string square =
+      le16(0) + le16(0) + le16(64) + le16(0) + le16(64) + le16(64) + le16(0) + le16(64);
   // Clockwise seen from above: each linedef's right (its front) is the room's inside.
-  const std::string lines = linedef(0, 3, 0, 0xFFFF) + linedef(3, 2, 0, 0xFFFF) + linedef(2, 1, 0, 0xFFFF) +
-                            linedef(1, 0, 0, 0xFFFF);
+  const std::string lines = linedef(0, 3, 0, 0xFFFF) + linedef(3, 2, 0, 0xFFFF) +
+                            linedef(2, 1, 0, 0xFFFF) + linedef(1, 0, 0, 0xFFFF);
   const std::string things = le16(32) + le16(32) + le16(90) + le16(1) + le16(7);
-  std::vector<std::pair<std::string, std::string>> ok = {{"MAP01", ""},         {"THINGS", things},
-                                                         {"LINEDEFS", lines},   {"SIDEDEFS", sidedef(0)},
-                                                         {"VERTEXES", square},  {"SECTORS", sector(0, 128)}};
+  std::vector<std::pair<std::string, std::string>> ok = {
+      {"MAP01", ""},        {"THINGS", things},
+      {"LINEDEFS", lines},  {"SIDEDEFS", sidedef(0)},
+      {"VERTEXES", square}, {"SECTORS", sector(0, 128)}};
   // The good one: one convex room, one subsector, no node.
   const doom::Map map = doom::readMap(doom::parseWad(wadWith(ok), "ok.wad"), "MAP01");
   doom::BuildStats s;
