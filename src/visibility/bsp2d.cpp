@@ -27,8 +27,8 @@
 //
 // Exact: vertices are integers (map units), so the sides of a line, twice the signed area
 // dx (y - py) - dy (x - px), are exact in double (|values| < 2^35 < 2^53).
-// Cost: O(candidates x (blocks + segs in the blocks the line crosses)) a node, a few hundred
-// million block and seg tests for a whole WAD of 32 maps; memory: O(segs).
+// Cost: O(candidates x (blocks + segs in the blocks the line crosses)) a node: 0.5-0.6 s for a
+// whole Freedoom WAD (32 or 36 maps) on one core; memory: O(segs).
 // Tests: tests/doom/doom_test.cpp (every map of both Freedoom WADs: checkNodes finds nothing,
 // the tree's sectors agree with the linedefs', written back and read again it is the same).
 

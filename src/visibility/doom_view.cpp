@@ -33,8 +33,8 @@
 #include "visibility/doom_view.hpp"
 
 namespace hsr::doom {
+namespace {
 
-// Not in an anonymous namespace: detail::renderDoomView below drives it too.
 class ColumnRenderer {
  public:
   ColumnRenderer(const Map& map, const Nodes& nodes, const Level& level, const Camera& camera,
@@ -284,6 +284,8 @@ class ColumnRenderer {
   std::vector<char> solid_;
   int open_columns_;
 };
+
+}  // namespace
 
 Frame renderView(const Map& map, const Nodes& nodes, const Level& level, const Camera& camera,
                  std::vector<ViewStep>* trace) {
