@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 
+#include "doom/doom_points.hpp"
 #include "hsr/doom.hpp"
 #include "test_util.hpp"
 
@@ -56,30 +57,12 @@ TEST(ZdbspAgreement, SameSectorsAndFewerSplitsOnEveryMap) {
         // ZDBSP keeps the map's linedefs, sidedefs and sectors (it may drop unused sidedefs,
         // so the sectors are compared by number).
         ASSERT_EQ(theirs.linedefs.size(), map.linedefs.size());
-        std::mt19937 rng(11);
-        std::uniform_real_distribution<double> u(0.0, 1.0);
-        double left = 1e9, right = -1e9, bottom = 1e9, top = -1e9;
-        for (const doom::Vertex& v : map.vertices)
-          left = std::min(left, double(v.x)), right = std::max(right, double(v.x)),
-          bottom = std::min(bottom, double(v.y)), top = std::max(top, double(v.y));
-        int compared = 0, differ = 0;
-        for (int k = 0; k < 300; ++k) {
-          const double x = left + u(rng) * (right - left), y = bottom + u(rng) * (top - bottom);
-          if (!doom::sectorByLinedefs(map, x, y)) continue;
-          // Points within two units of a line are left out: each builder rounds its split points.
-          bool near = false;
-          for (const doom::Linedef& l : map.linedefs) {
-            const doom::Vertex p = map.vertices[l.v1], q = map.vertices[l.v2];
-            const double dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
-            const double t =
-                len2 > 0 ? std::clamp(((x - p.x) * dx + (y - p.y) * dy) / len2, 0.0, 1.0) : 0.0;
-            near = near || std::hypot(x - (p.x + t * dx), y - (p.y + t * dy)) < 2.0;
-          }
-          if (near) continue;
-          ++compared;
+        int differ = 0;
+        const auto points = hsr::testing::pointsInside(map, 300, 11);
+        for (const auto& [x, y] : points)
           differ += doom::sectorByTree(map, nodes, x, y) !=
                     doom::sectorByTree(theirs, *theirs.shipped, x, y);
-        }
+        const std::size_t compared = points.size();
         EXPECT_EQ(differ, 0) << "of " << compared;
       }
     }

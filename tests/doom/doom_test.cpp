@@ -18,6 +18,7 @@
 #include "hsr/algorithms.hpp"
 #include "hsr/compare.hpp"
 #include "hsr/io.hpp"
+#include "doom/doom_points.hpp"
 #include "hsr/render.hpp"
 
 namespace {
@@ -31,47 +32,14 @@ const doom::Wad& wadAt(int i) {
   return wads[i];
 }
 
-struct Box {
-  double left = 1e300, right = -1e300, bottom = 1e300, top = -1e300;
-};
-Box boxOf(const doom::Map& map) {
-  Box b;
-  for (const doom::Vertex& v : map.vertices) {
-    b.left = std::min(b.left, double(v.x)), b.right = std::max(b.right, double(v.x));
-    b.bottom = std::min(b.bottom, double(v.y)), b.top = std::max(b.top, double(v.y));
-  }
-  return b;
-}
-
-// Random points inside the map (the linedefs put them in a sector) and more than two units
-// from every linedef (a split point is rounded by up to 0.71 units): the tree must name the
-// same sector. Returns the points compared; counts mismatches.
+// The tree and the linedefs name the same sector at random points inside the map, away from
+// its lines (doom_points.hpp). Returns the points compared; counts mismatches.
 int compareSectors(const doom::Map& map, const doom::Nodes& nodes, int tries, std::uint32_t seed,
                    int& mismatches) {
-  const Box b = boxOf(map);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> ux(b.left, b.right), uy(b.bottom, b.top);
-  int compared = 0;
-  for (int k = 0; k < tries; ++k) {
-    const double x = ux(rng), y = uy(rng);
-    const auto sector = doom::sectorByLinedefs(map, x, y);
-    if (!sector) continue;
-    bool near_line = false;
-    for (const doom::Linedef& l : map.linedefs) {
-      const doom::Vertex p = map.vertices[l.v1], q = map.vertices[l.v2];
-      const double dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
-      const double t =
-          len2 > 0 ? std::clamp(((x - p.x) * dx + (y - p.y) * dy) / len2, 0.0, 1.0) : 0.0;
-      if (std::hypot(x - (p.x + t * dx), y - (p.y + t * dy)) < 2.0) {
-        near_line = true;
-        break;
-      }
-    }
-    if (near_line) continue;
-    ++compared;
-    if (doom::sectorByTree(map, nodes, x, y) != *sector) ++mismatches;
-  }
-  return compared;
+  const auto points = hsr::testing::pointsInside(map, tries, seed);
+  for (const auto& [x, y] : points)
+    if (doom::sectorByTree(map, nodes, x, y) != *doom::sectorByLinedefs(map, x, y)) ++mismatches;
+  return static_cast<int>(points.size());
 }
 
 TEST(DoomWad, ReadsBothFreedoomWads) {
