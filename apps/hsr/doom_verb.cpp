@@ -23,7 +23,7 @@ namespace {
 
 namespace doom = hsr::doom;
 
-std::vector<std::string> mapsToDo(const doom::Wad& wad, const std::string& wanted) {
+std::vector<std::string> mapsToBuild(const doom::Wad& wad, const std::string& wanted) {
   if (!wanted.empty()) return {doom::readMap(wad, wanted).name};
   std::vector<std::string> maps = wad.maps();
   if (maps.empty()) throw hsr::Error("the WAD holds no map");
@@ -57,7 +57,7 @@ int runBuild(DoomVerb& v) {
         "{:>7} {:>5}{}\n",
         v.wad, options.split_cost, "map", "sides", "segs", "splits", "nodes", "ssecs", "depth",
         "ms", "shipped", "depth", v.check ? "   check" : "");
-  for (const std::string& name : mapsToDo(wad, v.map_name)) {
+  for (const std::string& name : mapsToBuild(wad, v.map_name)) {
     const doom::Map map = doom::readMap(wad, name);
     doom::BuildStats s;
     doom::Nodes nodes = doom::buildNodes(map, options, &s);
@@ -138,7 +138,8 @@ int runView(DoomVerb& v) {
   const doom::Map map = doom::readMap(doom::readWad(v.wad), v.map_name);
   const doom::Nodes nodes = nodesFor(map, v.shipped, v.split_cost);
   const doom::Level level = doom::levelScene(map, nodes);
-  const hsr::Camera camera = doom::viewCamera(map, nodes, viewpoint(map, v.from), width, height);
+  const doom::Viewpoint from = viewpoint(map, v.from);
+  const hsr::Camera camera = doom::viewCamera(map, nodes, from, width, height);
   const auto start = std::chrono::steady_clock::now();
   hsr::Frame frame;
   if (v.algorithm == "bsp2d") {
@@ -159,8 +160,8 @@ int runView(DoomVerb& v) {
     fmt::print(
         "hsr doom view {} {} from ({:.0f}, {:.0f}) facing {:.0f} degrees: {}x{} by {} in {:.1f} "
         "ms\n",
-        v.wad, map.name, camera.eye.x, camera.eye.y, viewpoint(map, v.from).angle_degrees, width,
-        height, v.algorithm, ms);
+        v.wad, map.name, camera.eye.x, camera.eye.y, from.angle_degrees, width, height, v.algorithm,
+        ms);
     if (v.algorithm == "bsp2d") {
       hsr::RenderOptions options;
       const doom::Agreement a =
