@@ -7,6 +7,7 @@
 #   fuzz_clip                                      two regions through Weiler-Atherton clipping
 #   fuzz_camera                                    camera JSON, lists of views and pose text
 #   fuzz_wad                                       Doom WADs: maps read, nodes built, written back, drawn
+#   fuzz_obj_text                                  the web page's OBJ reader (hsr::parseObjText), drawn
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]
 #        scripts/fuzz.sh --merge [TARGET...]   minimise the working corpus into fuzz/corpus/
 # Each target starts from its committed corpus (fuzz/corpus/TARGET), the known-bug seeds of
@@ -18,7 +19,7 @@
 # (the target and its import children), executions, coverage, corpus size, result.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-all=(fuzz_obj fuzz_ply fuzz_stl fuzz_off fuzz_gltf fuzz_scene fuzz_args fuzz_bsp fuzz_clip fuzz_camera fuzz_wad)
+all=(fuzz_obj fuzz_ply fuzz_stl fuzz_off fuzz_gltf fuzz_scene fuzz_args fuzz_bsp fuzz_clip fuzz_camera fuzz_wad fuzz_obj_text)
 merge=0
 seconds=60
 if [ "${1:-}" = "--merge" ]; then merge=1; shift; elif [[ "${1:-}" =~ ^[0-9]+$ ]]; then seconds=$1; shift; fi
@@ -44,14 +45,14 @@ flags=(-max_len=65536 -rss_limit_mb=512 -timeout=10 -print_final_stats=1)
 # finding of this process. libFuzzer's per-allocation limit (by default the RSS limit) would
 # end the child inside that budget, so for them it sits above it.
 target_flags() {
-  case $1 in fuzz_scene|fuzz_args|fuzz_bsp|fuzz_clip|fuzz_camera|fuzz_wad) ;; *) echo -malloc_limit_mb=2048 ;; esac
+  case $1 in fuzz_scene|fuzz_args|fuzz_bsp|fuzz_clip|fuzz_camera|fuzz_wad|fuzz_obj_text) ;; *) echo -malloc_limit_mb=2048 ;; esac
 }
 
 seed_dirs() {  # extra read-only seed directories for a target
   local t=$1 ext=${1#fuzz_} d=build-fuzz/seeds/$1
   rm -rf "$d" && mkdir -p "$d"
   case $t in
-  fuzz_scene|fuzz_args|fuzz_bsp|fuzz_clip|fuzz_camera|fuzz_wad)  # literal inputs: fuzz/seeds/args/, scene/, bsp/, clip/, camera/, wad/
+  fuzz_scene|fuzz_args|fuzz_bsp|fuzz_clip|fuzz_camera|fuzz_wad|fuzz_obj_text)  # literal inputs: fuzz/seeds/args/, scene/, bsp/, clip/, camera/, wad/, obj_text/
     find "fuzz/seeds/$ext" -maxdepth 1 -type f -exec cp {} "$d/" \; 2>/dev/null || true ;;
   *)
     find fuzz/seeds -maxdepth 1 -type f -iname "*.$ext" -exec cp {} "$d/" \; 2>/dev/null || true

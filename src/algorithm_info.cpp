@@ -3,8 +3,6 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "hsr/algorithms.hpp"
 #include "hsr/error.hpp"
 #include "visibility/algorithm.hpp"
@@ -16,9 +14,9 @@ namespace detail {
 const AlgorithmEntry& findEntry(std::string_view name) {
   for (const AlgorithmEntry& e : algorithmTable())
     if (e.info.name == name) return e;
-  std::vector<std::string_view> names;
-  for (const AlgorithmEntry& e : algorithmTable()) names.push_back(e.info.name);
-  throw Error(fmt::format("unknown algorithm '{}' (known: {})", name, fmt::join(names, ", ")));
+  std::string known;
+  for (const AlgorithmEntry& e : algorithmTable()) known += (known.empty() ? "" : ", ") + std::string(e.info.name);
+  throw Error("unknown algorithm '" + std::string(name) + "' (known: " + known + ")");
 }
 
 }  // namespace detail
@@ -75,10 +73,10 @@ std::string capabilityList(std::uint32_t caps) {
       {kBackToFront, "back-to-front"},
       {kAntialiasing, "antialiasing"},
   };
-  std::vector<std::string_view> names;
+  std::string names;
   for (const auto& [cap, name] : kNames)
-    if (caps & cap) names.push_back(name);
-  return fmt::format("{}", fmt::join(names, ", "));
+    if (caps & cap) names += (names.empty() ? "" : ", ") + std::string(name);
+  return names;
 }
 
 }  // namespace hsr

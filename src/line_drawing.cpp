@@ -29,9 +29,9 @@
 #include <unordered_map>
 
 #include <fmt/format.h>
-#include <tbb/task_arena.h>
 #include <glm/geometric.hpp>
 
+#include "core/parallel.hpp"
 #include "geometry/polygon.hpp"
 #include "geometry/strokes.hpp"
 #include "core/deadline.hpp"

@@ -8,11 +8,9 @@
 #include <memory>
 #include <string>
 
-#include <tbb/info.h>
-#include <tbb/task_arena.h>
-
 #include "core/check.hpp"
 #include "core/frame.hpp"
+#include "core/parallel.hpp"
 #include "hsr/bsp.hpp"
 #include "hsr/error.hpp"
 #include "raster/samples.hpp"

@@ -622,16 +622,32 @@ TEST(Degenerate, HugeCoordinatesNeverCrashOrWriteNaN) {
     Scene s;
     const std::uint32_t m = s.addMaterial({});
     for (int i = 0; i < 30; ++i) {
+      // Each draw in its own statement: a function's arguments are evaluated in an order the
+      // compiler chooses (GCC last first, Clang first first), and the scene must not depend on
+      // it (the web build is Clang's). The order is GCC's: the scenes this suite always drew.
       const auto huge = [&] {
         const float sx = (rng.next() & 1) ? mag : -mag;
         switch (rng.next() % 4) {
-          case 0: return glm::vec3(sx, rng.uniform(0.0f, 64.0f), rng.uniform(-2.0f, 2.0f));
-          case 1: return glm::vec3(rng.uniform(0.0f, 64.0f), sx, rng.uniform(-2.0f, 2.0f));
-          case 2: return glm::vec3(rng.uniform(0.0f, 64.0f), rng.uniform(0.0f, 64.0f), sx);
-          default: return glm::vec3(sx, (rng.next() & 1) ? mag : -mag, sx);
+          case 0: {
+            const float z = rng.uniform(-2.0f, 2.0f), y = rng.uniform(0.0f, 64.0f);
+            return glm::vec3(sx, y, z);
+          }
+          case 1: {
+            const float z = rng.uniform(-2.0f, 2.0f), x = rng.uniform(0.0f, 64.0f);
+            return glm::vec3(x, sx, z);
+          }
+          case 2: {
+            const float y = rng.uniform(0.0f, 64.0f), x = rng.uniform(0.0f, 64.0f);
+            return glm::vec3(x, y, sx);
+          }
+          default: {
+            const float sy = (rng.next() & 1) ? mag : -mag;
+            return glm::vec3(sx, sy, sx);
+          }
         }
       };
-      const glm::vec3 near_pt(rng.uniform(0.0f, 64.0f), rng.uniform(0.0f, 64.0f), 0.0f);
+      const float near_y = rng.uniform(0.0f, 64.0f), near_x = rng.uniform(0.0f, 64.0f);
+      const glm::vec3 near_pt(near_x, near_y, 0.0f);
       s.addPolygonVertices({near_pt, huge(), (i % 3 == 0) ? huge() : near_pt + glm::vec3(9, 1, 0)}, m);
     }
     Camera persp;

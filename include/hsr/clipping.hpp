@@ -51,12 +51,19 @@ using GridRegion = std::vector<GridPolygon>;
 // within the limit (|a|, |b| <= 2^29, |c| <= 2^58) and every vertex the crossing of two such
 // lines (|x|, |y| < 2^89, d < 2^60): results of booleanOp() are, so they can be clipped again
 // without rounding, as the hidden-surface algorithm does.
+namespace detail {
+// The double nearest to n / d (d > 0), ties to even: computed in integers, so it is the same
+// on every platform (long double, which this once used, has 64 bits of mantissa on x86-64 and
+// 113 in WebAssembly, and rounding through it twice differed between the two).
+double nearestQuotient(__int128 n, std::int64_t d);
+}  // namespace detail
+
 struct ExactPoint {
   __int128 x = 0, y = 0;
   std::int64_t d = 1;
   std::int64_t a = 0, b = 0, c = 0;
-  double xd() const { return static_cast<double>(static_cast<long double>(x) / static_cast<long double>(d)); }
-  double yd() const { return static_cast<double>(static_cast<long double>(y) / static_cast<long double>(d)); }
+  double xd() const { return detail::nearestQuotient(x, d); }  // x / d, rounded once
+  double yd() const { return detail::nearestQuotient(y, d); }
 };
 using ExactRing = std::vector<ExactPoint>;
 struct ExactPolygon {

@@ -41,6 +41,13 @@ Scene loadScene(std::string_view spec, const ImportLimits& limits = {});
 // transforms are applied, ids follow node order then face order. Safe on untrusted input.
 Scene loadMeshFile(const std::filesystem::path& path, const ImportLimits& limits = {});
 
+// Wavefront OBJ text read without assimp, for the web page (which has no assimp): "v"
+// vertices, "f" faces (v, v/vt, v//vn, v/vt/vn; negative indices count back), "o"/"g" begin an
+// object, "usemtl" picks a material (coloured from a palette: no .mtl is read); the rest is
+// left aside. Polygons stay polygons, ids in file order. Throws hsr::Error naming `name` and the
+// line. Memory: a few times the text's size, whatever the text.
+Scene parseObjText(std::string_view text, std::string name);
+
 struct BuiltinScene {
   std::string_view name;     // e.g. "spheres:N"
   std::string_view summary;

@@ -2,7 +2,9 @@
 
 #include "core/scene_digest.hpp"
 
-#include <bit>
+#include <cstdint>
+
+#include "core/bit_cast.hpp"
 
 namespace hsr::detail {
 
@@ -16,8 +18,8 @@ std::uint64_t sceneFingerprint(const Scene& scene) {
   const std::vector<glm::vec3>& positions = scene.positions();
   for (std::size_t i = 0; i < positions.size(); ++i) {
     const glm::vec3& p = positions[i];
-    mix(h[i % 4], (std::uint64_t{std::bit_cast<std::uint32_t>(p.x)} << 32 | std::bit_cast<std::uint32_t>(p.y)) ^
-                      (std::uint64_t{std::bit_cast<std::uint32_t>(p.z)} << 17));
+    mix(h[i % 4], (std::uint64_t{bitCast<std::uint32_t>(p.x)} << 32 | bitCast<std::uint32_t>(p.y)) ^
+                      (std::uint64_t{bitCast<std::uint32_t>(p.z)} << 17));
   }
   const std::size_t polygons = scene.polygonCount();
   for (PolygonId p = 0; p < polygons; ++p) mix(h[p % 4], scene.polygon(p).size());

@@ -40,4 +40,14 @@ class Trace {
   virtual void record(const TraceStep& step) = 0;
 };
 
+// Which occurrences of a step that repeats `count` times a teaching view keeps when it shows
+// `per_step` of them: evenly spaced, the first and the last always (hsr explain and the web
+// page both keep 12).
+inline bool evenlySpaced(std::uint64_t index, std::uint64_t count, std::uint64_t per_step) {
+  if (per_step < 2) per_step = 2;
+  if (count <= per_step || index == 0 || index + 1 == count) return true;
+  const std::uint64_t slots = per_step - 1;
+  return index * slots / (count - 1) != (index - 1) * slots / (count - 1);
+}
+
 }  // namespace hsr::detail

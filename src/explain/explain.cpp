@@ -95,11 +95,7 @@ class Recorder : public detail::Trace {
       : out_(out), range_(range), per_step_(std::max(per_step, 2)) {}
 
   bool wants(std::string_view, std::uint64_t index, std::uint64_t count) override {
-    // Evenly spaced, the first and the last always.
-    if (count <= static_cast<std::uint64_t>(per_step_) || index == 0 || index + 1 == count)
-      return true;
-    const std::uint64_t slots = static_cast<std::uint64_t>(per_step_ - 1);
-    return index * slots / (count - 1) != (index - 1) * slots / (count - 1);
+    return detail::evenlySpaced(index, count, static_cast<std::uint64_t>(per_step_));
   }
 
   void record(const detail::TraceStep& step) override {

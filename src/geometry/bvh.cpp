@@ -11,13 +11,10 @@
 #include <cstddef>
 #include <type_traits>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_invoke.h>
-#include <tbb/parallel_reduce.h>
-
 #include <glm/common.hpp>
 
 #include "core/check.hpp"
+#include "core/parallel.hpp"
 
 #if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
 #include <smmintrin.h>

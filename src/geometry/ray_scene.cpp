@@ -6,10 +6,9 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "core/material.hpp"
+#include "core/parallel.hpp"
 #include "geometry/bvh.hpp"
 #include "geometry/triangulate.hpp"
 #include "hsr/error.hpp"

@@ -16,13 +16,14 @@
 // comparing two vertices' coordinates needs 192 bits (compareFractions).
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <gmpxx.h>
 
 #include "geometry/predicates.hpp"
 #include "hsr/clipping.hpp"
@@ -295,7 +296,10 @@ class Graph {
     auto pairs = [&](int first0, int end0, int first1, int end1, bool other_ring_only) {
       std::vector<int> by_x(static_cast<std::size_t>(end1 - first1));
       std::iota(by_x.begin(), by_x.end(), first1);
-      std::sort(by_x.begin(), by_x.end(), [&](int l, int r) { return edges[l].x0 < edges[r].x0; });
+      // Ties by number: every sort here is a total order, so that every standard library (the
+      // native build's and the web page's) puts them in the same order
+      std::sort(by_x.begin(), by_x.end(),
+                [&](int l, int r) { return edges[l].x0 != edges[r].x0 ? edges[l].x0 < edges[r].x0 : l < r; });
       std::int64_t widest = 0;
       for (int e : by_x) widest = std::max(widest, edges[e].x1 - edges[e].x0);
       for (int ea = first0; ea < end0; ++ea) {
@@ -319,7 +323,8 @@ class Graph {
     // Sort the points inside each edge along it; points at the same place are one node.
     std::sort(hits.begin(), hits.end(), [](const Hit& l, const Hit& r) {
       if (l.edge != r.edge) return l.edge < r.edge;
-      return compare(l.t, r.t) < 0;
+      const int c = compare(l.t, r.t);
+      return c != 0 ? c < 0 : l.node < r.node;
     });
     for (std::size_t i = 1; i < hits.size(); ++i)
       if (hits[i].edge == hits[i - 1].edge && compare(hits[i].t, hits[i - 1].t) == 0) unite(hits[i].node, hits[i - 1].node);
@@ -656,7 +661,7 @@ ExactRegion assemble(const std::vector<RingOut>& rings, const std::vector<Vertex
     }
     size[i] = std::abs(a);
   }
-  std::sort(outers.begin(), outers.end(), [&](int l, int r) { return size[l] < size[r]; });
+  std::sort(outers.begin(), outers.end(), [&](int l, int r) { return size[l] != size[r] ? size[l] < size[r] : l < r; });
   ExactRegion region(outers.size());
   auto points = [&](const RingOut& r) {
     ExactRing ring;
@@ -685,29 +690,39 @@ ExactRegion assemble(const std::vector<RingOut>& rings, const std::vector<Vertex
   return region;
 }
 
-mpz_class toMpz(i128 v) {
-  const bool negative = v < 0;
-  const u128 m = negative ? -static_cast<u128>(v) : static_cast<u128>(v);
-  mpz_class r(static_cast<unsigned long>(static_cast<std::uint64_t>(m >> 64)));
-  r <<= 64;
-  r += mpz_class(static_cast<unsigned long>(static_cast<std::uint64_t>(m)));
-  return negative ? mpz_class(-r) : r;
-}
-
-mpq_class exactTwiceSignedArea(const ExactRing& r) {
-  mpq_class sum = 0;
-  for (std::size_t i = 0, n = r.size(); i < n; ++i) {
-    const ExactPoint &p = r[i], &q = r[(i + 1) % n];
-    const mpz_class num = toMpz(p.x) * toMpz(q.y) - toMpz(q.x) * toMpz(p.y);
-    const mpz_class den = mpz_class(static_cast<long>(p.d)) * mpz_class(static_cast<long>(q.d));
-    mpq_class term(num, den);
-    term.canonicalize();
-    sum += term;
-  }
-  return sum;
-}
-
 }  // namespace
+
+double detail::nearestQuotient(i128 n, std::int64_t d) {
+  if (n == 0 || d <= 0) return d > 0 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+  const bool negative = n < 0;
+  const u128 num = negative ? -static_cast<u128>(n) : static_cast<u128>(n);
+  const auto den = static_cast<std::uint64_t>(d);
+  auto bitLength = [](u128 v) {
+    const auto hi = static_cast<std::uint64_t>(v >> 64), lo = static_cast<std::uint64_t>(v);
+    return hi ? 128 - std::countl_zero(hi) : 64 - std::countl_zero(lo);
+  };
+  // q = floor(num / den * 2^s), with s chosen so that q has 55 or 56 bits: 53 kept, the rest
+  // and whether anything was left over decide the rounding
+  const int s = 55 - (bitLength(num) - (64 - std::countl_zero(den)));
+  u128 q;
+  bool inexact;
+  if (s >= 0) {  // num < 2^128 and den < 2^64: num * 2^s stays below 2^120
+    const u128 scaled = num << s;
+    q = scaled / den;
+    inexact = scaled % den != 0;
+  } else {  // floor(floor(num / 2^k) / den) = floor(num / (2^k den))
+    const int k = -s;
+    const u128 shifted = num >> k;
+    q = shifted / den;
+    inexact = shifted % den != 0 || (num & ((u128{1} << k) - 1)) != 0;
+  }
+  const int drop = bitLength(q) - 53;
+  auto kept = static_cast<std::uint64_t>(q >> drop);
+  const u128 rest = q & ((u128{1} << drop) - 1), half = u128{1} << (drop - 1);
+  if (rest > half || (rest == half && (inexact || (kept & 1)))) ++kept;
+  const double magnitude = std::ldexp(static_cast<double>(kept), drop - s);
+  return negative ? -magnitude : magnitude;
+}
 
 const char* booleanOpName(BooleanOp op) {
   switch (op) {
@@ -779,11 +794,10 @@ std::string invalidRegionReason(const GridRegion& region) {
   // that only touch may lie partly inside one another (a ring touching another at two points
   // can have one arc inside it and one outside), so no sample point decides it: the clipper
   // does, on inputs it already handles (each ring simple, each polygon checked before the
-  // pairs of polygons): the area of H − outer, H1 ∩ H2 and P ∩ Q must be exactly 0.
+  // pairs of polygons): H − outer, H1 ∩ H2 and P ∩ Q must be empty (a result's rings are
+  // simple, so a result that is not empty has area).
   auto alone = [](const GridRing& r) { return GridRegion{GridPolygon{r, {}}}; };
-  auto overlap = [](const GridRegion& x, const GridRegion& y, BooleanOp op) {
-    return exactArea(booleanOp(x, y, op)) != "0";
-  };
+  auto overlap = [](const GridRegion& x, const GridRegion& y, BooleanOp op) { return !booleanOp(x, y, op).empty(); };
   for (std::size_t pi = 0; pi < region.size(); ++pi) {
     const GridPolygon& p = region[pi];
     for (std::size_t h = 0; h < p.holes.size(); ++h) {
@@ -856,19 +870,6 @@ std::string invalidRegionReason(const ExactRegion& region) {
     }
   return {};
 }
-
-std::string exactArea(const ExactRegion& region) {
-  mpq_class twice = 0;
-  for (const ExactPolygon& p : region) {
-    twice += abs(exactTwiceSignedArea(p.outer));
-    for (const ExactRing& h : p.holes) twice -= abs(exactTwiceSignedArea(h));
-  }
-  mpq_class area = twice / 2;
-  area.canonicalize();
-  return area.get_str();
-}
-
-std::string exactArea(const GridRegion& region) { return exactArea(exactRegion(region)); }
 
 double area(const ExactRegion& region) {
   auto ring = [](const ExactRing& r) {

@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include <glm/matrix.hpp>
-#include <tbb/parallel_for.h>
 
+#include "core/parallel.hpp"
 #include "geometry/triangulate.hpp"
 #include "pipeline/stages.hpp"
 

@@ -4,8 +4,7 @@
 
 #include <cmath>
 
-#include <tbb/parallel_for.h>
-
+#include "core/parallel.hpp"
 #include "pipeline/stages.hpp"
 
 namespace hsr::detail {

@@ -6,9 +6,8 @@
 #include <cmath>
 #include <string>
 
-#include <tbb/parallel_for.h>
-
 #include "core/check.hpp"
+#include "core/parallel.hpp"
 #include "hsr/error.hpp"
 
 namespace hsr::detail {

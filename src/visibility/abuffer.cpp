@@ -54,10 +54,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
 #include "core/frame.hpp"
+#include "core/parallel.hpp"
 #include "hsr/error.hpp"
 #include "raster/bins.hpp"
 #include "raster/edge.hpp"

@@ -34,9 +34,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
+#include "core/parallel.hpp"
 #include "geometry/triangulate.hpp"
 
 namespace hsr::detail {

@@ -29,18 +29,17 @@
 
 #include "visibility/octree.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/bit_cast.hpp"
 #include "core/check.hpp"
 #include "core/frame.hpp"
+#include "core/parallel.hpp"
 #include "raster/edge.hpp"
 #include "raster/fill_polygons.hpp"
 #include "raster/fragment.hpp"
@@ -312,7 +311,7 @@ class Painter {
   // std::nextafter(d, 0.0f), inline: one step of the float's magnitude toward zero.
   static float stepTowardZero(float d) {
     if (d == 0.0f || d != d) return d == 0.0f ? 0.0f : d;
-    return std::bit_cast<float>(std::bit_cast<std::uint32_t>(d) - 1u);
+    return bitCast<float>(bitCast<std::uint32_t>(d) - 1u);
   }
 
   static PixelBox cut(const PixelBox& a, const PixelBox& b) {

@@ -30,9 +30,6 @@
 // 100 B per triangle, and no depth buffer of its own. Tests: tests/visibility/raycast_test.cpp,
 // tests/geometry/bvh_test.cpp, tests/agreement/embree_test.cpp.
 
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
-
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -41,6 +38,7 @@
 #include <vector>
 
 #include "core/check.hpp"
+#include "core/parallel.hpp"
 #include "core/scene_digest.hpp"
 #include "core/trace.hpp"
 #include "raster/depth.hpp"

@@ -34,9 +34,6 @@
 
 #include "visibility/scanline.hpp"
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -47,6 +44,7 @@
 
 #include "core/check.hpp"
 #include "core/frame.hpp"
+#include "core/parallel.hpp"
 #include "raster/edge.hpp"
 #include "raster/fragment.hpp"
 #include "raster/lines.hpp"

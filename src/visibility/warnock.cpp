@@ -32,8 +32,6 @@
 
 #include "visibility/warnock.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -43,6 +41,7 @@
 
 #include "core/check.hpp"
 #include "core/frame.hpp"
+#include "core/parallel.hpp"
 #include "raster/edge.hpp"
 #include "raster/fragment.hpp"
 #include "raster/lines.hpp"

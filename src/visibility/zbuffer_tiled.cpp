@@ -16,9 +16,8 @@
 #include <chrono>
 #include <string>
 
-#include <tbb/parallel_for.h>
-
 #include "core/frame.hpp"
+#include "core/parallel.hpp"
 #include "hsr/error.hpp"
 #include "raster/bins.hpp"
 #include "raster/lines.hpp"

@@ -2,9 +2,10 @@
 
 #include <gtest/gtest.h>
 
-#include <bit>
+#include <cstdint>
 #include <cmath>
 
+#include "core/bit_cast.hpp"
 #include "geometry/clip.hpp"
 #include "geometry/polygon.hpp"
 #include "hsr/scene.hpp"
@@ -25,7 +26,7 @@ double area(const std::vector<glm::dvec3>& v) {
 }
 
 bool sameBits(double a, double b) {
-  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+  return detail::bitCast<std::uint64_t>(a) == detail::bitCast<std::uint64_t>(b);
 }
 
 // The same polygon listed from any vertex, in either direction, gives the same bits: what

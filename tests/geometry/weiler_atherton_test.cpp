@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -17,6 +19,7 @@
 #include <gmpxx.h>
 
 #include "agreement/cgal_oracle.hpp"
+#include "core/random.hpp"
 #include "cross/figures.hpp"
 #include "geometry/clip_shapes.hpp"
 #include "hsr/clipping.hpp"
@@ -361,6 +364,54 @@ TEST(WeilerAtherton, ResultsClipAgainExactly) {
   EXPECT_GE(c.operations, 3u * chains / 2);
   testing::printFigures("row 12 weiler-atherton results clipped again: " + grouped(c.operations) +
                         " chained operations on exact (rational) regions, " + grouped(c.mismatches) + " with an area different from CGAL's");
+}
+
+// An exact vertex's coordinate is rounded once, to the nearest double (ties to even), the same
+// on every platform: checked against GMP's exact rationals on quotients as large as a crossing's
+// (|n| < 2^89, d < 2^60), small ones, exact ones and ties.
+TEST(WeilerAtherton, ExactCoordinatesRoundToTheNearestDouble) {
+  auto mpzOf = [](__int128 v) {
+    const bool negative = v < 0;
+    const unsigned __int128 m = negative ? -static_cast<unsigned __int128>(v) : static_cast<unsigned __int128>(v);
+    mpz_class r(static_cast<unsigned long>(static_cast<std::uint64_t>(m >> 64)));
+    r <<= 64;
+    r += mpz_class(static_cast<unsigned long>(static_cast<std::uint64_t>(m)));
+    return negative ? mpz_class(-r) : r;
+  };
+  auto nearest = [&](__int128 n, std::int64_t d) {
+    const double got = detail::nearestQuotient(n, d);
+    const mpq_class want(mpzOf(n), mpz_class(static_cast<long>(d)));
+    const mpq_class err = abs(mpq_class(got) - want);
+    for (const double other : {std::nextafter(got, INFINITY), std::nextafter(got, -INFINITY)}) {
+      const mpq_class other_err = abs(mpq_class(other) - want);
+      if (other_err < err) return false;
+      if (other_err == err && (static_cast<std::uint64_t>(std::abs(std::ldexp(got, -std::ilogb(got) + 52))) & 1))
+        return false;  // a tie not given to the even one
+    }
+    return true;
+  };
+  detail::SplitMix64 rng(7);
+  int wrong = 0, checked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const int n_bits = 1 + static_cast<int>(rng.next() % 89), d_bits = 1 + static_cast<int>(rng.next() % 60);
+    const __int128 mag = ((static_cast<__int128>(rng.next()) << 64) | rng.next()) & ((__int128{1} << n_bits) - 1);
+    const __int128 n = (rng.next() & 1) ? -mag : mag;
+    const auto d = static_cast<std::int64_t>(std::max<std::uint64_t>(1, rng.next() & ((std::uint64_t{1} << d_bits) - 1)));
+    wrong += nearest(n, d) ? 0 : 1;
+    ++checked;
+  }
+  // Exact and tied quotients: (2^53 + 1) / 2 lies halfway between two doubles, as do its kin
+  for (const auto& [n, d] : std::vector<std::pair<__int128, std::int64_t>>{
+           {(__int128{1} << 54) + 2, 2}, {(__int128{1} << 54) + 6, 2}, {(__int128{1} << 55) + 3, 2},
+           {(__int128{1} << 88) + (__int128{1} << 35), 1}, {(__int128{1} << 88) + (__int128{3} << 35), 1},
+           {-((__int128{1} << 60) + 1), 3}, {1, 3}, {-7, 1}, {0, 5}}) {
+    wrong += nearest(n, d) ? 0 : 1;
+    ++checked;
+  }
+  EXPECT_EQ(wrong, 0) << "of " << checked << " quotients";
+  EXPECT_EQ(detail::nearestQuotient((__int128{1} << 53) + 1, 1), 0x1p53);        // a tie: to even
+  EXPECT_EQ(detail::nearestQuotient((__int128{1} << 53) + 3, 1), 0x1p53 + 4.0);  // a tie: to even
+  EXPECT_EQ(detail::nearestQuotient(1, 3), 1.0 / 3.0);
 }
 
 }  // namespace
