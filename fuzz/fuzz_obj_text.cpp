@@ -14,7 +14,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
-    const hsr::Scene scene = hsr::parseObjText(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.obj");
+    const hsr::Scene scene =
+        hsr::parseObjText(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.obj");
     hsr::RenderOptions options;
     options.threads = 1;
     (void)hsr::render(scene, hsr::frameScene(scene, 32, 24), options);

@@ -3,7 +3,8 @@
 # and hsr's rays vs Embree (bench/bench_rays.cpp) with HSR_BENCH_THREADS=1 and 2, and hsr's
 # line drawings vs Open CASCADE's hidden-line removal (bench/bench_lines.cpp; OCCT runs on one
 # thread, so the race runs once, at 1 thread, with hsr alone again at the others), and the Doom
-# node builder vs ZDBSP (bench/bench_doom.cpp, once: both build on one thread)
+# node builder vs ZDBSP (bench/bench_doom.cpp, once: both build on one thread), and the web page's
+# WebAssembly module against the native build (bench/bench_web.mjs, one thread)
 # (plus any thread counts given as arguments, e.g. `scripts/bench.sh 4 8`), then prints the
 # ratio tables of all runs together. BUILD_DIR (default build) and JOBS (default 2)
 # may be set; extra Google Benchmark flags go in BENCH_ARGS.
@@ -49,3 +50,6 @@ for t in 1 2 "$@"; do
 done
 echo "=== Doom node builder vs ZDBSP (whole WAD, whole process; ZDBSP is single-threaded, so is hsr's build) ==="
 "$build_dir/hsr_bench_doom"
+echo "=== the web page's WebAssembly vs the native build, one thread (warm frames) ==="
+cmake --preset wasm >/dev/null && cmake --build --preset wasm --target hsr_web >/dev/null
+node bench/bench_web.mjs build-wasm/web "$build_dir/hsr"

@@ -10,7 +10,8 @@ pkgs=(build-essential cmake pkg-config
       clang-14 libclang-rt-14-dev
       python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dask
       python3-distributed
-      freedoom zdbsp)
+      freedoom zdbsp
+      emscripten nodejs chromium)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

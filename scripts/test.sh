@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Install, build and pass every test: the Release suite (SIMD span path), the same suite under
+# Install, build and pass every test: the Release suite (SIMD span path), the web page's tests
+# (scripts/test-web.sh: its WebAssembly build against the native one), the same suite under
 # ASan+UBSan built with HSR_NO_SIMD (the scalar span path), then every libFuzzer target for
 # HSR_FUZZ_SECONDS (default 3; 60 before the ray caster's suites lengthened the sanitizer leg, 30 before
 # the A-buffer's, 20 before CI neared 45 minutes, 15 before Roberts joined every suite, 10 before
@@ -14,6 +15,8 @@ echo "== Release build and tests =="
 # Options stated, not inherited: a build/ left by scripts/demo.sh has the tests switched off
 scripts/build.sh build -DHSR_BUILD_TESTS=ON -DHSR_BUILD_BENCH=ON
 ctest --test-dir build --output-on-failure --no-tests=error -j2
+echo "== The web page: WebAssembly against the native build, under node and in Chromium =="
+scripts/test-web.sh build/hsr
 echo "== ASan+UBSan build and tests, scalar span path (HSR_NO_SIMD) =="
 scripts/build.sh build-asan -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON -DHSR_BUILD_BENCH=OFF \
   -DHSR_NO_SIMD=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo

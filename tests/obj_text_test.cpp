@@ -48,12 +48,13 @@ Polygons polygonsOf(const Scene& scene) {
     for (const glm::vec3& q : v) flat.insert(flat.end(), {q.x, q.y, q.z});
     out.push_back(std::move(flat));
   }
-  std::stable_sort(out.begin(), out.end(), [&](const std::vector<float>& a, const std::vector<float>& b) {
-    if (a.size() != b.size()) return a.size() < b.size();
-    for (std::size_t k = 0; k < a.size(); ++k)
-      if (coarse(a[k]) != coarse(b[k])) return coarse(a[k]) < coarse(b[k]);
-    return false;
-  });
+  std::stable_sort(out.begin(), out.end(),
+                   [&](const std::vector<float>& a, const std::vector<float>& b) {
+                     if (a.size() != b.size()) return a.size() < b.size();
+                     for (std::size_t k = 0; k < a.size(); ++k)
+                       if (coarse(a[k]) != coarse(b[k])) return coarse(a[k]) < coarse(b[k]);
+                     return false;
+                   });
   return out;
 }
 
@@ -75,11 +76,13 @@ std::pair<int, int> differences(const Polygons& a, const Polygons& b) {
 
 TEST(ObjText, ReadsDebiansModelsAsAssimpDoes) {
   int models = 0;
-  for (const char* name : {"box.obj", "concave_polygon.obj", "cube_usemtl.obj", "testmixed.obj",
-                           "multiple_spaces.obj", "box_without_lineending.obj", "spider.obj", "WusonOBJ.obj"}) {
+  for (const char* name :
+       {"box.obj", "concave_polygon.obj", "cube_usemtl.obj", "testmixed.obj", "multiple_spaces.obj",
+        "box_without_lineending.obj", "spider.obj", "WusonOBJ.obj"}) {
     SCOPED_TRACE(name);
     const std::filesystem::path path = kModels / name;
-    ASSERT_TRUE(std::filesystem::exists(path)) << "assimp-testmodels is installed by scripts/install-deps.sh";
+    ASSERT_TRUE(std::filesystem::exists(path))
+        << "assimp-testmodels is installed by scripts/install-deps.sh";
     const Scene ours = parseObjText(readText(path), name);
     const Scene theirs = loadMeshFile(path);
     EXPECT_EQ(ours.polygonCount(), theirs.polygonCount());
@@ -94,7 +97,8 @@ TEST(ObjText, ReadsDebiansModelsAsAssimpDoes) {
 TEST(ObjText, KeepsTheFilesOrderObjectsAndMaterials) {
   const Scene s = parseObjText(
       "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
-      "o first\nusemtl red\nf 1 2 3 4\ng second\nusemtl blue\nf 1/1 2/2 3/3\nusemtl red\nf -4//1 -2//1 -1//1\n",
+      "o first\nusemtl red\nf 1 2 3 4\ng second\nusemtl blue\nf 1/1 2/2 3/3\nusemtl red\nf -4//1 "
+      "-2//1 -1//1\n",
       "t.obj");
   ASSERT_EQ(s.polygonCount(), 3u);
   ASSERT_EQ(s.objects.size(), 2u);
@@ -117,7 +121,8 @@ TEST(ObjText, RefusesBadFilesNamingTheLine) {
       {"v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 -4\n", "t.obj:4: vertex -4 does not exist (3 so far)"},
       {"v 0 0\n", "t.obj:1: a vertex needs three coordinates"},
       {"v 0 x 0\n", "t.obj:1: 'x' is not a number"},
-      {"v 1e+2 2.e+1 3.1+e2\n", "t.obj:1: '3.1+e2' is not a number"},  // assimp reads 3.1 (number_formats.obj)
+      {"v 1e+2 2.e+1 3.1+e2\n",
+       "t.obj:1: '3.1+e2' is not a number"},  // assimp reads 3.1 (number_formats.obj)
       {"v 0 1e39 0\n", "t.obj:1: '1e39' is not a finite coordinate"},
       {"v 0 nan 0\n", "t.obj:1: 'nan' is not a finite coordinate"},
       {"v 0 0 0\n# nothing else\n", "t.obj: no faces"},

@@ -30,7 +30,8 @@ class blocked_range {
 template <class Value>
 class blocked_range2d {
  public:
-  blocked_range2d(Value row_begin, Value row_end, std::size_t, Value col_begin, Value col_end, std::size_t)
+  blocked_range2d(Value row_begin, Value row_end, std::size_t, Value col_begin, Value col_end,
+                  std::size_t)
       : rows_(row_begin, row_end), cols_(col_begin, col_end) {}
   const blocked_range<Value>& rows() const { return rows_; }
   const blocked_range<Value>& cols() const { return cols_; }
@@ -69,8 +70,10 @@ class enumerable_thread_specific {
   explicit enumerable_thread_specific(Init init) : init_(std::move(init)) {}
   T& local() {
     if (!value_) {
-      if (init_) value_.emplace(init_());
-      else value_.emplace();
+      if (init_)
+        value_.emplace(init_());
+      else
+        value_.emplace();
     }
     return *value_;
   }

@@ -37,23 +37,33 @@ std::vector<std::string_view> words(std::string_view line) {
 
 // A material's colour when the file names it but no .mtl is read: hues a golden angle apart.
 glm::vec3 paletteColor(std::size_t k) {
-  const float h = static_cast<float>(std::fmod(0.08 + 0.6180339887498949 * static_cast<double>(k), 1.0)) * 6.0f;
+  const float h =
+      static_cast<float>(std::fmod(0.08 + 0.6180339887498949 * static_cast<double>(k), 1.0)) * 6.0f;
   const float s = 0.45f, v = 0.9f;
   const int sector = static_cast<int>(h) % 6;
-  const float f = h - std::floor(h), p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  const float f = h - std::floor(h), p = v * (1 - s), q = v * (1 - s * f),
+              t = v * (1 - s * (1 - f));
   switch (sector) {
-    case 0: return {v, t, p};
-    case 1: return {q, v, p};
-    case 2: return {p, v, t};
-    case 3: return {p, q, v};
-    case 4: return {t, p, v};
-    default: return {v, p, q};
+    case 0:
+      return {v, t, p};
+    case 1:
+      return {q, v, p};
+    case 2:
+      return {p, v, t};
+    case 3:
+      return {p, q, v};
+    case 4:
+      return {t, p, v};
+    default:
+      return {v, p, q};
   }
 }
 
 class ObjReader {
  public:
-  ObjReader(std::string_view text, std::string name) : text_(text) { scene_.name = std::move(name); }
+  ObjReader(std::string_view text, std::string name) : text_(text) {
+    scene_.name = std::move(name);
+  }
 
   Scene read() {
     std::size_t at = 0;
@@ -64,13 +74,18 @@ class ObjReader {
       at = end + 1;
       ++line_number_;
       if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-      if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+      if (const std::size_t hash = line.find('#'); hash != std::string_view::npos)
+        line = line.substr(0, hash);
       const std::vector<std::string_view> w = words(line);
       if (w.empty()) continue;
-      if (w[0] == "v") vertex(w);
-      else if (w[0] == "f") face(w);
-      else if (w[0] == "o" || w[0] == "g") object_name_ = w.size() > 1 ? std::string(w[1]) : std::string();
-      else if (w[0] == "usemtl") material_ = materialNamed(w.size() > 1 ? std::string(w[1]) : std::string());
+      if (w[0] == "v")
+        vertex(w);
+      else if (w[0] == "f")
+        face(w);
+      else if (w[0] == "o" || w[0] == "g")
+        object_name_ = w.size() > 1 ? std::string(w[1]) : std::string();
+      else if (w[0] == "usemtl")
+        material_ = materialNamed(w.size() > 1 ? std::string(w[1]) : std::string());
     }
     if (scene_.polygonCount() == 0) throw Error(scene_.name + ": no faces");
     return std::move(scene_);
@@ -107,7 +122,8 @@ class ObjReader {
     const long long n = static_cast<long long>(positions_.size());
     const long long k = index > 0 ? index - 1 : n + index;
     if (k < 0 || k >= n)
-      fail("vertex " + std::to_string(index) + " does not exist (" + std::to_string(n) + " so far)");
+      fail("vertex " + std::to_string(index) + " does not exist (" + std::to_string(n) +
+           " so far)");
     return static_cast<std::uint32_t>(k);
   }
 
@@ -157,6 +173,8 @@ class ObjReader {
 
 }  // namespace
 
-Scene parseObjText(std::string_view text, std::string name) { return ObjReader(text, std::move(name)).read(); }
+Scene parseObjText(std::string_view text, std::string name) {
+  return ObjReader(text, std::move(name)).read();
+}
 
 }  // namespace hsr

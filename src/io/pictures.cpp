@@ -82,8 +82,8 @@ namespace {
 // A pixel was drawn where it holds a polygon id (or, without ids, a depth below 1)
 bool depthDrawn(const Frame& frame, std::size_t k) {
   const float d = frame.depth[k];
-  return std::isfinite(d) && (frame.ids.size() == frame.depth.size() ? frame.ids[k] != kNoPolygon
-                                                                      : d < 1.0f);
+  return std::isfinite(d) &&
+         (frame.ids.size() == frame.depth.size() ? frame.ids[k] != kNoPolygon : d < 1.0f);
 }
 }  // namespace
 
@@ -108,7 +108,8 @@ std::vector<std::uint8_t> depthPicture(const Frame& frame, DepthRange range) {
 
 void depthRampColor(float t, std::uint8_t* rgb) {
   constexpr float kNear = 255.0f, kFar = 48.0f;  // far stays visibly grey against black
-  const auto g = static_cast<std::uint8_t>(std::lround(kNear + (kFar - kNear) * std::clamp(t, 0.0f, 1.0f)));
+  const auto g =
+      static_cast<std::uint8_t>(std::lround(kNear + (kFar - kNear) * std::clamp(t, 0.0f, 1.0f)));
   rgb[0] = rgb[1] = rgb[2] = g;
 }
 

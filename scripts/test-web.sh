@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# The web page's tests, run by scripts/test.sh after the native Release suite (whose hsr they
+# compare with): the page built (scripts/build-web.sh); the web module against the native
+# `hsr render` and `hsr explain`, byte for byte (web/test/node_test.mjs); the GoogleTest files
+# that need only the core, built to WebAssembly and run under node; the page in headless
+# Chromium, its canvases against the native PNGs (web/test/browser_test.mjs), with a screenshot
+# kept in build-wasm/artifacts/page.png. Usage: scripts/test-web.sh [NATIVE_HSR] (default build/hsr)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+native=${1:-build/hsr}
+scripts/build-web.sh build-wasm/site
+cmake --build --preset wasm --target hsr_wasm_tests
+echo "== the web module against the native build =="
+node web/test/node_test.mjs build-wasm/web "$native" build-wasm/node-test
+echo "== GoogleTest under node (the core as WebAssembly) =="
+(cd build-wasm/web && node hsr_wasm_tests.js)
+echo "== the page in headless Chromium =="
+node web/test/browser_test.mjs build-wasm/site "$native" build-wasm/artifacts

@@ -1,0 +1,352 @@
+// The web page's module: hsr's core behind a small C API that JavaScript calls (Emscripten's
+// ccall/cwrap), built to WebAssembly for the page (web/) and natively for the tests, which
+// compare the two builds byte for byte (web/test/).
+//
+// One scene and one frame are held at a time. Requests and answers are JSON text; buffers are
+// pointers into the module's memory, valid until the next call that renders or loads:
+//
+//   hsr_web_load("spheres:2000")            a built-in scene (or hsr_web_load_obj(text, name))
+//   hsr_web_render("{\"algorithm\": \"warnock\", \"width\": 320, \"height\": 240}")
+//   hsr_web_picture("color")                RGBA8 of "color", "depth", "ids" or "overdraw"
+//   hsr_web_depth(), hsr_web_ids()          the buffers themselves (float, uint32)
+//   hsr_web_explain(request)                the algorithm's steps (hsr explain), then
+//   hsr_web_step(i), hsr_web_step_picture(i, "color" | "depth")
+//
+// A call that fails returns -1 (or null) and hsr_web_error() says why in one line, as the CLI
+// would. Nothing here reads or writes files.
+
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/trace.hpp"
+#include "hsr/algorithms.hpp"
+#include "hsr/camera.hpp"
+#include "hsr/error.hpp"
+#include "hsr/explain.hpp"
+#include "hsr/io.hpp"
+#include "hsr/render.hpp"
+#include "hsr/scene.hpp"
+#include "orchestrator.hpp"
+
+#ifdef __EMSCRIPTEN__
+#include <emscripten/emscripten.h>
+#define HSR_WEB_EXPORT EMSCRIPTEN_KEEPALIVE
+#else
+#define HSR_WEB_EXPORT
+#endif
+
+namespace {
+
+using nlohmann::json;
+
+// The largest picture the page asks for: 2048x2048 (a render's buffers and an explanation's
+// pictures stay within the browser's memory)
+constexpr int kMaxSide = 2048;
+
+struct Step {
+  std::string name, caption;
+  std::vector<std::vector<glm::vec2>> outlines;
+  std::vector<std::uint8_t> color, depth;  // RGBA8
+};
+
+struct State {
+  hsr::Scene scene;
+  bool loaded = false;
+  hsr::Frame frame;
+  std::vector<std::uint8_t> picture;  // the last hsr_web_picture's RGBA
+  std::vector<Step> steps;
+  std::vector<std::uint8_t> step_picture;
+  std::string text;  // the last JSON answer
+  std::string error;
+};
+
+State& state() {
+  static State s;
+  return s;
+}
+
+// RGB8 (hsr's pictures) as RGBA8 with alpha 255, as a canvas's ImageData holds it.
+std::vector<std::uint8_t> rgba(const std::vector<std::uint8_t>& rgb) {
+  std::vector<std::uint8_t> out(rgb.size() / 3 * 4);
+  for (std::size_t i = 0, j = 0; i + 2 < rgb.size(); i += 3, j += 4) {
+    out[j] = rgb[i], out[j + 1] = rgb[i + 1], out[j + 2] = rgb[i + 2];
+    out[j + 3] = 255;
+  }
+  return out;
+}
+
+// Runs f, turning an exception into -1 and the error line.
+template <class F>
+int guarded(F&& f) {
+  State& s = state();
+  s.error.clear();
+  try {
+    return f();
+  } catch (const std::exception& e) {
+    s.error = e.what();
+  }
+  return -1;
+}
+
+glm::vec3 vec3Of(const json& j, const char* what) {
+  if (!j.is_array() || j.size() != 3)
+    throw hsr::Error(std::string("camera.") + what + ": three numbers");
+  return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()};
+}
+
+// The request's size and camera. With no "camera", the scene framed as `hsr render` frames it;
+// with one, that camera's eye, target, up and field of view (the page's orbit), near and far
+// fitted to the scene.
+hsr::Camera cameraOf(const json& r, const hsr::Scene& scene) {
+  const int width = r.value("width", 320), height = r.value("height", 240);
+  if (width < 1 || height < 1 || width > kMaxSide || height > kMaxSide)
+    throw hsr::Error("size " + std::to_string(width) + "x" + std::to_string(height) + ": 1 to " +
+                     std::to_string(kMaxSide) + " pixels a side");
+  hsr::Camera camera = hsr::frameScene(scene, width, height);
+  if (r.contains("camera")) {
+    const json& c = r["camera"];
+    camera.eye = vec3Of(c.at("eye"), "eye");
+    camera.target = vec3Of(c.at("target"), "target");
+    camera.up = vec3Of(c.value("up", json::array({0, 1, 0})), "up");
+    camera.fov_deg = c.value("fov_deg", camera.fov_deg);
+    camera.ortho = c.value("ortho", false);
+    if (camera.ortho) camera.ortho_half_height = hsr::orthoHalfHeightFor(camera, scene.bounds());
+    hsr::fitNearFar(camera, scene.bounds());
+  }
+  camera.validate();
+  return camera;
+}
+
+// The GL-style controls, named as the CLI names them.
+hsr::RenderOptions optionsOf(const json& r) {
+  hsr::RenderOptions o;
+  o.algorithm = r.value("algorithm", std::string("zbuffer"));
+  (void)hsr::findAlgorithm(o.algorithm);  // an unknown name: the CLI's error line
+  o.cull = hsr::parseCullMode(r.value("cull", std::string("none")));
+  o.front_face = hsr::parseFrontFace(r.value("front_face", std::string("ccw")));
+  o.depth_test = r.value("depth_test", true);
+  o.depth_func = hsr::parseDepthFunc(r.value("depth_func", std::string("less")));
+  o.depth_mask = r.value("depth_mask", true);
+  o.clear_depth = r.value("clear_depth", 1.0f);
+  o.polygon_mode = hsr::parsePolygonMode(r.value("polygon_mode", std::string("fill")));
+  o.outline = r.value("outline", false);
+  o.samples = r.value("samples", 0);
+  o.threads = 1;
+  return o;
+}
+
+json requestOf(const char* text) {
+  json r = json::parse(text ? text : "{}", nullptr, /*allow_exceptions=*/false);
+  if (!r.is_object()) throw hsr::Error("request: not a JSON object");
+  return r;
+}
+
+void requireScene() {
+  if (!state().loaded) throw hsr::Error("no scene loaded");
+}
+
+// Keeps every step `hsr explain` would draw, in memory: its caption, the colour and depth
+// buffers at that moment, and the outlines of what it works on.
+class StepRecorder : public hsr::detail::Trace {
+ public:
+  StepRecorder(std::vector<Step>& steps, hsr::DepthRange range) : steps_(steps), range_(range) {}
+  bool wants(std::string_view, std::uint64_t index, std::uint64_t count) override {
+    return hsr::detail::evenlySpaced(
+        index, count, static_cast<std::uint64_t>(hsr::ExplainOptions{}.pictures_per_step));
+  }
+  void record(const hsr::detail::TraceStep& step) override {
+    Step s;
+    s.name = std::string(step.name);
+    s.caption = step.caption;
+    s.outlines = step.outlines;
+    s.color = rgba(hsr::picture(*step.frame, "color"));
+    s.depth = rgba(hsr::depthPicture(*step.frame, range_));
+    steps_.push_back(std::move(s));
+  }
+
+ private:
+  std::vector<Step>& steps_;
+  hsr::DepthRange range_;
+};
+
+const char* answer(const json& j) {
+  state().text = j.dump(-1, ' ', false, json::error_handler_t::replace);
+  return state().text.c_str();
+}
+
+}  // namespace
+
+extern "C" {
+
+HSR_WEB_EXPORT const char* hsr_web_error() { return state().error.c_str(); }
+
+// The built-in scenes and the registry's algorithms, as JSON.
+HSR_WEB_EXPORT const char* hsr_web_catalogue() {
+  json scenes = json::array(), algorithms = json::array();
+  for (const hsr::BuiltinScene& b : hsr::builtinScenes())
+    scenes.push_back({{"name", b.name}, {"summary", b.summary}});
+  for (const hsr::AlgorithmInfo& a : hsr::algorithms())
+    algorithms.push_back({{"name", a.name},
+                          {"summary", a.summary},
+                          {"source", a.source},
+                          {"precision", a.precision == hsr::Precision::kImage ? "image" : "object"},
+                          {"capabilities", hsr::capabilityList(a.capabilities)},
+                          {"explain", a.has(hsr::kExplain)},
+                          {"reference", a.reference},
+                          {"demonstration", a.demonstration},
+                          {"max_pixels", a.max_pixels}});
+  return answer({{"scenes", scenes}, {"algorithms", algorithms}});
+}
+
+// Loads a built-in scene by its spec ("demo", "spheres:2000", "soup:500:7"); 0 or -1.
+HSR_WEB_EXPORT int hsr_web_load(const char* spec) {
+  return guarded([&] {
+    // The page's memory is the browser's: a million triangles at most
+    state().scene = hsr::makeBuiltinScene(spec ? spec : "", 1'000'000);
+    state().loaded = true;
+    return 0;
+  });
+}
+
+// Loads Wavefront OBJ text (a file dropped on the page); 0 or -1.
+HSR_WEB_EXPORT int hsr_web_load_obj(const char* text, const char* name) {
+  return guarded([&] {
+    state().scene = hsr::parseObjText(text ? text : "", name ? name : "dropped.obj");
+    state().loaded = true;
+    return 0;
+  });
+}
+
+// The loaded scene: name, counts, bounds, and the camera `hsr render` frames it with at the
+// request's size (the page's orbit starts there).
+HSR_WEB_EXPORT const char* hsr_web_scene(const char* request) {
+  json j;
+  const int ok = guarded([&] {
+    requireScene();
+    const hsr::Scene& s = state().scene;
+    const hsr::Camera c = cameraOf(requestOf(request), s);
+    const hsr::Bounds b = s.bounds();
+    j = {{"name", s.name},
+         {"polygons", s.polygonCount()},
+         {"triangles", s.triangleCount()},
+         {"vertices", s.vertexCount()},
+         {"objects", s.objects.size()},
+         {"bounds", {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}}}},
+         {"camera",
+          {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
+           {"target", {c.target.x, c.target.y, c.target.z}},
+           {"up", {c.up.x, c.up.y, c.up.z}},
+           {"fov_deg", c.fov_deg},
+           {"near", c.near},
+           {"far", c.far}}}};
+    return 0;
+  });
+  return ok == 0 ? answer(j) : nullptr;
+}
+
+// Renders the loaded scene as the request says; 0 or -1. The request: "algorithm", "width",
+// "height", "camera" {eye, target, up, fov_deg, ortho}, and the GL-style controls as the CLI
+// names them: "cull" (none, back, front, both), "front_face" (ccw, cw), "depth_test",
+// "depth_func" (never ... always), "depth_mask", "clear_depth", "polygon_mode" (fill, line,
+// point), "outline", "samples".
+HSR_WEB_EXPORT int hsr_web_render(const char* request) {
+  return guarded([&] {
+    requireScene();
+    const json r = requestOf(request);
+    const hsr::RenderOptions options = optionsOf(r);
+    const hsr::Camera camera = cameraOf(r, state().scene);
+    const std::string why =
+        hsr::unsupported(hsr::findAlgorithm(options.algorithm), camera, options);
+    if (!why.empty()) throw hsr::Error(why);
+    hsr::render(state().scene, camera, options, state().frame);
+    return 0;
+  });
+}
+
+HSR_WEB_EXPORT int hsr_web_width() { return state().frame.width; }
+HSR_WEB_EXPORT int hsr_web_height() { return state().frame.height; }
+
+// The last frame's picture of one kind (color, depth, ids, overdraw) as RGBA8, top row first.
+HSR_WEB_EXPORT const std::uint8_t* hsr_web_picture(const char* kind) {
+  std::uint8_t* out = nullptr;
+  guarded([&] {
+    state().picture = rgba(hsr::picture(state().frame, kind ? kind : ""));
+    out = state().picture.data();
+    return 0;
+  });
+  return out;
+}
+
+// The last frame's buffers: window depth (float), polygon ids (uint32, 0xFFFFFFFF where nothing
+// was drawn), fragments per pixel (uint32); width x height each, top row first.
+HSR_WEB_EXPORT const float* hsr_web_depth() { return state().frame.depth.data(); }
+HSR_WEB_EXPORT const std::uint32_t* hsr_web_ids() { return state().frame.ids.data(); }
+HSR_WEB_EXPORT const std::uint32_t* hsr_web_overdraw() { return state().frame.overdraw.data(); }
+
+// The last frame's statistics: the pipeline's counts, the algorithm's counters, stage times.
+HSR_WEB_EXPORT const char* hsr_web_stats() {
+  const hsr::Stats& s = state().frame.stats;
+  json fields = json::object(), counters = json::object(), stages = json::array();
+  for (const hsr::Stats::Field& f : hsr::Stats::fields()) fields[std::string(f.name)] = s.*f.value;
+  for (const hsr::Counter& c : s.counters) counters[c.name] = c.value;
+  for (const hsr::StageTime& st : s.stages) stages.push_back({{"name", st.name}, {"ms", st.ms}});
+  return answer(
+      {{"fields", fields}, {"counters", counters}, {"stages", stages}, {"total_ms", s.totalMs()}});
+}
+
+// Runs the request's algorithm with its steps traced, as `hsr explain` does; the number of
+// steps, or -1 (an algorithm without the explain capability is refused).
+HSR_WEB_EXPORT int hsr_web_explain(const char* request) {
+  return guarded([&] {
+    requireScene();
+    const json r = requestOf(request);
+    const hsr::RenderOptions options = optionsOf(r);
+    const hsr::AlgorithmInfo& info = hsr::findAlgorithm(options.algorithm);
+    if (!info.has(hsr::kExplain))
+      throw hsr::Error("algorithm '" + std::string(info.name) + "' cannot explain its steps yet");
+    const hsr::Camera camera = cameraOf(r, state().scene);
+    const std::string why = hsr::unsupported(info, camera, options);
+    if (!why.empty()) throw hsr::Error(why);
+    State& s = state();
+    // First the finished frame, whose depth range every step's depth picture uses
+    hsr::render(s.scene, camera, options, s.frame);
+    s.steps.clear();
+    StepRecorder recorder(s.steps, hsr::drawnDepthRange(s.frame));
+    hsr::Frame traced;
+    hsr::detail::renderInto(s.scene, camera, options, traced, hsr::detail::DrawMode::kClear,
+                            &recorder);
+    return static_cast<int>(s.steps.size());
+  });
+}
+
+// Step i (0-based) of the last explanation: number, name, caption and outlines (window
+// coordinates, pixel centres, y down), as JSON.
+HSR_WEB_EXPORT const char* hsr_web_step(int i) {
+  const std::vector<Step>& steps = state().steps;
+  if (i < 0 || static_cast<std::size_t>(i) >= steps.size()) return nullptr;
+  const Step& s = steps[static_cast<std::size_t>(i)];
+  json outlines = json::array();
+  for (const auto& o : s.outlines) {
+    json points = json::array();
+    for (const glm::vec2& p : o) points.push_back(p.x), points.push_back(p.y);
+    outlines.push_back(std::move(points));
+  }
+  return answer(
+      {{"number", i + 1}, {"name", s.name}, {"caption", s.caption}, {"outlines", outlines}});
+}
+
+// Step i's colour or depth buffer at that moment, RGBA8.
+HSR_WEB_EXPORT const std::uint8_t* hsr_web_step_picture(int i, const char* kind) {
+  const std::vector<Step>& steps = state().steps;
+  if (i < 0 || static_cast<std::size_t>(i) >= steps.size() || !kind) return nullptr;
+  const Step& s = steps[static_cast<std::size_t>(i)];
+  return std::string_view(kind) == "depth" ? s.depth.data() : s.color.data();
+}
+
+}  // extern "C"
