@@ -4,10 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstring>
 
+#include "core/bit_cast.hpp"
 #include "hsr/error.hpp"
 #include "hsr/render.hpp"
 #include "test_util.hpp"
@@ -18,7 +19,7 @@ namespace {
 using testing::Rng;
 
 float randomBits(Rng& rng) {
-  return std::bit_cast<float>(static_cast<std::uint32_t>(rng.next()));
+  return detail::bitCast<float>(static_cast<std::uint32_t>(rng.next()));
 }
 
 // A float that is random bits 1 time in 4, else an ordinary coordinate.

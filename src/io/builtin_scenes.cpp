@@ -18,6 +18,7 @@
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/scene.hpp"
+#include "core/color.hpp"
 #include "core/random.hpp"
 
 namespace hsr {
@@ -28,26 +29,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 
 // HSV (all in [0,1]) to linear RGB, for evenly spread bright colours.
-glm::vec3 hsv(float h, float s, float v) {
-  h = (h - std::floor(h)) * 6.0f;
-  const int sector = std::min(static_cast<int>(h), 5);
-  const float f = h - static_cast<float>(sector);
-  const float p = v * (1.0f - s), q = v * (1.0f - s * f), t = v * (1.0f - s * (1.0f - f));
-  switch (sector) {
-    case 0:
-      return {v, t, p};
-    case 1:
-      return {q, v, p};
-    case 2:
-      return {p, v, t};
-    case 3:
-      return {p, q, v};
-    case 4:
-      return {t, p, v};
-    default:
-      return {v, p, q};
-  }
-}
+glm::vec3 hsv(float h, float s, float v) { return detail::hsvToRgb(h, s, v); }
 
 // ---------------------------------------------------------------------------------------
 // Spec parsing

@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/color.hpp"
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 
@@ -37,26 +38,9 @@ std::vector<std::string_view> words(std::string_view line) {
 
 // A material's colour when the file names it but no .mtl is read: hues a golden angle apart.
 glm::vec3 paletteColor(std::size_t k) {
-  const float h =
-      static_cast<float>(std::fmod(0.08 + 0.6180339887498949 * static_cast<double>(k), 1.0)) * 6.0f;
-  const float s = 0.45f, v = 0.9f;
-  const int sector = static_cast<int>(h) % 6;
-  const float f = h - std::floor(h), p = v * (1 - s), q = v * (1 - s * f),
-              t = v * (1 - s * (1 - f));
-  switch (sector) {
-    case 0:
-      return {v, t, p};
-    case 1:
-      return {q, v, p};
-    case 2:
-      return {p, v, t};
-    case 3:
-      return {p, q, v};
-    case 4:
-      return {t, p, v};
-    default:
-      return {v, p, q};
-  }
+  return detail::hsvToRgb(
+      static_cast<float>(std::fmod(0.08 + 0.6180339887498949 * static_cast<double>(k), 1.0)), 0.45f,
+      0.9f);
 }
 
 class ObjReader {

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/color.hpp"
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "io/pictures.hpp"
@@ -29,34 +30,8 @@ std::uint32_t hashId(std::uint32_t x) {
 }
 
 void hsvToRgb8(float h, float s, float v, std::uint8_t* out) {
-  h = (h - std::floor(h)) * 6.0f;
-  const int sector = std::min(static_cast<int>(h), 5);
-  const float f = h - static_cast<float>(sector);
-  const float p = v * (1.0f - s), q = v * (1.0f - s * f), t = v * (1.0f - s * (1.0f - f));
-  float r = v, g = t, b = p;
-  switch (sector) {
-    case 0:
-      r = v, g = t, b = p;
-      break;
-    case 1:
-      r = q, g = v, b = p;
-      break;
-    case 2:
-      r = p, g = v, b = t;
-      break;
-    case 3:
-      r = p, g = q, b = v;
-      break;
-    case 4:
-      r = t, g = p, b = v;
-      break;
-    default:
-      r = v, g = p, b = q;
-      break;
-  }
-  out[0] = static_cast<std::uint8_t>(std::lround(std::clamp(r, 0.0f, 1.0f) * 255.0f));
-  out[1] = static_cast<std::uint8_t>(std::lround(std::clamp(g, 0.0f, 1.0f) * 255.0f));
-  out[2] = static_cast<std::uint8_t>(std::lround(std::clamp(b, 0.0f, 1.0f) * 255.0f));
+  const glm::vec3 c = detail::hsvToRgb(h, s, v);
+  for (int k = 0; k < 3; ++k) out[k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
 }
 
 // Heatmap ramp for t in [0,1]: blue, green, yellow, red, white (brightness rises steadily,

@@ -5,13 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <bit>
 #include <numbers>
 #include <vector>
 
+#include "core/bit_cast.hpp"
 #include "core/random.hpp"
 #include "cross/figures.hpp"
 #include "geometry/bvh.hpp"
@@ -73,8 +74,9 @@ TEST(Bvh, WatertightNoRayEscapesAClosedSphere) {
       const auto vi = sphere.polygon(p);
       for (int k = 0; k < 3; ++k) midpoints.push_back((sphere.position(vi[k]) + sphere.position(vi[(k + 1) % 3])) * 0.5f);
     }
-    auto inside = [&] {
-      return centre + 0.5f * radius * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+    // (Copies of the bindings: Clang 14, the web build's, cannot capture a structured binding)
+    auto inside = [&, c = centre, r = radius] {
+      return c + 0.5f * r * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
     };
     std::vector<glm::vec3> org, dir;
     for (std::size_t i = 0; i < 1000000 * scale; ++i)
@@ -275,7 +277,7 @@ TEST(Bvh, NodeTestIsConservativeAndSseEqualsScalar) {
       const unsigned mb = detail::boxHitsSse(node, r, 0.0f, 10.0f, b);
       ASSERT_EQ(ma, mb) << "case " << i;
       for (int c = 0; c < W; ++c)
-        if (ma & (1u << c)) ASSERT_EQ(std::bit_cast<std::uint32_t>(a[c]), std::bit_cast<std::uint32_t>(b[c]));
+        if (ma & (1u << c)) ASSERT_EQ(detail::bitCast<std::uint32_t>(a[c]), detail::bitCast<std::uint32_t>(b[c]));
     }
     ++cases;
     hits += static_cast<unsigned>(std::popcount(ma));
@@ -348,7 +350,7 @@ TEST(Bvh, BatchAndSingleQueriesAgreeAtAnyThreadCount) {
       // The normal (read from the tree's copy of the triangle) is the scene triangle's, bit for bit
       const glm::dvec3 n = glm::cross(glm::dvec3(v1) - glm::dvec3(v0), glm::dvec3(v2) - glm::dvec3(v0));
       const glm::vec3 expected(n / glm::length(n));
-      for (int a = 0; a < 3; ++a) ASSERT_EQ(std::bit_cast<std::uint32_t>(one.normal[a]), std::bit_cast<std::uint32_t>(expected[a]));
+      for (int a = 0; a < 3; ++a) ASSERT_EQ(detail::bitCast<std::uint32_t>(one.normal[a]), detail::bitCast<std::uint32_t>(expected[a]));
       EXPECT_EQ(rays.occluded(cam.origins[i], cam.directions[i], cam.tmax, cam.tmin), true);
     }
   }
@@ -359,7 +361,7 @@ TEST(Bvh, BatchAndSingleQueriesAgreeAtAnyThreadCount) {
   rays.intersect(cam.origins, cam.directions, into, cam.tmax, cam.tmin);
   for (std::size_t i = 0; i < batch.size(); ++i) {
     ASSERT_EQ(into[i].polygon, batch[i].polygon);
-    ASSERT_EQ(std::bit_cast<std::uint32_t>(into[i].t), std::bit_cast<std::uint32_t>(batch[i].t));
+    ASSERT_EQ(detail::bitCast<std::uint32_t>(into[i].t), detail::bitCast<std::uint32_t>(batch[i].t));
   }
   EXPECT_THROW(rays.intersect(cam.origins, cam.directions, std::span(into).first(5)), Error);
 }

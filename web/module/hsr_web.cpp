@@ -61,7 +61,6 @@ struct State {
   hsr::Frame frame;
   std::vector<std::uint8_t> picture;  // the last hsr_web_picture's RGBA
   std::vector<Step> steps;
-  std::vector<std::uint8_t> step_picture;
   std::string text;  // the last JSON answer
   std::string error;
 };
