@@ -60,7 +60,8 @@ function size() {
 function request(algorithm) {
   return {
     algorithm, ...size(),
-    camera: state.camera,
+    // None while the camera is the framing one: exactly `hsr render`'s
+    camera: state.original ? undefined : state.camera,
     cull: $('cull').value,
     front_face: $('front-face').value,
     depth_test: $('depth-test').checked,
@@ -141,10 +142,8 @@ function draw(canvas, width, height, rgba) {
 const took = (frame) => (frame.ms > 0 ? `: ${frame.ms.toFixed(1)} ms` : '');
 
 function renderOne(algorithm) {
-  const r = request(algorithm);
-  if (state.original) delete r.camera;  // exactly `hsr render`'s framing
   const t0 = performance.now();
-  const frame = hsr.render(r);
+  const frame = hsr.render(request(algorithm));
   frame.ms = performance.now() - t0;
   return frame;
 }
@@ -227,9 +226,7 @@ function runExplain() {
     return;
   }
   try {
-    const r = request(a);
-    if (state.original) delete r.camera;
-    explanation = hsr.explain(r);
+    explanation = hsr.explain(request(a));
     $('step').max = explanation.steps.length;
     $('step').value = 1;
     $('step').disabled = false;

@@ -6,7 +6,6 @@
 // name. Everything else ("vt", "vn", "s", "mtllib", "l", comments) is left aside. Polygons
 // stay polygons, numbered in the file's order. Bad input is refused with the line number.
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -84,7 +83,6 @@ class ObjReader {
     // strtof on a terminated copy: libc++ 13 (the web build's) has no from_chars for floats
     const std::string s(word);
     char* end = nullptr;
-    errno = 0;
     const float v = std::strtof(s.c_str(), &end);
     if (end != s.c_str() + s.size()) fail("'" + s + "' is not a number");
     if (!std::isfinite(v)) fail("'" + s + "' is not a finite coordinate");
