@@ -494,36 +494,115 @@ unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax
 bool boxHitsSseAvailable() { return false; }
 #endif
 
-// Which of a leaf's triangles the ray may hit: the lanes the scalar test must look at. The SSE
-// sibling computes the three edge functions for the four triangles at once, with the scalar
-// test's operations in its order (so the same floats), and leaves out a triangle only where the
-// scalar test would: all three non-zero and of mixed signs. The scalar build looks at them all.
+// The group's bounds. Each ray's own test computes (face - org) * inv per axis, in float:
+// both steps are monotone in org and in inv (rounding is monotone), so over the group each
+// product lies between the products at the corners of the origins' and inverses' ranges, and
+// 1 / dir is monotone too, so the inverses lie between the inverses of the directions' bounds.
+bool boxRayGroupOf(const glm::vec3* org, const glm::vec3* dir, int n, BoxRayGroup* g) {
+  if (n < 1) return false;
+  glm::vec3 olo = org[0], ohi = org[0], dlo = dir[0], dhi = dir[0];
+  for (int i = 0; i < n; ++i) {
+    if (!rayIsValid(org[i], dir[i])) return false;
+    olo = glm::min(olo, org[i]), ohi = glm::max(ohi, org[i]);
+    dlo = glm::min(dlo, dir[i]), dhi = glm::max(dhi, dir[i]);
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (!(dlo[a] > 0.0f || dhi[a] < 0.0f)) return false;  // both signs (or a zero) along this axis
+    g->org_lo[a] = olo[a], g->org_hi[a] = ohi[a];
+    g->inv_lo[a] = 1.0f / dhi[a], g->inv_hi[a] = 1.0f / dlo[a];  // 1 / x falls as x grows
+    if (!std::isfinite(g->inv_lo[a]) || !std::isfinite(g->inv_hi[a])) return false;
+    g->near_is_hi[a] = dhi[a] < 0.0f ? 1 : 0;
+  }
+  return true;
+}
+
+// boxHitsScalar's interval for the whole group: its entry no later than any ray's, its exit no
+// earlier. No NaN arises (the inverses are finite and not 0; an empty child's faces are
+// infinities, which give it an empty interval).
+unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& g, float tmin, float tmax) {
+  float t0[kBvhWidth], t1[kBvhWidth];
+  for (int i = 0; i < kBvhWidth; ++i) t0[i] = tmin, t1[i] = INFINITY;
+  for (int a = 0; a < 3; ++a) {
+    const float* near_face = g.near_is_hi[a] ? node.hi[a] : node.lo[a];
+    const float* far_face = g.near_is_hi[a] ? node.lo[a] : node.hi[a];
+    const float olo = g.org_lo[a], ohi = g.org_hi[a], ilo = g.inv_lo[a], ihi = g.inv_hi[a];
+    for (int i = 0; i < kBvhWidth; ++i) {  // (eight lanes side by side: the compiler's SIMD)
+      const float n0 = near_face[i] - ohi, n1 = near_face[i] - olo;
+      const float f0 = far_face[i] - ohi, f1 = far_face[i] - olo;
+      const float enter = std::min(std::min(n0 * ilo, n0 * ihi), std::min(n1 * ilo, n1 * ihi));
+      const float leave = std::max(std::max(f0 * ilo, f0 * ihi), std::max(f1 * ilo, f1 * ihi));
+      t0[i] = std::max(t0[i], enter);
+      t1[i] = std::min(t1[i], leave);
+    }
+  }
+  unsigned mask = 0;
+  for (int i = 0; i < kBvhWidth; ++i)
+    if (t0[i] <= std::min(t1[i] * kWidenFar, tmax)) mask |= 1u << i;
+  return mask;
+}
+
+// A leaf's triangles up to their edge functions, with the watertight test's operations in its
+// order (so the same floats): four at once in SSE, or lane by lane in the scalar build. A lane
+// is left out only where the test would reject it for its edge functions' signs: all three
+// non-zero and of mixed signs.
+void screenLeaf(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used, LeafScreen* out) {
 #ifdef HSR_BVH_SSE
-unsigned leafCandidates(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used) {
   const __m128 ox = _mm_set1_ps(r.org[r.kx]), oy = _mm_set1_ps(r.org[r.ky]), oz = _mm_set1_ps(r.org[r.kz]);
-  const __m128 sx = _mm_set1_ps(r.sx), sy = _mm_set1_ps(r.sy);
-  auto project = [&](const float (&v)[3][4], __m128& x, __m128& y) {
+  const __m128 sx = _mm_set1_ps(r.sx), sy = _mm_set1_ps(r.sy), sz = _mm_set1_ps(r.sz);
+  auto project = [&](const float (&v)[3][4], __m128& x, __m128& y, float* z) {
     const __m128 vz = _mm_sub_ps(_mm_load_ps(v[r.kz]), oz);
     x = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(v[r.kx]), ox), _mm_mul_ps(sx, vz));
     y = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(v[r.ky]), oy), _mm_mul_ps(sy, vz));
+    _mm_store_ps(z, _mm_mul_ps(sz, vz));
   };
   __m128 ax, ay, bx, by, cx, cy;
-  project(leaf.a, ax, ay);
-  project(leaf.b, bx, by);
-  project(leaf.c, cx, cy);
+  project(leaf.a, ax, ay, out->az);
+  project(leaf.b, bx, by, out->bz);
+  project(leaf.c, cx, cy, out->cz);
   const __m128 U = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
   const __m128 V = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
   const __m128 W = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
+  _mm_store_ps(out->U, U);
+  _mm_store_ps(out->V, V);
+  _mm_store_ps(out->W, W);
   const __m128 zero = _mm_setzero_ps();
   const __m128 some_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
   const __m128 some_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_cmpgt_ps(V, zero)), _mm_cmpgt_ps(W, zero));
   const __m128 some_zero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(U, zero), _mm_cmpeq_ps(V, zero)), _mm_cmpeq_ps(W, zero));
   const __m128 outside = _mm_andnot_ps(some_zero, _mm_and_ps(some_neg, some_pos));
-  return used & ~static_cast<unsigned>(_mm_movemask_ps(outside));
-}
+  out->candidates = used & ~static_cast<unsigned>(_mm_movemask_ps(outside));
 #else
-unsigned leafCandidates(const BvhTriangles4&, const ShearedRay&, unsigned used) { return used; }
+  out->candidates = 0;
+  for (int lane = 0; lane < 4; ++lane) {
+    float x[3], y[3];
+    const float(*v[3])[4] = {leaf.a, leaf.b, leaf.c};
+    float* z[3] = {out->az, out->bz, out->cz};
+    for (int k = 0; k < 3; ++k) {
+      const float vz = v[k][r.kz][lane] - r.org[r.kz];
+      x[k] = (v[k][r.kx][lane] - r.org[r.kx]) - r.sx * vz;
+      y[k] = (v[k][r.ky][lane] - r.org[r.ky]) - r.sy * vz;
+      z[k][lane] = r.sz * vz;
+    }
+    const float U = x[2] * y[1] - y[2] * x[1], V = x[0] * y[2] - y[0] * x[2], W = x[1] * y[0] - y[1] * x[0];
+    out->U[lane] = U, out->V[lane] = V, out->W[lane] = W;
+    const bool outside = U != 0.0f && V != 0.0f && W != 0.0f && (U < 0.0f || V < 0.0f || W < 0.0f) &&
+                         (U > 0.0f || V > 0.0f || W > 0.0f);
+    if ((used & (1u << lane)) && !outside) out->candidates |= 1u << lane;
+  }
 #endif
+}
+
+bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, const ShearedRay& r, float tmin,
+                 float tmax, HitSides sides, TriangleHit* hit) {
+  const float U = screen.U[lane], V = screen.V[lane], W = screen.W[lane];
+  if (U == 0.0f || V == 0.0f || W == 0.0f) {  // the test's fallback to double: the test itself
+    const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
+    const glm::vec3 b(leaf.b[0][lane], leaf.b[1][lane], leaf.b[2][lane]);
+    const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
+    return intersectTriangle(r, a, b, c, tmin, tmax, sides, hit);
+  }
+  return finishTriangleHit(U, V, W, screen.az[lane], screen.bz[lane], screen.cz[lane], tmin, tmax, sides, hit);
+}
 
 namespace {
 
@@ -601,18 +680,17 @@ struct NearestSearch {
   // A leaf: its triangles, each kept when nearer than what was kept (a tie: the lower number)
   void leaf(std::uint32_t ref) {
     const BvhTriangles4& leaf = bvh.leaves[ref & ~BvhNode::kLeaf];
-    if (!sheared_ready) sheared = shearRay(org, dir), sheared_ready = true;
+    if (!sheared_ready) shearRayInto(org, dir, sheared), sheared_ready = true;
     const unsigned used = usedLanes(leaf);
     tested += static_cast<unsigned>(std::popcount(used));
-    for (unsigned lanes = leafCandidates(leaf, sheared, used); lanes != 0; lanes &= lanes - 1) {
+    LeafScreen screen;
+    screenLeaf(leaf, sheared, used, &screen);
+    for (unsigned lanes = screen.candidates; lanes != 0; lanes &= lanes - 1) {
       const int lane = std::countr_zero(lanes);
       TriangleHit h;
-      const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
-      const glm::vec3 b(leaf.b[0][lane], leaf.b[1][lane], leaf.b[2][lane]);
-      const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
       // Up to the limit itself once something is hit (a tie), short of tmax before
       const float upto = found ? std::nextafter(limit, INFINITY) : tmax;
-      if (!intersectTriangle(sheared, a, b, c, tmin, upto, sides, &h)) continue;
+      if (!leafLaneHit(leaf, screen, lane, sheared, tmin, upto, sides, &h)) continue;
       const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise, static_cast<std::uint8_t>(lane),
                        ref & ~BvhNode::kLeaf};
       if constexpr (!kBand) {
@@ -689,16 +767,48 @@ struct NearestSearch {
   }
 };
 
+// One ray's search from `start` (the root, or a node its group's test showed to be the only
+// way in).
 template <bool kBand>
-void traverseNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
-                     HitSides sides, BvhBandLimit limit_of, const void* context,
+void traverseNearest(const Bvh& bvh, std::uint32_t start, const glm::vec3& org, const glm::vec3& dir, float tmin,
+                     float tmax, HitSides sides, BvhBandLimit limit_of, const void* context,
                      typename NearestSearch<kBand>::Out* out, BvhTraversalCounts* counts) {
   if constexpr (kBand) out->count = 0;
-  if (bvh.root == BvhNode::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return;
+  if (start == BvhNode::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return;
   NearestSearch<kBand> search(bvh, org, dir, tmin, tmax, sides, limit_of, context, out);
   if (counts) search.entered = counts->entered;
-  search.from(bvh.root);
+  search.from(start);
   search.report(counts);
+}
+
+// A group of rays: where they may enter the tree, found once for them all, then each ray's own
+// search from there. The answers are each ray's from the root: a triangle a ray hits lies in a
+// box the ray's own test enters, so in one the group's test enters too (groupBoxHits); where
+// that is one child of a node, every triangle any of the rays hits lies below it.
+template <bool kBand>
+void traverseGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin, float tmax,
+                   HitSides sides, BvhBandLimit limit_of, const void* context, typename NearestSearch<kBand>::Out* out,
+                   BvhTraversalCounts* counts) {
+  std::uint32_t start = bvh.root;
+  BoxRayGroup group;
+  // (a teaching view records every box each ray enters from the root: no shortcut there)
+  if (start != BvhNode::kEmpty && tmin < tmax && !(counts && counts->entered) && boxRayGroupOf(org, dir, n, &group)) {
+    while (!(start & BvhNode::kLeaf)) {
+      const BvhNode& node = bvh.nodes[start];
+      const unsigned mask = groupBoxHits(node, group, tmin, tmax);
+      if (counts) ++counts->group_nodes;
+      if (mask == 0) {  // every ray passes beside the node's boxes: nothing is hit
+        start = BvhNode::kEmpty;
+        break;
+      }
+      if (mask & (mask - 1)) break;  // several ways in: each ray chooses from here
+      start = node.child[std::countr_zero(mask)];
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    if constexpr (!kBand) out[i] = BvhHit{};
+    traverseNearest<kBand>(bvh, start, org[i], dir[i], tmin, tmax, sides, limit_of, context, &out[i], counts);
+  }
 }
 
 
@@ -707,14 +817,25 @@ void traverseNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir,
 BvhHit intersectNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
                         HitSides sides, BvhTraversalCounts* counts) {
   BvhHit nearest;
-  traverseNearest<false>(bvh, org, dir, tmin, tmax, sides, nullptr, nullptr, &nearest, counts);
+  traverseNearest<false>(bvh, bvh.root, org, dir, tmin, tmax, sides, nullptr, nullptr, &nearest, counts);
   return nearest;
 }
 
 void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
                           HitSides sides, BvhBandLimit limit, const void* context, BvhCandidates* out,
                           BvhTraversalCounts* counts) {
-  traverseNearest<true>(bvh, org, dir, tmin, tmax, sides, limit, context, out, counts);
+  traverseNearest<true>(bvh, bvh.root, org, dir, tmin, tmax, sides, limit, context, out, counts);
+}
+
+void intersectNearestGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
+                           float tmax, HitSides sides, BvhHit* out, BvhTraversalCounts* counts) {
+  traverseGroup<false>(bvh, org, dir, n, tmin, tmax, sides, nullptr, nullptr, out, counts);
+}
+
+void intersectNearestBandGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
+                               float tmax, HitSides sides, BvhBandLimit limit, const void* context,
+                               BvhCandidates* out, BvhTraversalCounts* counts) {
+  traverseGroup<true>(bvh, org, dir, n, tmin, tmax, sides, limit, context, out, counts);
 }
 
 bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax) {

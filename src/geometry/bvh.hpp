@@ -22,6 +22,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/large_pages.hpp"
 #include "geometry/ray_triangle.hpp"
 
 namespace hsr::detail {
@@ -58,8 +59,9 @@ struct BvhStats {
 };
 
 struct Bvh {
-  std::vector<BvhNode> nodes;  // nodes[0] is the root (an empty tree has no nodes)
-  std::vector<BvhTriangles4> leaves;
+  // (on huge pages where the system gives them: a ray's walk reads a few lines of many pages)
+  std::vector<BvhNode, LargePageAllocator<BvhNode>> nodes;  // nodes[0] is the root (an empty tree has no nodes)
+  std::vector<BvhTriangles4, LargePageAllocator<BvhTriangles4>> leaves;
   glm::vec3 lo{0.0f}, hi{0.0f};  // bounds of everything
   std::uint32_t root = BvhNode::kEmpty;  // nodes[0], or a leaf when there are at most 4
   BvhStats stats;
@@ -89,6 +91,7 @@ inline void bvhTriangleOf(const Bvh& bvh, const BvhHit& h, glm::vec3* a, glm::ve
 struct BvhTraversalCounts {
   std::uint64_t nodes = 0;      // inner nodes visited
   std::uint64_t triangles = 0;  // ray/triangle tests
+  std::uint64_t group_nodes = 0;  // inner nodes a group of rays was tested against together
   // When set (a teaching view), every box the ray enters, in the order entered (lo, hi)
   std::vector<std::pair<glm::vec3, glm::vec3>>* entered = nullptr;
 };
@@ -112,6 +115,21 @@ void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3&
                           HitSides sides, BvhBandLimit limit, const void* context, BvhCandidates* out,
                           BvhTraversalCounts* counts = nullptr);
 
+// Rays cast together (a camera's neighbouring pixels): the same answers as intersectNearest
+// and intersectNearestBand ray by ray, bit for bit, found with less work where the rays run
+// side by side. The group's rays are bounded together (their origins and reciprocal
+// directions); a box no ray of the group can enter is known from one test for them all, so a
+// group that passes beside the scene costs one node test, and where the group enters a
+// single child of a node its rays start there rather than at the root. Rays whose directions
+// differ in sign along an axis, or that are not valid, are cast one by one. `counts` adds the
+// nodes each ray visits and the group's tests.
+inline constexpr int kBvhGroupSize = 16;  // rays per group the callers gather (any n works)
+void intersectNearestGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
+                           float tmax, HitSides sides, BvhHit* out, BvhTraversalCounts* counts = nullptr);
+void intersectNearestBandGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
+                               float tmax, HitSides sides, BvhBandLimit limit, const void* context,
+                               BvhCandidates* out, BvhTraversalCounts* counts = nullptr);
+
 // Whether anything is hit with tmin < t < tmax (either side).
 bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax);
 
@@ -130,10 +148,32 @@ unsigned boxHitsScalar(const BvhNode& node, const BoxRay& r, float tmin, float t
 unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]);
 bool boxHitsSseAvailable();
 
-// Which of a leaf's triangles (the lanes in `used`) the ray may hit: a lane is left out only
-// where the watertight test would reject it for its edge functions' signs, computed as that
-// test computes them (the SSE build: four at once; the scalar build: all of `used`). The
-// traversal runs the full test on the rest. Open to the tests, which pin it to the full test.
-unsigned leafCandidates(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used);
+// A group of rays bounded together for the box test: per axis the range of their origins and
+// of their reciprocal directions (all of one sign). Open to the tests, which check that a box
+// the group test rules out is one every ray's own test (boxHitsScalar) rules out.
+struct BoxRayGroup {
+  float org_lo[3], org_hi[3], inv_lo[3], inv_hi[3];
+  int near_is_hi[3];
+};
+// False where the rays cannot be bounded so (a sign differs, an inverse is not finite, a ray is
+// not valid, or n < 1).
+bool boxRayGroupOf(const glm::vec3* org, const glm::vec3* dir, int n, BoxRayGroup* group);
+// A bit per child that some ray of the group may enter (a superset of every ray's bits).
+unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& group, float tmin, float tmax);
+
+// A leaf's triangles (the lanes in `used`) for one ray, up to their edge functions: the
+// watertight test's first steps, computed as it computes them (the SSE build: four lanes at
+// once; the scalar build: lane by lane), and the lanes it may still hit (left out only where
+// the test rejects a triangle for its edge functions' signs). leafLaneHit finishes the test for
+// one lane from there: the same answer as intersectTriangle, bit for bit. Open to the tests,
+// which pin the two to it.
+struct LeafScreen {
+  alignas(16) float U[4], V[4], W[4];  // the edge functions
+  alignas(16) float az[4], bz[4], cz[4];  // the vertices' sheared, scaled heights
+  unsigned candidates = 0;
+};
+void screenLeaf(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used, LeafScreen* out);
+bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, const ShearedRay& r, float tmin,
+                 float tmax, HitSides sides, TriangleHit* hit);
 
 }  // namespace hsr::detail

@@ -3,6 +3,7 @@
 
 #include "hsr/ray_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -127,8 +128,15 @@ void RayScene::intersect(std::span<const glm::vec3> origins, std::span<const glm
                 " answers");
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), kRaysPerTask),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i)
-                        hits[i] = intersect(origins[i], directions[i], tmax, tmin, sides);
+                      // Neighbours in the caller's order (a camera's rays, row by row) cast as
+                      // a group: the same answers as one by one
+                      detail::BvhHit found[detail::kBvhGroupSize];
+                      for (std::size_t i = r.begin(); i < r.end(); i += detail::kBvhGroupSize) {
+                        const int n = static_cast<int>(std::min<std::size_t>(detail::kBvhGroupSize, r.end() - i));
+                        detail::intersectNearestGroup(data_->bvh, &origins[i], &directions[i], n, tmin, tmax,
+                                                      detail::hitSidesOf(sides), found);
+                        for (int k = 0; k < n; ++k) hits[i + k] = detail::hitOf(*data_, found[k]);
+                      }
                     });
 }
 

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include <glm/vec3.hpp>
 
@@ -25,18 +26,24 @@ struct ShearedRay {
   float sx = 0, sy = 0, sz = 1;
 };
 
-inline ShearedRay shearRay(const glm::vec3& org, const glm::vec3& dir) {
-  ShearedRay r;
+// Made in place, a field at a time (a caller keeping it in a larger structure would otherwise
+// copy a whole just written word by word: a store-forwarding stall on every ray).
+inline void shearRayInto(const glm::vec3& org, const glm::vec3& dir, ShearedRay& r) {
   r.org = org;
   r.dir = dir;
   const float ax = std::abs(dir.x), ay = std::abs(dir.y), az = std::abs(dir.z);
-  r.kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-  r.kx = (r.kz + 1) % 3;
-  r.ky = (r.kx + 1) % 3;
-  if (dir[r.kz] < 0.0f) std::swap(r.kx, r.ky);  // keep the winding
-  r.sx = dir[r.kx] / dir[r.kz];
-  r.sy = dir[r.ky] / dir[r.kz];
-  r.sz = 1.0f / dir[r.kz];
+  const int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
+  if (dir[kz] < 0.0f) std::swap(kx, ky);  // keep the winding
+  r.kx = kx, r.ky = ky, r.kz = kz;
+  r.sx = dir[kx] / dir[kz];
+  r.sy = dir[ky] / dir[kz];
+  r.sz = 1.0f / dir[kz];
+}
+
+inline ShearedRay shearRay(const glm::vec3& org, const glm::vec3& dir) {
+  ShearedRay r;
+  shearRayInto(org, dir, r);
   return r;
 }
 
@@ -50,6 +57,39 @@ struct TriangleHit {
   float u = 0, v = 0;  // barycentrics of b and c (a's is 1 - u - v), as Embree reports them
   bool counter_clockwise = false;  // seen from the ray's origin
 };
+
+// The paper's test from its edge functions on: U, V, W (the scaled barycentric coordinates,
+// float) and the vertices' sheared-and-scaled heights az, bz, cz. The part of the test after
+// the edge functions, shared by the one-triangle test below and the leaf test that computes
+// the edge functions of four triangles at once (geometry/bvh.cpp).
+inline bool finishTriangleHit(float U, float V, float W, float az, float bz, float cz, float tmin, float tmax,
+                              HitSides sides, TriangleHit* hit) {
+  // Outside an edge: mixed signs
+  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+  const float det = U + V + W;
+  if (det == 0.0f || std::isnan(det)) return false;  // edge-on, or the ray's plane degenerate
+  const bool ccw = det > 0.0f;
+  if ((sides == HitSides::kCounterClockwiseOnly && !ccw) || (sides == HitSides::kClockwiseOnly && ccw))
+    return false;
+  // The scaled hit distance, then the distance: in double, where the three products are exact,
+  // so t carries the edge functions' rounding alone (only hits get here)
+  const double T = double(U) * az + double(V) * bz + double(W) * cz;
+  const float t = static_cast<float>(T / (double(U) + double(V) + double(W)));
+  if (!(t > tmin && t < tmax)) return false;
+  hit->t = t;
+  hit->u = V / det;
+  hit->v = W / det;
+  hit->counter_clockwise = ccw;
+  return true;
+}
+
+// The edge functions in double, where float cannot tell their signs (one came out 0).
+inline void edgeFunctionsInDouble(float ax, float ay, float bx, float by, float cx, float cy, float* U, float* V,
+                                  float* W) {
+  *U = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
+  *V = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
+  *W = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+}
 
 // The paper's test, for a hit with tmin < t < tmax on the allowed sides.
 inline bool intersectTriangle(const ShearedRay& r, const glm::vec3& a, const glm::vec3& b,
@@ -66,29 +106,8 @@ inline bool intersectTriangle(const ShearedRay& r, const glm::vec3& a, const glm
   float V = ax * cy - ay * cx;
   float W = bx * ay - by * ax;
   // Fall back to double where float cannot tell the sign
-  if (U == 0.0f || V == 0.0f || W == 0.0f) {
-    U = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
-    V = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
-    W = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
-  }
-  // Outside an edge: mixed signs
-  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
-  const float det = U + V + W;
-  if (det == 0.0f || std::isnan(det)) return false;  // edge-on, or the ray's plane degenerate
-  const bool ccw = det > 0.0f;
-  if ((sides == HitSides::kCounterClockwiseOnly && !ccw) || (sides == HitSides::kClockwiseOnly && ccw))
-    return false;
-  // The scaled hit distance, then the distance: in double, where the three products are exact,
-  // so t carries the edge functions' rounding alone (only hits get here)
-  const float az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
-  const double T = double(U) * az + double(V) * bz + double(W) * cz;
-  const float t = static_cast<float>(T / (double(U) + double(V) + double(W)));
-  if (!(t > tmin && t < tmax)) return false;
-  hit->t = t;
-  hit->u = V / det;
-  hit->v = W / det;
-  hit->counter_clockwise = ccw;
-  return true;
+  if (U == 0.0f || V == 0.0f || W == 0.0f) edgeFunctionsInDouble(ax, ay, bx, by, cx, cy, &U, &V, &W);
+  return finishTriangleHit(U, V, W, r.sz * A[r.kz], r.sz * B[r.kz], r.sz * C[r.kz], tmin, tmax, sides, hit);
 }
 
 }  // namespace hsr::detail

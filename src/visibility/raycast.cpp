@@ -90,6 +90,8 @@ float bandLimit(const void* context, float t) {
 }
 
 constexpr int kTile = 16;  // pixels are cast in 16x16 tiles: neighbouring rays visit the same nodes
+constexpr int kGroup = 4;  // and in groups of 4x4 (kBvhGroupSize) within a tile
+static_assert(kGroup * kGroup == kBvhGroupSize && kTile % kGroup == 0);
 
 // The sides of a triangle a ray from the eye may hit under the cull mode and front-face rule.
 bool sidesFor(const RenderOptions& o, HitSides* sides) {
@@ -278,47 +280,62 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   const int tiles_x = (frame.width + kTile - 1) / kTile, tiles_y = (frame.height + kTile - 1) / kTile;
   std::vector<TileCounts> per_tile(static_cast<std::size_t>(tiles_x) * tiles_y);
   std::atomic<std::uint64_t> unshaded{0};
+  // A pixel's hits (the nearest and its ties, the nearest first) made its fragment
+  auto settle = [&](int x, int y, const BvhCandidates& found, TileCounts& c) {
+    if (found.count == 0) return;
+    // Of the hits, the nearest fragment depth wins; of equal floats, the polygon submitted first
+    const std::size_t k = fb.index(x, y);
+    PolygonId id = kNoPolygon;
+    float z = INFINITY;
+    for (int i = 0; i < found.count; ++i) {
+      const BvhHit& h = found.hit[i];
+      const PolygonId p = data.polygon[h.triangle];
+      const double t = h.t;
+      const float zi = (s.state[p] & kOnePlane) ? fragmentDepth(s.plane[p], x, y)
+                                                : static_cast<float>(cam.ortho ? t : (t * far - near) / (t * (far - near)));
+      if (zi < z || (zi == z && p < id)) z = zi, id = p;
+    }
+    if (!(z < fb.depth[k])) return;  // LESS against the cleared depth
+    if (found.count > 1) ++c.tie_sets;
+    fb.depth[k] = z;
+    fb.ids[k] = id;
+    if (s.state[id] & kKnown) {
+      fb.rgba[k] = s.colour[id];
+    } else {  // no snapped triangle of it made a pixel: shaded as the pipeline would
+      fb.rgba[k] = shadedColour(scene, cam, in.options, id);
+      unshaded.fetch_add(1, std::memory_order_relaxed);
+    }
+    fb.overdraw[k] = 1;
+    ++c.hits;
+  };
   auto castTile = [&](int tx, int ty) {
     TileCounts& c = per_tile[static_cast<std::size_t>(ty) * tiles_x + tx];
     BvhTraversalCounts work;
-    for (int y = ty * kTile; y < std::min(frame.height, (ty + 1) * kTile); ++y) {
-      for (int x = tx * kTile; x < std::min(frame.width, (tx + 1) * kTile); ++x) {
-        // A ray from the eye through the pixel centre
-        const PixelRay ray = pixel_rays.at(x, y);
-        ++c.rays;
+    const int x_end = std::min(frame.width, (tx + 1) * kTile), y_end = std::min(frame.height, (ty + 1) * kTile);
+    // The tile's rays in groups of kGroup x kGroup neighbours, cast together (bvh.hpp: each
+    // ray's answer is its own, found with one box test for the group where they run side by side)
+    for (int gy = ty * kTile; gy < y_end; gy += kGroup) {
+      for (int gx = tx * kTile; gx < x_end; gx += kGroup) {
+        glm::vec3 org[kGroup * kGroup], dir[kGroup * kGroup];
+        int px[kGroup * kGroup], py[kGroup * kGroup];
+        int n = 0;
+        float tmin = 0, tmax = 0;
+        for (int y = gy; y < std::min(y_end, gy + kGroup); ++y) {
+          for (int x = gx; x < std::min(x_end, gx + kGroup); ++x) {
+            // A ray from the eye through the pixel centre
+            const PixelRay ray = pixel_rays.at(x, y);
+            org[n] = ray.org, dir[n] = ray.dir, px[n] = x, py[n] = y, tmin = ray.tmin, tmax = ray.tmax;
+            ++n;
+          }
+        }
+        c.rays += static_cast<std::uint64_t>(n);
         if (!can_hit) continue;
-        // The nearest hit and its ties, the nearest first
-        BvhCandidates found;
-        intersectNearestBand(data.bvh, ray.org, ray.dir, ray.tmin, ray.tmax, sides, &bandLimit, &band, &found, &work);
-        if (found.count == 0) continue;
-        // Of the hits, the nearest fragment depth wins; of equal floats, the polygon submitted first
-        const std::size_t k = fb.index(x, y);
-        PolygonId id = kNoPolygon;
-        float z = INFINITY;
-        for (int i = 0; i < found.count; ++i) {
-          const BvhHit& h = found.hit[i];
-          const PolygonId p = data.polygon[h.triangle];
-          const double t = h.t;
-          const float zi = (s.state[p] & kOnePlane)
-                               ? fragmentDepth(s.plane[p], x, y)
-                               : static_cast<float>(cam.ortho ? t : (t * far - near) / (t * (far - near)));
-          if (zi < z || (zi == z && p < id)) z = zi, id = p;
-        }
-        if (!(z < fb.depth[k])) continue;  // LESS against the cleared depth
-        if (found.count > 1) ++c.tie_sets;
-        fb.depth[k] = z;
-        fb.ids[k] = id;
-        if (s.state[id] & kKnown) {
-          fb.rgba[k] = s.colour[id];
-        } else {  // no snapped triangle of it made a pixel: shaded as the pipeline would
-          fb.rgba[k] = shadedColour(scene, cam, in.options, id);
-          unshaded.fetch_add(1, std::memory_order_relaxed);
-        }
-        fb.overdraw[k] = 1;
-        ++c.hits;
+        BvhCandidates found[kGroup * kGroup];
+        intersectNearestBandGroup(data.bvh, org, dir, n, tmin, tmax, sides, &bandLimit, &band, found, &work);
+        for (int i = 0; i < n; ++i) settle(px[i], py[i], found[i], c);
       }
     }
-    c.nodes += work.nodes;
+    c.nodes += work.nodes + work.group_nodes;
     c.triangles += work.triangles;
   };
   tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1),

@@ -286,10 +286,132 @@ TEST(Bvh, NodeTestIsConservativeAndSseEqualsScalar) {
   EXPECT_LE(hits - exact_hits, cases * detail::kBvhWidth / 4000) << "conservative, but only just";
 }
 
-// The leaf's quick rejection (SSE: the edge functions of four triangles at once) never leaves
-// out a triangle the watertight test hits, whatever the ray: random triangles, and triangles
-// through the ray's origin line (edge functions exactly 0), from both sides.
-TEST(Bvh, LeafCandidatesKeepEveryTriangleTheFullTestHits) {
+// The group test rules a box out only where every ray of the group rules it out: random boxes
+// (some flat, some children empty) against groups of rays from one point (a camera) and from
+// points spread out (an orthographic camera, or any batch), at random t ranges. It must also
+// rule boxes out, or it saves nothing.
+TEST(Bvh, GroupTestRulesOutOnlyWhatEveryRayRulesOut) {
+  detail::SplitMix64 rng(21);
+  constexpr int W = detail::kBvhWidth;
+  std::uint64_t groups = 0, ruled_out = 0, ray_hits = 0;
+  for (int i = 0; i < 40000; ++i) {
+    detail::BvhNode node{};
+    const int used = i % 3 == 0 ? 2 + i % 4 : W;
+    for (int c = 0; c < W; ++c)
+      for (int a = 0; a < 3; ++a) {
+        const float x = uniform(rng) * 4 - 2, y = uniform(rng) * 4 - 2;
+        node.lo[a][c] = std::min(x, y), node.hi[a][c] = i % 7 == 0 ? std::min(x, y) : std::max(x, y);
+        if (c >= used) node.lo[a][c] = INFINITY, node.hi[a][c] = -INFINITY, node.child[c] = detail::BvhNode::kEmpty;
+      }
+    // A group: directions in a small cone (one octant), origins one point or a patch
+    const int n = 1 + i % detail::kBvhGroupSize;
+    const glm::vec3 centre(uniform(rng) * 6 - 3, uniform(rng) * 6 - 3, uniform(rng) * 6 - 3);
+    const glm::vec3 aim(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+    const float spread = i % 4 == 0 ? 0.5f : 0.02f, patch = i % 2 == 0 ? 0.0f : 0.3f;
+    std::vector<glm::vec3> org(n), dir(n);
+    for (int k = 0; k < n; ++k) {
+      org[k] = centre + patch * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+      dir[k] = aim + spread * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+    }
+    detail::BoxRayGroup group;
+    if (!detail::boxRayGroupOf(org.data(), dir.data(), n, &group)) {
+      // Refused only for a sign that differs along an axis
+      bool mixed = false;
+      for (int a = 0; a < 3; ++a) {
+        bool pos = false, neg = false;
+        for (const glm::vec3& d : dir) pos |= d[a] > 0.0f, neg |= !(d[a] > 0.0f);
+        mixed |= pos && neg;
+      }
+      ASSERT_TRUE(mixed) << "case " << i;
+      continue;
+    }
+    const float tmin = i % 5 == 0 ? 0.5f : 0.0f, tmax = i % 3 == 0 ? 2.0f : INFINITY;
+    const unsigned gm = detail::groupBoxHits(node, group, tmin, tmax);
+    for (int k = 0; k < n; ++k) {
+      float tnear[W];
+      const unsigned rm = detail::boxHitsScalar(node, detail::boxRayOf(org[k], dir[k]), tmin, tmax, tnear);
+      ASSERT_EQ(rm & ~gm, 0u) << "case " << i << " ray " << k << ": a box the ray enters, ruled out for the group";
+      ray_hits += static_cast<unsigned>(std::popcount(rm));
+    }
+    ++groups;
+    ruled_out += static_cast<unsigned>(used - std::popcount(gm));
+  }
+  EXPECT_GT(groups, 20000u);
+  EXPECT_GT(ray_hits, groups);                   // rays do enter boxes
+  EXPECT_GT(ruled_out, groups * W / 4);          // and the group test rules many out
+  // A group of one sign per axis but an invalid ray, or a zero direction, is refused
+  const glm::vec3 o[2] = {{0, 0, 0}, {0, 0, 0}};
+  const glm::vec3 bad[2] = {{1, 1, 1}, {1, 1, NAN}};
+  const glm::vec3 zero[2] = {{1, 1, 1}, {1, 1, 0}};
+  detail::BoxRayGroup g;
+  EXPECT_FALSE(detail::boxRayGroupOf(o, bad, 2, &g));
+  EXPECT_FALSE(detail::boxRayGroupOf(o, zero, 2, &g));
+  EXPECT_TRUE(detail::boxRayGroupOf(o, zero, 1, &g));
+}
+
+// Rays cast as a group answer as the same rays cast one by one, bit for bit, in both the
+// nearest-hit and the band search: a camera's rays over a scene (groups of neighbours, some
+// beside the scene, some not), an orthographic camera's, and groups that cannot be bounded
+// (random directions, NaN among them).
+TEST(Bvh, GroupQueriesAnswerAsOneByOne) {
+  const Scene scene = makeBuiltinScene("spheres:300");
+  const RayScene rays(scene);
+  const detail::Bvh& bvh = rays.data().bvh;
+  std::uint64_t hits = 0, group_nodes = 0;
+  auto band = [](const void*, float t) { return t * 1.001f; };
+  auto check = [&](const std::vector<glm::vec3>& org, const std::vector<glm::vec3>& dir, float tmin, float tmax) {
+    for (std::size_t i = 0; i < org.size(); i += detail::kBvhGroupSize) {
+      const int n = static_cast<int>(std::min<std::size_t>(detail::kBvhGroupSize, org.size() - i));
+      detail::BvhHit one_group[detail::kBvhGroupSize];
+      detail::BvhCandidates band_group[detail::kBvhGroupSize];
+      detail::BvhTraversalCounts counts;
+      detail::intersectNearestGroup(bvh, &org[i], &dir[i], n, tmin, tmax, detail::HitSides::kBoth, one_group, &counts);
+      detail::intersectNearestBandGroup(bvh, &org[i], &dir[i], n, tmin, tmax, detail::HitSides::kCounterClockwiseOnly,
+                                        band, nullptr, band_group);
+      group_nodes += counts.group_nodes;
+      for (int k = 0; k < n; ++k) {
+        const detail::BvhHit h =
+            detail::intersectNearest(bvh, org[i + k], dir[i + k], tmin, tmax, detail::HitSides::kBoth);
+        ASSERT_EQ(h.triangle, one_group[k].triangle) << "ray " << i + k;
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.t), detail::bitCast<std::uint32_t>(one_group[k].t));
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.u), detail::bitCast<std::uint32_t>(one_group[k].u));
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.v), detail::bitCast<std::uint32_t>(one_group[k].v));
+        hits += h.triangle != detail::kBvhNoTriangle;
+        detail::BvhCandidates b;
+        detail::intersectNearestBand(bvh, org[i + k], dir[i + k], tmin, tmax, detail::HitSides::kCounterClockwiseOnly,
+                                     band, nullptr, &b);
+        ASSERT_EQ(b.count, band_group[k].count) << "ray " << i + k;
+        for (int c = 0; c < b.count; ++c) {
+          ASSERT_EQ(b.hit[c].triangle, band_group[k].hit[c].triangle);
+          ASSERT_EQ(detail::bitCast<std::uint32_t>(b.hit[c].t), detail::bitCast<std::uint32_t>(band_group[k].hit[c].t));
+        }
+      }
+    }
+  };
+  for (const bool ortho : {false, true}) {
+    Camera cam = frameScene(scene, 96, 64);
+    cam.ortho = ortho;
+    const CameraRays c = cameraRays(cam);
+    check(c.origins, c.directions, c.tmin, c.tmax);
+  }
+  detail::SplitMix64 rng(5);
+  const Bounds box = scene.bounds();
+  std::vector<glm::vec3> org(4000), dir(4000);
+  for (std::size_t i = 0; i < org.size(); ++i) {
+    org[i] = box.lo + (box.hi - box.lo) * glm::vec3(uniform(rng), uniform(rng), uniform(rng));
+    dir[i] = glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+    if (i % 97 == 0) dir[i].y = NAN;
+  }
+  check(org, dir, 0.0f, INFINITY);
+  EXPECT_GT(hits, 1500u);
+  EXPECT_GT(group_nodes, 0u);  // groups were formed
+}
+
+// The leaf test (SSE: the edge functions of four triangles at once) answers as the watertight
+// test, bit for bit, and its quick rejection never leaves out a triangle that test hits,
+// whatever the ray: random triangles, and triangles through the ray's origin line (edge
+// functions exactly 0), from both sides and on every side setting.
+TEST(Bvh, LeafTestAnswersAsTheWatertightTest) {
   detail::SplitMix64 rng(8);
   std::uint64_t hits = 0, dropped = 0, lanes = 0;
   for (int i = 0; i < 100000; ++i) {
@@ -308,7 +430,9 @@ TEST(Bvh, LeafCandidatesKeepEveryTriangleTheFullTestHits) {
       for (int a = 0; a < 3; ++a) leaf.a[a][lane] = v[0][a], leaf.b[a][lane] = v[1][a], leaf.c[a][lane] = v[2][a];
     }
     const unsigned used = (1u << count) - 1;
-    const unsigned kept = detail::leafCandidates(leaf, r, used);
+    detail::LeafScreen screen;
+    detail::screenLeaf(leaf, r, used, &screen);
+    const unsigned kept = screen.candidates;
     ASSERT_EQ(kept & ~used, 0u) << "case " << i << ": an empty lane kept";
     for (int lane = 0; lane < count; ++lane) {
       ++lanes;
@@ -320,10 +444,24 @@ TEST(Bvh, LeafCandidatesKeepEveryTriangleTheFullTestHits) {
       hits += hit;
       if (hit) ASSERT_TRUE(kept & (1u << lane)) << "case " << i << " lane " << lane << ": a hit left out";
       dropped += !(kept & (1u << lane));
+      if (!(kept & (1u << lane))) continue;
+      // The lane finished from the screen: the same answer, on each side setting and t range
+      for (const detail::HitSides sides :
+           {detail::HitSides::kBoth, detail::HitSides::kCounterClockwiseOnly, detail::HitSides::kClockwiseOnly}) {
+        const float tmin = i % 5 == 0 ? 1.0f : -INFINITY, tmax = i % 7 == 0 ? 2.5f : INFINITY;
+        detail::TriangleHit x, y;
+        const bool full = detail::intersectTriangle(r, a, b, c, tmin, tmax, sides, &x);
+        ASSERT_EQ(detail::leafLaneHit(leaf, screen, lane, r, tmin, tmax, sides, &y), full) << "case " << i;
+        if (!full) continue;
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(x.t), detail::bitCast<std::uint32_t>(y.t));
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(x.u), detail::bitCast<std::uint32_t>(y.u));
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(x.v), detail::bitCast<std::uint32_t>(y.v));
+        ASSERT_EQ(x.counter_clockwise, y.counter_clockwise);
+      }
     }
   }
   EXPECT_GT(hits, lanes / 20);  // hits happen often enough to mean something
-  if (detail::boxHitsSseAvailable()) EXPECT_GT(dropped, lanes / 4) << "the quick rejection rejects";
+  EXPECT_GT(dropped, lanes / 4) << "the quick rejection rejects";
 }
 
 // The same answers from one ray at a time, a batch, and any thread count.
