@@ -501,13 +501,16 @@ bool boxHitsSseAvailable() { return false; }
 bool boxRayGroupOf(const glm::vec3* org, const glm::vec3* dir, int n, BoxRayGroup* g) {
   if (n < 1) return false;
   glm::vec3 olo = org[0], ohi = org[0], dlo = dir[0], dhi = dir[0];
+  glm::vec3 finite(0.0f);  // x - x is 0 for a finite x, NaN for an infinity or a NaN
   for (int i = 0; i < n; ++i) {
-    if (!rayIsValid(org[i], dir[i])) return false;
+    finite += (org[i] - org[i]) + (dir[i] - dir[i]);
     olo = glm::min(olo, org[i]), ohi = glm::max(ohi, org[i]);
     dlo = glm::min(dlo, dir[i]), dhi = glm::max(dhi, dir[i]);
   }
+  if (!(finite.x == 0.0f && finite.y == 0.0f && finite.z == 0.0f)) return false;
   for (int a = 0; a < 3; ++a) {
-    if (!(dlo[a] > 0.0f || dhi[a] < 0.0f)) return false;  // both signs (or a zero) along this axis
+    // both signs (or a zero) along this axis; one sign means no direction is 0, every ray valid
+    if (!(dlo[a] > 0.0f || dhi[a] < 0.0f)) return false;
     g->org_lo[a] = olo[a], g->org_hi[a] = ohi[a];
     g->inv_lo[a] = 1.0f / dhi[a], g->inv_hi[a] = 1.0f / dlo[a];  // 1 / x falls as x grows
     if (!std::isfinite(g->inv_lo[a]) || !std::isfinite(g->inv_hi[a])) return false;
@@ -772,9 +775,9 @@ struct NearestSearch {
 template <bool kBand>
 void traverseNearest(const Bvh& bvh, std::uint32_t start, const glm::vec3& org, const glm::vec3& dir, float tmin,
                      float tmax, HitSides sides, BvhBandLimit limit_of, const void* context,
-                     typename NearestSearch<kBand>::Out* out, BvhTraversalCounts* counts) {
+                     typename NearestSearch<kBand>::Out* out, BvhTraversalCounts* counts, bool known_valid = false) {
   if constexpr (kBand) out->count = 0;
-  if (start == BvhNode::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return;
+  if (start == BvhNode::kEmpty || !(known_valid || rayIsValid(org, dir)) || !(tmin < tmax)) return;
   NearestSearch<kBand> search(bvh, org, dir, tmin, tmax, sides, limit_of, context, out);
   if (counts) search.entered = counts->entered;
   search.from(start);
@@ -791,8 +794,10 @@ void traverseGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, i
                    BvhTraversalCounts* counts) {
   std::uint32_t start = bvh.root;
   BoxRayGroup group;
+  bool grouped = false;  // (then every ray is valid)
   // (a teaching view records every box each ray enters from the root: no shortcut there)
   if (start != BvhNode::kEmpty && tmin < tmax && !(counts && counts->entered) && boxRayGroupOf(org, dir, n, &group)) {
+    grouped = true;
     while (!(start & BvhNode::kLeaf)) {
       const BvhNode& node = bvh.nodes[start];
       const unsigned mask = groupBoxHits(node, group, tmin, tmax);
@@ -807,7 +812,7 @@ void traverseGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, i
   }
   for (int i = 0; i < n; ++i) {
     if constexpr (!kBand) out[i] = BvhHit{};
-    traverseNearest<kBand>(bvh, start, org[i], dir[i], tmin, tmax, sides, limit_of, context, &out[i], counts);
+    traverseNearest<kBand>(bvh, start, org[i], dir[i], tmin, tmax, sides, limit_of, context, &out[i], counts, grouped);
   }
 }
 
