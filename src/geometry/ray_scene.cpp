@@ -43,6 +43,14 @@ RayHit hitOf(const RaySceneData& d, const BvhHit& h) {
   out.front = h.counter_clockwise;
   glm::vec3 fa, fb, fc;  // from the leaf just tested, not the triangle arrays: no cache misses
   detail::bvhTriangleOf(d.bvh, h, &fa, &fb, &fc);
+  // The unit normal in float, within a few float steps of the exact one in each component;
+  // in double where float's products would overflow or lose their precision to underflow
+  const glm::vec3 fn = glm::cross(fb - fa, fc - fa);
+  const float len2 = glm::dot(fn, fn);
+  if (len2 >= 1e-30f && len2 <= 1e30f) {
+    out.normal = fn * (1.0f / std::sqrt(len2));
+    return out;
+  }
   const glm::dvec3 a(fa), b(fb), c(fc);
   const glm::dvec3 n = glm::cross(b - a, c - a);
   const double len = glm::length(n);
