@@ -498,7 +498,9 @@ bool boxHitsSseAvailable() { return false; }
 // both steps are monotone in org and in inv (rounding is monotone), so over the group each
 // product lies between the products at the corners of the origins' and inverses' ranges, and
 // 1 / dir is monotone too, so the inverses lie between the inverses of the directions' bounds.
-bool boxRayGroupOf(const glm::vec3* org, const glm::vec3* dir, int n, BoxRayGroup* g) {
+// (the walk calls the body itself: inlined whatever the optimiser's budget at link time)
+[[gnu::always_inline]] inline bool boxRayGroupOfInline(const glm::vec3* org, const glm::vec3* dir, int n,
+                                                     BoxRayGroup* g) {
   if (n < 1) return false;
   glm::vec3 olo = org[0], ohi = org[0], dlo = dir[0], dhi = dir[0];
   glm::vec3 finite(0.0f);  // x - x is 0 for a finite x, NaN for an infinity or a NaN
@@ -518,11 +520,16 @@ bool boxRayGroupOf(const glm::vec3* org, const glm::vec3* dir, int n, BoxRayGrou
   }
   return true;
 }
+bool boxRayGroupOf(const glm::vec3* org, const glm::vec3* dir, int n, BoxRayGroup* g) {
+  return boxRayGroupOfInline(org, dir, n, g);
+}
 
 // boxHitsScalar's interval for the whole group: its entry no later than any ray's, its exit no
 // earlier. No NaN arises (the inverses are finite and not 0; an empty child's faces are
 // infinities, which give it an empty interval).
-unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& g, float tmin, float tmax) {
+// (the walk calls the body itself: inlined whatever the optimiser's budget at link time)
+[[gnu::always_inline]] inline unsigned groupBoxHitsInline(const BvhNode& node, const BoxRayGroup& g, float tmin,
+                                                         float tmax) {
   float t0[kBvhWidth], t1[kBvhWidth];
   for (int i = 0; i < kBvhWidth; ++i) t0[i] = tmin, t1[i] = INFINITY;
   for (int a = 0; a < 3; ++a) {
@@ -543,12 +550,17 @@ unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& g, float tmin, flo
     if (t0[i] <= std::min(t1[i] * kWidenFar, tmax)) mask |= 1u << i;
   return mask;
 }
+unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& g, float tmin, float tmax) {
+  return groupBoxHitsInline(node, g, tmin, tmax);
+}
 
 // A leaf's triangles up to their edge functions, with the watertight test's operations in its
 // order (so the same floats): four at once in SSE, or lane by lane in the scalar build. A lane
 // is left out only where the test would reject it for its edge functions' signs: all three
 // non-zero and of mixed signs.
-void screenLeaf(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used, LeafScreen* out) {
+// (the walk calls the body itself: inlined whatever the optimiser's budget at link time)
+[[gnu::always_inline]] inline void screenLeafInline(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used,
+                                                   LeafScreen* out) {
 #ifdef HSR_BVH_SSE
   const __m128 ox = _mm_set1_ps(r.org[r.kx]), oy = _mm_set1_ps(r.org[r.ky]), oz = _mm_set1_ps(r.org[r.kz]);
   const __m128 sx = _mm_set1_ps(r.sx), sy = _mm_set1_ps(r.sy), sz = _mm_set1_ps(r.sz);
@@ -594,9 +606,14 @@ void screenLeaf(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used, L
   }
 #endif
 }
+void screenLeaf(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used, LeafScreen* out) {
+  screenLeafInline(leaf, r, used, out);
+}
 
-bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, const ShearedRay& r, float tmin,
-                 float tmax, HitSides sides, TriangleHit* hit) {
+// (the walk calls the body itself: inlined whatever the optimiser's budget at link time)
+[[gnu::always_inline]] inline bool leafLaneHitInline(const BvhTriangles4& leaf, const LeafScreen& screen, int lane,
+                                                    const ShearedRay& r, float tmin, float tmax, HitSides sides,
+                                                    TriangleHit* hit) {
   const float U = screen.U[lane], V = screen.V[lane], W = screen.W[lane];
   if (U == 0.0f || V == 0.0f || W == 0.0f) {  // the test's fallback to double: the test itself
     const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
@@ -605,6 +622,10 @@ bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, 
     return intersectTriangle(r, a, b, c, tmin, tmax, sides, hit);
   }
   return finishTriangleHit(U, V, W, screen.az[lane], screen.bz[lane], screen.cz[lane], tmin, tmax, sides, hit);
+}
+bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, const ShearedRay& r, float tmin,
+                 float tmax, HitSides sides, TriangleHit* hit) {
+  return leafLaneHitInline(leaf, screen, lane, r, tmin, tmax, sides, hit);
 }
 
 namespace {
@@ -687,13 +708,13 @@ struct NearestSearch {
     const unsigned used = usedLanes(leaf);
     tested += static_cast<unsigned>(std::popcount(used));
     LeafScreen screen;
-    screenLeaf(leaf, sheared, used, &screen);
+    screenLeafInline(leaf, sheared, used, &screen);
     for (unsigned lanes = screen.candidates; lanes != 0; lanes &= lanes - 1) {
       const int lane = std::countr_zero(lanes);
       TriangleHit h;
       // Up to the limit itself once something is hit (a tie), short of tmax before
       const float upto = found ? std::nextafter(limit, INFINITY) : tmax;
-      if (!leafLaneHit(leaf, screen, lane, sheared, tmin, upto, sides, &h)) continue;
+      if (!leafLaneHitInline(leaf, screen, lane, sheared, tmin, upto, sides, &h)) continue;
       const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise, static_cast<std::uint8_t>(lane),
                        ref & ~BvhNode::kLeaf};
       if constexpr (!kBand) {
@@ -796,11 +817,12 @@ void traverseGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, i
   BoxRayGroup group;
   bool grouped = false;  // (then every ray is valid)
   // (a teaching view records every box each ray enters from the root: no shortcut there)
-  if (start != BvhNode::kEmpty && tmin < tmax && !(counts && counts->entered) && boxRayGroupOf(org, dir, n, &group)) {
+  if (start != BvhNode::kEmpty && tmin < tmax && !(counts && counts->entered) &&
+      boxRayGroupOfInline(org, dir, n, &group)) {
     grouped = true;
     while (!(start & BvhNode::kLeaf)) {
       const BvhNode& node = bvh.nodes[start];
-      const unsigned mask = groupBoxHits(node, group, tmin, tmax);
+      const unsigned mask = groupBoxHitsInline(node, group, tmin, tmax);
       if (counts) ++counts->group_nodes;
       if (mask == 0) {  // every ray passes beside the node's boxes: nothing is hit
         start = BvhNode::kEmpty;
