@@ -502,7 +502,30 @@ bool boxHitsSseAvailable() { return false; }
 [[gnu::always_inline]] inline bool boxRayGroupOfInline(const glm::vec3* org, const glm::vec3* dir, int n,
                                                      BoxRayGroup* g) {
   if (n < 1) return false;
-  glm::vec3 olo = org[0], ohi = org[0], dlo = dir[0], dhi = dir[0];
+  glm::vec3 olo, ohi, dlo, dhi;
+#ifdef HSR_BVH_SSE
+  // Four lanes a vector, the fourth ignored: a vec3 and the next one's first float (the last
+  // one's three floats read alone, never past the array). x - x is NaN just where x is not
+  // finite: unordered with itself.
+  auto load = [](const glm::vec3* v, bool last) {
+    return last ? _mm_setr_ps(v->x, v->y, v->z, 0.0f) : _mm_loadu_ps(&v->x);
+  };
+  __m128 o = load(org, n == 1), d = load(dir, n == 1);
+  __m128 o_lo = o, o_hi = o, d_lo = d, d_hi = d;
+  __m128 bad = _mm_setzero_ps();
+  for (int i = 0; i < n; ++i) {
+    o = load(org + i, i == n - 1), d = load(dir + i, i == n - 1);
+    bad = _mm_or_ps(bad, _mm_or_ps(_mm_cmpunord_ps(_mm_sub_ps(o, o), o), _mm_cmpunord_ps(_mm_sub_ps(d, d), d)));
+    o_lo = _mm_min_ps(o_lo, o), o_hi = _mm_max_ps(o_hi, o);
+    d_lo = _mm_min_ps(d_lo, d), d_hi = _mm_max_ps(d_hi, d);
+  }
+  if (_mm_movemask_ps(bad) & 7) return false;
+  alignas(16) float b[4][4];
+  _mm_store_ps(b[0], o_lo), _mm_store_ps(b[1], o_hi), _mm_store_ps(b[2], d_lo), _mm_store_ps(b[3], d_hi);
+  olo = {b[0][0], b[0][1], b[0][2]}, ohi = {b[1][0], b[1][1], b[1][2]};
+  dlo = {b[2][0], b[2][1], b[2][2]}, dhi = {b[3][0], b[3][1], b[3][2]};
+#else
+  olo = ohi = org[0], dlo = dhi = dir[0];
   glm::vec3 finite(0.0f);  // x - x is 0 for a finite x, NaN for an infinity or a NaN
   for (int i = 0; i < n; ++i) {
     finite += (org[i] - org[i]) + (dir[i] - dir[i]);
@@ -510,6 +533,7 @@ bool boxHitsSseAvailable() { return false; }
     dlo = glm::min(dlo, dir[i]), dhi = glm::max(dhi, dir[i]);
   }
   if (!(finite.x == 0.0f && finite.y == 0.0f && finite.z == 0.0f)) return false;
+#endif
   for (int a = 0; a < 3; ++a) {
     // both signs (or a zero) along this axis; one sign means no direction is 0, every ray valid
     if (!(dlo[a] > 0.0f || dhi[a] < 0.0f)) return false;
@@ -833,9 +857,12 @@ void traverseGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, i
     }
   }
   for (int i = 0; i < n; ++i) {
-    if constexpr (!kBand) out[i] = BvhHit{};
-    traverseNearest<kBand>(bvh, start, org[i], dir[i], tmin, tmax, sides, limit_of, context, &out[i], counts, grouped);
+    if constexpr (kBand) out[i].count = 0;
+    else out[i] = BvhHit{};
   }
+  if (start == BvhNode::kEmpty) return;  // (the whole group passes beside the scene, often)
+  for (int i = 0; i < n; ++i)
+    traverseNearest<kBand>(bvh, start, org[i], dir[i], tmin, tmax, sides, limit_of, context, &out[i], counts, grouped);
 }
 
 
