@@ -20,16 +20,16 @@ namespace hsr::detail {
 inline constexpr std::size_t kLargePage = std::size_t{2} << 20;
 
 inline void* allocateLargePages(std::size_t bytes, std::size_t align) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
   if (bytes >= kLargePage) {
     const std::size_t rounded = (bytes + kLargePage - 1) / kLargePage * kLargePage;
     if (void* p = std::aligned_alloc(kLargePage, rounded)) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
       madvise(p, rounded, MADV_HUGEPAGE);  // a hint: refused, the pages are ordinary ones
-#endif
       return p;
     }
     throw std::bad_alloc();
   }
+#endif
   const std::size_t a = align < alignof(std::max_align_t) ? alignof(std::max_align_t) : align;
   if (void* p = std::aligned_alloc(a, (bytes + a - 1) / a * a)) return p;
   throw std::bad_alloc();

@@ -13,6 +13,7 @@
 
 #include <glm/common.hpp>
 
+#include "core/bit_cast.hpp"
 #include "core/check.hpp"
 #include "core/parallel.hpp"
 
@@ -737,7 +738,7 @@ struct NearestSearch {
       const int lane = std::countr_zero(lanes);
       TriangleHit h;
       // Up to the limit itself once something is hit (a tie), short of tmax before
-      const float upto = found ? std::nextafter(limit, INFINITY) : tmax;
+      const float upto = found ? nextUp(limit) : tmax;
       if (!leafLaneHitInline(leaf, screen, lane, sheared, tmin, upto, sides, &h)) continue;
       const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise, static_cast<std::uint8_t>(lane),
                        ref & ~BvhNode::kLeaf};

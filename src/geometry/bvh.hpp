@@ -11,8 +11,10 @@
 // lowest triangle number, so the answer does not depend on the traversal order, the SIMD or
 // scalar node test, or the thread count.
 //
-// Cost: build O(n log n), about 100 B per triangle; a ray visits O(log n) nodes on typical
-// scenes. Tests: tests/geometry/bvh_test.cpp, tests/agreement/embree_test.cpp.
+// Cost: build O(n log n), about 100 B per triangle (nodes and leaves on huge pages where the
+// system gives them); a ray visits O(log n) nodes on typical scenes, and a group of neighbouring
+// rays shares the box tests of the levels where they run side by side. Tests:
+// tests/geometry/bvh_test.cpp, tests/agreement/embree_test.cpp.
 
 #include <cstdint>
 #include <limits>

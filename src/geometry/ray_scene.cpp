@@ -111,6 +111,7 @@ void checkSizes(std::span<const glm::vec3> origins, std::span<const glm::vec3> d
 }
 
 constexpr std::size_t kRaysPerTask = 1024;
+constexpr int kRayGroup = 32;  // neighbours cast as a group (bvh.hpp)
 
 }  // namespace
 
@@ -138,9 +139,9 @@ void RayScene::intersect(std::span<const glm::vec3> origins, std::span<const glm
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       // Neighbours in the caller's order (a camera's rays, row by row) cast as
                       // a group: the same answers as one by one
-                      detail::BvhHit found[detail::kBvhGroupSize];
-                      for (std::size_t i = r.begin(); i < r.end(); i += detail::kBvhGroupSize) {
-                        const int n = static_cast<int>(std::min<std::size_t>(detail::kBvhGroupSize, r.end() - i));
+                      detail::BvhHit found[kRayGroup];
+                      for (std::size_t i = r.begin(); i < r.end(); i += kRayGroup) {
+                        const int n = static_cast<int>(std::min<std::size_t>(kRayGroup, r.end() - i));
                         detail::intersectNearestGroup(data_->bvh, &origins[i], &directions[i], n, tmin, tmax,
                                                       detail::hitSidesOf(sides), found);
                         for (int k = 0; k < n; ++k) hits[i + k] = detail::hitOf(*data_, found[k]);

@@ -12,7 +12,9 @@
 //
 // The hits: a bounding volume hierarchy (geometry/bvh.hpp: binned SAH, eight boxes a node, the
 // watertight ray/triangle test of Woop, Benthin & Wald 2013), built once per scene and kept
-// while the scene is unchanged, the same one hsr::RayScene answers queries with.
+// while the scene is unchanged, the same one hsr::RayScene answers queries with. The pixels are
+// cast in 16x16 tiles, each in groups of 4x4 neighbours that share a box test wherever all of
+// them pass beside a box (each ray's answer is still its own).
 //
 // Ties: hits whose window depths lie within a few float steps of the nearest are settled as the
 // z-buffer settles them, by THE fragment depth (the polygon's depth plane at the pixel centre,

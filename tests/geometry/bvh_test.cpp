@@ -8,6 +8,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <vector>
@@ -462,6 +463,41 @@ TEST(Bvh, LeafTestAnswersAsTheWatertightTest) {
   }
   EXPECT_GT(hits, lanes / 20);  // hits happen often enough to mean something
   EXPECT_GT(dropped, lanes / 4) << "the quick rejection rejects";
+}
+
+// nextUp is std::nextafter(x, infinity), bit for bit: zeros of both signs, subnormals, the
+// largest float, infinities, NaN and random floats of every exponent.
+TEST(Bvh, NextUpIsNextafterTowardInfinity) {
+  std::vector<float> xs = {0.0f, -0.0f, std::numeric_limits<float>::denorm_min(), -std::numeric_limits<float>::denorm_min(),
+                           std::numeric_limits<float>::min(), -std::numeric_limits<float>::min(),
+                           std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), INFINITY, -INFINITY, 1.0f, -1.0f};
+  detail::SplitMix64 rng(17);
+  for (int i = 0; i < 200000; ++i) xs.push_back(detail::bitCast<float>(static_cast<std::uint32_t>(rng.next())));
+  for (const float x : xs) {
+    const float want = std::nextafter(x, INFINITY), got = detail::nextUp(x);
+    if (std::isnan(x)) {
+      ASSERT_TRUE(std::isnan(got));
+      continue;
+    }
+    ASSERT_EQ(detail::bitCast<std::uint32_t>(got), detail::bitCast<std::uint32_t>(want)) << x;
+  }
+}
+
+// The tree's arrays: aligned as their elements need at every size (on Linux an array of 2 MiB
+// or more starts on a 2 MiB boundary, for the huge pages it asks for), and usable as any vector.
+TEST(Bvh, LargePageArraysAreAlignedAndHoldTheirContents) {
+  for (const std::size_t n : {std::size_t{1}, std::size_t{100}, std::size_t{9000}, std::size_t{20000}}) {
+    std::vector<detail::BvhNode, detail::LargePageAllocator<detail::BvhNode>> v(n);
+    ASSERT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % alignof(detail::BvhNode), 0u);
+#if defined(__linux__)
+    if (n * sizeof(detail::BvhNode) >= detail::kLargePage)
+      EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % detail::kLargePage, 0u);
+#endif
+    for (std::size_t i = 0; i < n; ++i) v[i].child[0] = static_cast<std::uint32_t>(i);
+    v.push_back(v[n / 2]);  // grows (and moves) as a vector does
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(v[i].child[0], i);
+    EXPECT_EQ(v.back().child[0], n / 2);
+  }
 }
 
 // The same answers from one ray at a time, a batch, and any thread count.
