@@ -20,7 +20,7 @@
 // Cost: building is O(n log n) in the triangles (binned SAH, oneTBB), about 100 B per
 // triangle; a query is O(log n) node visits on typical scenes; the batch calls run in
 // parallel over the calling thread's oneTBB arena. The batch intersect casts neighbours in the
-// caller's order as groups of 16: where a group's directions share their signs (a camera's
+// caller's order as groups of 32: where a group's directions share their signs (a camera's
 // rays, in any order that keeps neighbours together), one box test answers for the whole group
 // wherever all 16 pass beside a box, so give rays in such an order for speed; the answers are
 // the same in any order. Safe on untrusted scenes and rays.
