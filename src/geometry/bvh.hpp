@@ -125,7 +125,7 @@ void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3&
 // single child of a node its rays start there rather than at the root. Rays whose directions
 // differ in sign along an axis, or that are not valid, are cast one by one. `counts` adds the
 // nodes each ray visits and the group's tests.
-inline constexpr int kBvhGroupSize = 16;  // rays per group the callers gather (any n works)
+inline constexpr int kBvhGroupSize = 16;  // the ray caster's groups (4x4 pixels); RayScene batches take 32; any n works
 void intersectNearestGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
                            float tmax, HitSides sides, BvhHit* out, BvhTraversalCounts* counts = nullptr);
 void intersectNearestBandGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
