@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/large_pages.hpp"
 #include "core/parallel.hpp"
 
 namespace hsr::detail {
@@ -26,6 +27,17 @@ void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
   const std::uint32_t clear = clearColorRgba(options);
   const float clear_depth =
       std::isfinite(options.clear_depth) ? std::clamp(options.clear_depth, 0.0f, 1.0f) : 1.0f;
+  // A fresh buffer is asked for huge pages before anything touches it (core/large_pages.hpp):
+  // the first frame into it then faults in 2 MiB pages, not 4 KiB ones.
+  const auto allocate = [n](auto& buffer) {
+    if (buffer.capacity() >= n) return;
+    buffer.reserve(n);
+    adviseLargePages(buffer.data(), n * sizeof(buffer[0]));
+  };
+  allocate(f.color);
+  allocate(f.depth);
+  allocate(f.ids);
+  allocate(f.overdraw);
   f.color.resize(n);
   f.depth.resize(n);
   f.ids.resize(n);

@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include <glm/matrix.hpp>
 
@@ -156,8 +157,42 @@ void processPolygon(const Context& ctx, PolygonId id, const PrepareRequest& requ
 
 }  // namespace
 
+namespace {
+
+// Closes up the chunks' slots in `triangles` (each chunk's made() lies in its own slot, at or
+// after where it belongs), or, where clipping made some chunk overflow its slot into a vector
+// of its own, joins them all into a new array.
+void joinTriangles(const std::vector<ChunkOut>& parts, ScreenTriangles& triangles) {
+  const bool overflowed = std::any_of(parts.begin(), parts.end(), [&](const ChunkOut& p) {
+    const std::span<const ScreenTriangle> made = p.triangles.made();
+    return !made.empty() && (made.data() < triangles.data() ||
+                             made.data() >= triangles.data() + triangles.size());
+  });
+  if (!overflowed) {
+    std::size_t end = 0;
+    for (const ChunkOut& p : parts) {
+      const std::span<const ScreenTriangle> made = p.triangles.made();
+      if (made.data() != triangles.data() + end)  // forward, so overlapping is safe
+        std::memmove(static_cast<void*>(triangles.data() + end), made.data(), made.size_bytes());
+      end += made.size();
+    }
+    triangles.resize(end);
+    return;
+  }
+  std::vector<std::size_t> offset(parts.size() + 1, 0);
+  for (std::size_t c = 0; c < parts.size(); ++c) offset[c + 1] = offset[c] + parts[c].triangles.made().size();
+  ScreenTriangles joined(offset.back());
+  tbb::parallel_for(std::size_t(0), parts.size(), [&](std::size_t c) {
+    const std::span<const ScreenTriangle> made = parts[c].triangles.made();
+    std::copy(made.begin(), made.end(), joined.begin() + offset[c]);
+  });
+  triangles.swap(joined);
+}
+
+}  // namespace
+
 void ChunkOut::reset() {
-  triangles.clear();
+  triangles.reset(nullptr, 0);
   lines.clear();
   points.clear();
   polygons.clear();
@@ -166,9 +201,10 @@ void ChunkOut::reset() {
 
 struct PipelineScratch {
   std::vector<std::uint8_t> object_state;
-  std::vector<glm::vec4> clip;
-  std::vector<VertexOut> verts;
+  ClipVertices clip;
+  VertexOuts verts;
   std::vector<ChunkOut> parts;
+  std::vector<std::size_t> first;  // per chunk: where its slot starts in the output
 };
 
 void prepare(const Scene& scene, const Camera& camera, const RenderOptions& options,
@@ -225,28 +261,34 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   std::vector<ChunkOut>& parts = scratch.parts;
   parts.resize(chunks);
+  // Each chunk writes its triangles straight into the output, into a slot with room for as
+  // many triangles as its polygons have; the slots are then closed up in chunk order. One
+  // array on huge pages: a one-shot render first touches the output once, not a copy of it too.
+  std::vector<std::size_t>& first = scratch.first;
+  first.assign(chunks + 1, 0);
+  if (request.triangles) {
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+      std::size_t expected = 0;
+      for (std::size_t id = c * kChunk; id < std::min(n, (c + 1) * kChunk); ++id) {
+        const std::size_t k = scene.polygon(static_cast<PolygonId>(id)).size();
+        expected += k >= 3 ? k - 2 : 0;
+      }
+      first[c + 1] = expected;
+    });
+    for (std::size_t c = 0; c < chunks; ++c) first[c + 1] += first[c];
+  }
+  out.triangles.resize(first[chunks]);  // no fill: every triangle kept is written
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
     ChunkOut& part = parts[c];
     part.reset();
+    part.triangles.reset(out.triangles.data() + first[c], first[c + 1] - first[c]);
     std::vector<Triangle> tris;
     const std::size_t end = std::min(n, (c + 1) * kChunk);
-    std::size_t expected = 0;
-    for (std::size_t id = c * kChunk; id < end; ++id) {
-      const std::size_t k = scene.polygon(static_cast<PolygonId>(id)).size();
-      expected += k >= 3 ? k - 2 : 0;
-    }
-    part.triangles.reserve(request.triangles ? expected : 0);
     if (request.window_polygons) part.polygons.reserve(end - c * kChunk);
     for (std::size_t id = c * kChunk; id < end; ++id)
       processPolygon(ctx, static_cast<PolygonId>(id), request, part, tris);
   });
-  std::vector<std::size_t> offset(chunks + 1, 0);
-  for (std::size_t c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + parts[c].triangles.size();
-  out.triangles.resize(offset[chunks]);
-  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-    std::copy(parts[c].triangles.begin(), parts[c].triangles.end(),
-              out.triangles.begin() + offset[c]);
-  });
+  joinTriangles(parts, out.triangles);
   std::size_t polygons = 0;
   for (const ChunkOut& p : parts) polygons += p.polygons.size();
   out.polygons.reserve(polygons);

@@ -57,7 +57,7 @@ void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id, P
   t.depth = depthPlaneOf(ctx, info);  // computed once per polygon, for what is drawn
   t.id = id;
   t.rgba = info.rgba;
-  out.triangles.push_back(t);
+  out.triangles.push(t);
   out.counts.triangles_rasterized++;
 }
 

@@ -41,12 +41,19 @@ struct VertexOut {
   unsigned code;   // outcode, plus kNonFinite
 };
 
+// Per-vertex arrays of a million entries and more, rewritten every frame: no zero fill on
+// resize, huge pages when large (core/large_pages.hpp).
+template <class T>
+using FrameArray = std::vector<T, DefaultInitAllocator<T, LargePageAllocator<T>>>;
+using ClipVertices = FrameArray<glm::vec4>;
+using VertexOuts = FrameArray<VertexOut>;
+
 enum ObjectState : std::uint8_t { kObjectCulled = 0, kObjectInside = 1, kObjectCrosses = 2 };
 void cullObjects(const Scene& scene, const glm::mat4& mvp, const ClipSetup& cs, bool frustum_cull,
                  std::vector<std::uint8_t>& state);
 void transformVertices(const Scene& scene, const glm::mat4& mvp, const ClipSetup& cs,
                        const Viewport& vp, const std::vector<std::uint8_t>& object_state,
-                       std::vector<glm::vec4>& clip, std::vector<VertexOut>& verts);
+                       ClipVertices& clip, VertexOuts& verts);
 
 // ---- everything a stage may read
 
@@ -61,8 +68,8 @@ struct Context {
   glm::dmat4 device_plane_from_world_plane;       // planes: world -> device (depth planes)
   glm::dmat4 device_from_world;                   // points: world -> homogeneous device coordinates
   glm::dmat4 eye_from_world;                      // points: world -> eye
-  const std::vector<glm::vec4>& clip;             // clip-space vertex positions
-  const std::vector<VertexOut>& verts;            // per-vertex outcodes and window positions
+  const ClipVertices& clip;                       // clip-space vertex positions
+  const VertexOuts& verts;                        // per-vertex outcodes and window positions
   const std::vector<std::uint8_t>& object_state;  // ObjectState per object
   std::vector<glm::vec3> material_rgb;            // per material: rgb clamped to [0,1], NaN 0
   std::vector<std::uint32_t> material_alpha;      // per material: alpha byte << 24
@@ -112,8 +119,42 @@ bool isFront(const Context& ctx, int window_orientation, int eye_orientation);
 
 // ---- the output of one chunk of polygons
 
+// Where a chunk's screen triangles go: its own slot of the pipeline's output, with room for as
+// many triangles as the chunk's polygons have, or, once clipping makes more than that, a
+// vector of its own that takes over (what the slot held first, then the rest).
+class TriangleSink {
+ public:
+  void reset(ScreenTriangle* slot, std::size_t capacity) {
+    slot_ = slot;
+    capacity_ = capacity;
+    count_ = 0;
+    spilled_ = false;
+    spill_.clear();
+  }
+  void push(const ScreenTriangle& t) {
+    if (!spilled_ && count_ < capacity_) {
+      slot_[count_++] = t;
+      return;
+    }
+    if (!spilled_) {
+      spill_.assign(slot_, slot_ + count_);
+      spilled_ = true;
+    }
+    spill_.push_back(t);
+  }
+  std::span<const ScreenTriangle> made() const {
+    return spilled_ ? std::span<const ScreenTriangle>(spill_) : std::span<const ScreenTriangle>(slot_, count_);
+  }
+
+ private:
+  ScreenTriangle* slot_ = nullptr;
+  std::size_t capacity_ = 0, count_ = 0;
+  bool spilled_ = false;
+  ScreenTriangles spill_;
+};
+
 struct ChunkOut {
-  ScreenTriangles triangles;
+  TriangleSink triangles;
   std::vector<ScreenLine> lines, points;
   std::vector<WindowPolygon> polygons;
   std::vector<WindowVertex> window_scratch;  // a clipped polygon's projected vertices

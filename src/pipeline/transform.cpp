@@ -33,7 +33,7 @@ void cullObjects(const Scene& scene, const glm::mat4& mvp, const ClipSetup& cs, 
 
 void transformVertices(const Scene& scene, const glm::mat4& mvp, const ClipSetup& cs,
                        const Viewport& vp, const std::vector<std::uint8_t>& object_state,
-                       std::vector<glm::vec4>& clip, std::vector<VertexOut>& verts) {
+                       ClipVertices& clip, VertexOuts& verts) {
   clip.resize(scene.vertexCount());
   verts.resize(scene.vertexCount());
   tbb::parallel_for(std::size_t(0), scene.objects.size(), [&](std::size_t o) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/default_init.hpp"
+#include "core/large_pages.hpp"
 #include "core/trace.hpp"
 #include "hsr/scene.hpp"
 #include "raster/depth.hpp"
@@ -47,8 +48,10 @@ struct ScreenTriangle {
 };
 static_assert(sizeof(ScreenTriangle) == 64, "a screen triangle fills one cache line");
 
-// The pipeline's output of triangles: resizing it before the parallel copy fills nothing.
-using ScreenTriangles = std::vector<ScreenTriangle, DefaultInitAllocator<ScreenTriangle>>;
+// The pipeline's output of triangles: resizing it before the parallel copy fills nothing, and
+// a large one lies on huge pages (core/large_pages.hpp).
+using ScreenTriangles =
+    std::vector<ScreenTriangle, DefaultInitAllocator<ScreenTriangle, LargePageAllocator<ScreenTriangle>>>;
 
 // The polygons of the pipeline's triangles, for the algorithms that reason about polygons
 // (scan-line, Warnock): a polygon is a run of consecutive triangles with the same id, depth

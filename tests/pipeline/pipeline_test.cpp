@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 #include "hsr/error.hpp"
 #include "hsr/render.hpp"
@@ -117,6 +119,66 @@ TEST(Pipeline, TriangleThroughNearPlaneIsClippedNotInverted) {
   // others at y=-2): nothing may appear in the top rows.
   for (int x = 0; x < 64; ++x) EXPECT_EQ(f.ids[x], kNoPolygon) << "ghost at column " << x;
   for (float v : f.depth) ASSERT_TRUE(std::isfinite(v));
+}
+
+// The pipeline works in chunks of polygons, each writing into its own slot of the output,
+// closed up afterwards, or joined from vectors of their own where clipping made a chunk
+// overflow its slot. Either way the output must be what each polygon makes alone, in order.
+void expectSameAsPolygonByPolygon(const Scene& scene, const Camera& cam, const RenderOptions& o) {
+  const detail::PreparedScene whole = detail::prepare(scene, cam, o);
+  std::vector<detail::ScreenTriangle> alone;
+  for (PolygonId id = 0; id < scene.polygonCount(); ++id) {
+    Scene one;
+    for (const Material& m : scene.materials) one.addMaterial(m);
+    std::vector<glm::vec3> v;
+    for (std::uint32_t k : scene.polygon(id)) v.push_back(scene.position(k));
+    one.addPolygonVertices(v, scene.material(id));
+    for (detail::ScreenTriangle t : detail::prepare(one, cam, o).triangles) {
+      t.id = id;
+      alone.push_back(t);
+    }
+  }
+  ASSERT_EQ(whole.triangles.size(), alone.size());
+  for (std::size_t i = 0; i < alone.size(); ++i)
+    ASSERT_EQ(std::memcmp(&whole.triangles[i], &alone[i], sizeof alone[i]), 0) << "triangle " << i;
+}
+
+TEST(Pipeline, ChunksJoinAsPolygonByPolygon) {
+  // Large triangles around an eye inside the soup: most are clipped, many into several
+  // triangles, so the output outgrows the input (some chunk overflowed its slot).
+  Camera inside;
+  inside.eye = {0, 0, 0};
+  inside.target = {0, 0, -1};
+  inside.near = 0.5f;
+  inside.far = 20.0f;
+  inside.width = 160;
+  inside.height = 120;
+  Scene clipped;
+  {
+    Rng rng(11);
+    const std::uint32_t m = clipped.addMaterial({});
+    for (int i = 0; i < 5000; ++i) {
+      const glm::vec3 c(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-6, -2));
+      glm::vec3 v[3];
+      for (glm::vec3& q : v) q = c + glm::vec3(rng.uniform(-8, 8), rng.uniform(-8, 8), rng.uniform(-1, 1));
+      clipped.addPolygonVertices({v[0], v[1], v[2]}, m);
+    }
+  }
+  const detail::PreparedScene p = detail::prepare(clipped, inside, {});
+  ASSERT_GT(p.triangles.size(), clipped.polygonCount());
+  expectSameAsPolygonByPolygon(clipped, inside, {});
+  // Seen from outside with back faces culled: triangles are only dropped, and the chunks'
+  // slots are closed up in place.
+  Camera outside;
+  outside.eye = {0, 0, 40};
+  outside.width = 160;
+  outside.height = 120;
+  RenderOptions cull;
+  cull.cull = CullMode::Back;
+  const detail::PreparedScene q = detail::prepare(clipped, outside, cull);
+  ASSERT_GT(q.stats.culled_backface, 1000u);
+  ASSERT_LT(q.triangles.size(), clipped.polygonCount());
+  expectSameAsPolygonByPolygon(clipped, outside, cull);
 }
 
 TEST(Pipeline, DegeneratePolygonsAreDroppedAndCounted) {
