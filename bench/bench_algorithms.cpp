@@ -1,6 +1,7 @@
 // Every algorithm of the registry, frames/s and triangles/s at 1920x1080, against Mesa's
-// llvmpipe (through OSMesa) in the same process: spheres:10000/100000/1000000 and a fill-rate
-// scene of ten full-screen quads drawn back to front (every fragment passes). One benchmark
+// llvmpipe (through OSMesa) in the same process: spheres:N and soup:N (small random triangles)
+// for N = 10000/100000/1000000, a real model (2CylinderEngine) and a fill-rate scene of ten
+// full-screen quads drawn back to front (every fragment passes). One benchmark
 // per algorithm and scene, BM_<algorithm>/<scene>/<n>, with the frame's stats as counters;
 // BM_llvmpipe/<scene>/<n> is the peer. An algorithm joins by its registry line alone; one
 // with a size limit (AlgorithmInfo::max_pixels) below 1920x1080 is listed as not run. Scenes,
@@ -110,6 +111,13 @@ std::vector<BenchScene>& benchScenes() {
         b.make = [spec] { return hsr::makeBuiltinScene(spec); };
         v.push_back(std::move(b));
       }
+    // A real model (a CAD assembly of 121,496 triangles, from Debian's assimp-testmodels).
+    BenchScene model;
+    model.label = "model/2CylinderEngine";
+    model.make = [] {
+      return hsr::loadScene("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb");
+    };
+    v.push_back(std::move(model));
     BenchScene f;
     f.label = "fillrate/10";
     f.make = fillRateScene;

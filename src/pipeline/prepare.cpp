@@ -24,8 +24,11 @@ double msSince(Clock::time_point t0) {
 
 constexpr std::size_t kChunk = 2048;  // polygons per work item (fixed: determinism)
 
-// The common case, kept lean: a triangle in FILL mode that needs no clipping. Its vertices
-// were projected and snapped once each in the transform stage.
+// The common case, kept lean and compiled as one piece: a triangle in FILL mode that needs no
+// clipping. Its vertices were projected and snapped once each in the transform stage. The
+// same decisions in the same order as the general path (describePolygon, then cullAndEmit),
+// from the same inline pieces; its colour (a square root and a division) and depth plane are
+// computed only for a triangle that is kept.
 // Returns false when the triangle needs the general path (clipping, or a non-finite vertex).
 bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_t> vi,
                   ChunkOut& out) {
@@ -33,8 +36,9 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
   const VertexOut& b = ctx.verts[vi[1]];
   const VertexOut& c = ctx.verts[vi[2]];
   if ((a.code | b.code | c.code) & (kMustClip | kNonFinite)) return false;
-  PolygonInfo info = describePolygon(ctx, id, vi);
-  if (info.degenerate) {
+  const glm::dvec3 n = triangleNormal(ctx.scene, vi[0], vi[1], vi[2]);
+  const double len2 = glm::dot(n, n);
+  if (!usableNormal(len2)) {
     out.counts.degenerate_dropped++;
     return true;
   }
@@ -42,8 +46,13 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
     out.counts.clipped_away++;
     return true;
   }
-  const WindowVertex w[3] = {a.w, b.w, c.w};
-  cullAndEmit(ctx, w, id, info, out);
+  const int eye_orientation =
+      eyeOrientation(n, glm::dvec3(ctx.scene.position(vi[0])), ctx.camera, ctx.view_dir);
+  const std::int64_t fx[3] = {a.fx, b.fx, c.fx};
+  const std::int64_t fy[3] = {a.fy, b.fy, c.fy};
+  cullAndEmitWith(
+      ctx, fx, fy, id, eye_orientation, [&] { return polygonRgba(ctx, id, n, len2); },
+      [&] { return insideTrianglePlane(a, b, c); }, out);
   return true;
 }
 

@@ -37,28 +37,9 @@ void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id, P
                  ChunkOut& out) {
   const std::int64_t fx[3] = {w[0].fx, w[1].fx, w[2].fx};
   const std::int64_t fy[3] = {w[0].fy, w[1].fy, w[2].fy};
-  const int orientation = windowOrientation(fx, fy);
-  if (orientation == 0) {  // zero area after snapping: draws nothing, as in GL
-    out.counts.zero_area++;
-    return;
-  }
-  const bool front = isFront(ctx, orientation, info.eye_orientation);
-  if (culled(ctx.options.cull, front)) {
-    out.counts.culled_backface++;
-    return;
-  }
-  ScreenTriangle t;
-  const TriangleFate fate = makeScreenTriangle(fx, fy, orientation, ctx.camera.width,
-                                               ctx.camera.height, DepthPlane{}, &t, ctx.box_margin);
-  if (fate == TriangleFate::kMissesPixelCentres) {
-    out.counts.missed_pixel_centres++;
-    return;
-  }
-  t.depth = depthPlaneOf(ctx, info);  // computed once per polygon, for what is drawn
-  t.id = id;
-  t.rgba = info.rgba;
-  out.triangles.push(t);
-  out.counts.triangles_rasterized++;
+  cullAndEmitWith(
+      ctx, fx, fy, id, info.eye_orientation, [&] { return info.rgba; },
+      [&] { return depthPlaneOf(ctx, info); }, out);
 }
 
 }  // namespace hsr::detail

@@ -5,10 +5,13 @@
 // project.cpp (divide, viewport, snap, screen triangles), outline.cpp (silhouette edges),
 // polygons.cpp (the window-polygon product); prepare.cpp runs them.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -36,10 +39,16 @@ WindowVertex toWindow(const glm::vec4& clip, const Viewport& vp);
 // ---- transform: objects culled by their bounds, vertices to clip space
 
 inline constexpr unsigned kNonFinite = 1u << 16;  // beside the outcode bits
+// A transformed vertex: its outcode and, for a vertex inside the view volume, its window
+// position as toWindow gives it, kept in 24 bytes (the array is rewritten every frame: 3
+// million vertices for a soup of a million triangles).
 struct VertexOut {
-  WindowVertex w;  // valid when !(code & (kMustClip | kNonFinite))
-  unsigned code;   // outcode, plus kNonFinite
+  float x, y, z;         // valid when !(code & (kMustClip | kNonFinite))
+  std::int32_t fx, fy;   // snapped; toWindow bounds them by 2^30
+  unsigned code;         // outcode, plus kNonFinite
+  WindowVertex window() const { return {x, y, z, fx, fy, true}; }
 };
+static_assert(sizeof(VertexOut) == 24);
 
 // Per-vertex arrays of a million entries and more, rewritten every frame: no zero fill on
 // resize, huge pages when large (core/large_pages.hpp).
@@ -107,15 +116,99 @@ PolygonInfo forTriangle(const PolygonInfo& polygon, const std::uint32_t (&triang
 // Normal by the right-hand rule: a cross product for a triangle, Newell's method for a larger
 // polygon (even a non-planar one).
 glm::dvec3 polygonNormal(const Scene& scene, std::span<const std::uint32_t> vi);
+// A triangle's: (v1 - v0) x (v2 - v0) in double.
+inline glm::dvec3 triangleNormal(const Scene& scene, std::uint32_t v0, std::uint32_t v1, std::uint32_t v2) {
+  const glm::dvec3 p0(scene.position(v0));
+  return glm::cross(glm::dvec3(scene.position(v1)) - p0, glm::dvec3(scene.position(v2)) - p0);
+}
 // The notes' facing test N . (eye - P) > 0: +1 CCW seen from the eye, -1 CW, 0 edge-on.
-int eyeOrientation(const glm::dvec3& normal, const glm::dvec3& p0, const Camera& camera,
-                   const glm::dvec3& view_dir);
+inline int eyeOrientation(const glm::dvec3& normal, const glm::dvec3& p0, const Camera& camera,
+                          const glm::dvec3& view_dir) {
+  // V = eye - P (the reversed view direction for a parallel projection).
+  const glm::dvec3 v = camera.ortho ? -view_dir : glm::dvec3(camera.eye) - p0;
+  const double d = glm::dot(normal, v);
+  return d > 0.0 ? 1 : (d < 0.0 ? -1 : 0);
+}
 
 // Which facings survive the cull mode; `front` is the polygon's facing under the rule.
-bool culled(CullMode mode, bool front);
+inline bool culled(CullMode mode, bool front) {
+  switch (mode) {
+    case CullMode::None:
+      return false;
+    case CullMode::Back:
+      return !front;
+    case CullMode::Front:
+      return front;
+    case CullMode::FrontAndBack:
+      return true;
+  }
+  return false;
+}
 // The facing rule: OpenGL's window-area orientation of the snapped triangle, or the notes'
 // eye-space test.
-bool isFront(const Context& ctx, int window_orientation, int eye_orientation);
+inline bool isFront(const Context& ctx, int window_orientation, int eye_orientation) {
+  const bool ccw_front = ctx.options.front_face == FrontFace::Ccw;
+  return ctx.options.facing_test == FacingTest::WindowArea ? (window_orientation > 0) == ccw_front
+                                                           : (eye_orientation > 0) == ccw_front;
+}
+
+// Shaded colour: rgb in [0, 1] scaled by the Lambert factor in [0, 1], each channel rounded
+// half up to a byte.
+inline std::uint32_t shadeRgba(const glm::vec3& rgb, std::uint32_t alpha_bits, float lambert) {
+  auto q = [&](float c) { return static_cast<std::uint32_t>(c * lambert * 255.0f + 0.5f); };
+  return q(rgb.r) | (q(rgb.g) << 8) | (q(rgb.b) << 16) | alpha_bits;
+}
+
+// Headlight Lambert, two-sided: light along the view axis, 20% ambient (1 when not shading).
+inline float lambertOf(const RenderOptions& options, const glm::dvec3& n, double len2,
+                       const glm::dvec3& view_dir) {
+  if (!options.shade) return 1.0f;
+  const double cosine = std::abs(glm::dot(n, view_dir)) / std::sqrt(len2);
+  // Any overflow (inf/inf) or 0/0 reads as facing the light.
+  const float lambert = cosine >= 0.0 && cosine <= 1.0 ? static_cast<float>(cosine) : 1.0f;
+  return 0.2f + 0.8f * lambert;
+}
+
+// The plane through three projected vertices, from the topmost (then leftmost) one in the
+// given winding. Reversing the winding negates the determinant and both numerators exactly,
+// so the quotients are the same bits.
+inline bool windowPlane(const WindowVertex* w[3], DepthPlane* out) {
+  int first = 0;
+  for (int k = 1; k < 3; ++k)
+    if (w[k]->y < w[first]->y || (w[k]->y == w[first]->y && w[k]->x < w[first]->x)) first = k;
+  const WindowVertex& a = *w[first];
+  const WindowVertex& b = *w[(first + 1) % 3];
+  const WindowVertex& c = *w[(first + 2) % 3];
+  const double dx1 = double(b.x) - a.x, dy1 = double(b.y) - a.y, dz1 = double(b.z) - a.z;
+  const double dx2 = double(c.x) - a.x, dy2 = double(c.y) - a.y, dz2 = double(c.z) - a.z;
+  // The normal (A, B, C) = (b - a) x (c - a); then -A/C, -B/C, and the plane at pixel (0, 0).
+  const double nx = dy1 * dz2 - dz1 * dy2, ny = dz1 * dx2 - dx1 * dz2, nz = dx1 * dy2 - dy1 * dx2;
+  return depthPlaneFromDevicePlane(nx, ny, nz, -(nx * a.x + ny * a.y + nz * a.z), out);
+}
+
+// The depth plane of a triangle whose vertices are all inside the view volume: the plane
+// through its projected vertices, or, for one seen edge-on, its nearest vertex's depth.
+inline DepthPlane insideTrianglePlane(const VertexOut& a, const VertexOut& b, const VertexOut& c) {
+  const WindowVertex w[3] = {a.window(), b.window(), c.window()};
+  const WindowVertex* pw[3] = {&w[0], &w[1], &w[2]};
+  DepthPlane plane;
+  if (!windowPlane(pw, &plane)) plane = flatDepthPlane(std::min({a.z, b.z, c.z}));
+  return plane;
+}
+
+// A polygon's normal is usable (not zero, not overflowed) when its squared length is.
+inline bool usableNormal(double len2) { return len2 > 0.0 && std::isfinite(len2); }
+
+// Polygon id's shaded colour from its normal n (squared length len2), as describePolygon and the
+// fast triangle path both give it.
+inline std::uint32_t polygonRgba(const Context& ctx, PolygonId id, const glm::dvec3& n, double len2) {
+  const float lambert = lambertOf(ctx.options, n, len2, ctx.view_dir);
+  const std::uint32_t m = ctx.scene.material(id);
+  const bool known = m < ctx.material_rgb.size();
+  const glm::vec3 rgb = known ? ctx.material_rgb[m] : Material{}.color;
+  const std::uint32_t alpha = known ? ctx.material_alpha[m] : 0xFF000000u;
+  return shadeRgba(rgb, alpha, lambert);
+}
 
 // ---- the output of one chunk of polygons
 
@@ -165,6 +258,35 @@ struct ChunkOut {
 
 // ---- project (continued): a snapped triangle through facing and culling into the output
 
+// Facing, culling and the screen triangle of one snapped triangle, in that order (each drop
+// counted where it happens); its colour and depth plane are asked for only when it is kept.
+template <class Colour, class Depth>
+inline void cullAndEmitWith(const Context& ctx, const std::int64_t (&fx)[3], const std::int64_t (&fy)[3],
+                            PolygonId id, int eye_orientation, Colour colour, Depth depth, ChunkOut& out) {
+  const int orientation = windowOrientation(fx, fy);
+  if (orientation == 0) {  // zero area after snapping: draws nothing, as in GL
+    out.counts.zero_area++;
+    return;
+  }
+  if (culled(ctx.options.cull, isFront(ctx, orientation, eye_orientation))) {
+    out.counts.culled_backface++;
+    return;
+  }
+  ScreenTriangle t;
+  const TriangleFate fate = makeScreenTriangle(fx, fy, orientation, ctx.camera.width,
+                                               ctx.camera.height, DepthPlane{}, &t, ctx.box_margin);
+  if (fate == TriangleFate::kMissesPixelCentres) {
+    out.counts.missed_pixel_centres++;
+    return;
+  }
+  t.depth = depth();
+  t.id = id;
+  t.rgba = colour();
+  out.triangles.push(t);
+  out.counts.triangles_rasterized++;
+}
+// The same for a triangle of the polygon `info` describes (the depth plane computed once per
+// polygon, for what is drawn).
 void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id, PolygonInfo& info,
                  ChunkOut& out);
 

@@ -52,8 +52,16 @@ void transformVertices(const Scene& scene, const glm::mat4& mvp, const ClipSetup
         out.code |= kNonFinite;
       // Vertices inside the view volume are projected once here, for every triangle.
       if (!(out.code & (kMustClip | kNonFinite))) {
-        out.w = toWindow(clip[v], vp);
-        if (!out.w.ok) out.code |= kNonFinite;
+        const WindowVertex w = toWindow(clip[v], vp);
+        if (w.ok) {
+          out.x = w.x;
+          out.y = w.y;
+          out.z = w.z;
+          out.fx = static_cast<std::int32_t>(w.fx);
+          out.fy = static_cast<std::int32_t>(w.fy);
+        } else {
+          out.code |= kNonFinite;
+        }
       }
     }
   });

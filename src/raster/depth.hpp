@@ -74,7 +74,17 @@ inline bool planeDepthIsSafe(const DepthPlane& p, int x, int y) {
 // coordinates above, z window depth). Returns false for a plane seen edge-on (C = 0) or so
 // steep that its depth could leave float's range within the largest viewport: such a polygon
 // covers next to no pixels, and the caller gives it a constant depth (flatDepthPlane).
-bool depthPlaneFromDevicePlane(double a, double b, double c, double d, DepthPlane* out);
+inline bool depthPlaneFromDevicePlane(double a, double b, double c, double d, DepthPlane* out) {
+  // |coefficients| <= 1e30 keeps z0 + dzdy*y + dzdx*x below 1e35 for any x, y < 2^15, far
+  // inside float's range, so the conversion to float is always defined.
+  constexpr double kLimit = 1e30;
+  if (c == 0.0) return false;
+  const DepthPlane p{-a / c, -b / c, -d / c};
+  if (!(std::abs(p.dzdx) <= kLimit && std::abs(p.dzdy) <= kLimit && std::abs(p.z0) <= kLimit))
+    return false;  // also for NaN
+  *out = p;
+  return true;
+}
 // The constant depth z, clamped to [0, 1] (1 when z is not finite).
 DepthPlane flatDepthPlane(double z);
 
