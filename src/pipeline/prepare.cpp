@@ -296,6 +296,7 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
     if (request.window_polygons) part.polygons.reserve(end - c * kChunk);
     for (std::size_t id = c * kChunk; id < end; ++id)
       processPolygon(ctx, static_cast<PolygonId>(id), request, part, tris);
+    finishStreaming();
   });
   joinTriangles(parts, out.triangles);
   std::size_t polygons = 0;

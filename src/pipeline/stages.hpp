@@ -11,6 +11,10 @@
 #include <span>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -215,6 +219,27 @@ inline std::uint32_t polygonRgba(const Context& ctx, PolygonId id, const glm::dv
 // Where a chunk's screen triangles go: its own slot of the pipeline's output, with room for as
 // many triangles as the chunk's polygons have, or, once clipping makes more than that, a
 // vector of its own that takes over (what the slot held first, then the rest).
+// Stores a triangle with streaming stores where the processor has them (a whole cache line,
+// not read first and kept out of the cache): a million triangles are 64 MiB, read again only
+// after the whole stage. The caller ends its writes with finishStreaming().
+inline void streamTriangle(ScreenTriangle* dst, const ScreenTriangle& t) {
+#if defined(__SSE2__)
+  if ((reinterpret_cast<std::uintptr_t>(dst) & 15) == 0) {
+    const auto* from = reinterpret_cast<const __m128i*>(&t);
+    auto* to = reinterpret_cast<__m128i*>(dst);
+    for (int k = 0; k < 4; ++k) _mm_stream_si128(to + k, _mm_loadu_si128(from + k));
+    return;
+  }
+#endif
+  *dst = t;
+}
+// Orders the streaming stores before whatever the thread does next (another thread reads them).
+inline void finishStreaming() {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
+
 class TriangleSink {
  public:
   void reset(ScreenTriangle* slot, std::size_t capacity) {
@@ -226,7 +251,7 @@ class TriangleSink {
   }
   void push(const ScreenTriangle& t) {
     if (!spilled_ && count_ < capacity_) {
-      slot_[count_++] = t;
+      streamTriangle(slot_ + count_++, t);
       return;
     }
     if (!spilled_) {
