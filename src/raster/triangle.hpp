@@ -12,6 +12,9 @@ namespace hsr::detail {
 // Triangles narrower than this many columns walk their bounding box testing the three edge
 // functions per pixel (no divisions); wider ones compute each row's span exactly.
 inline constexpr int kNarrowTriangleColumns = 8;
+// Triangles with at least this many rows step each row's span from the last (RowSpans);
+// shorter ones divide on every row (spanOfRow), which costs less than RowSpans' setup.
+inline constexpr int kRowSpansFrom = 3;
 
 template <DepthFunc F>
 void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameView& fb,

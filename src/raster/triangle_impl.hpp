@@ -33,9 +33,17 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameVi
     }
     return;
   }
-  for (int y = y0; y <= y1; ++y, nextRow(s)) {
+  if (y1 - y0 < kRowSpansFrom) {
+    for (int y = y0; y <= y1; ++y, nextRow(s)) {
+      int lo = x0, hi = x1;
+      if (spanOfRow(s, &lo, &hi)) span(t, fb, y, lo, hi, depth_mask, c);
+    }
+    return;
+  }
+  RowSpans spans(s);
+  for (int y = y0; y <= y1; ++y, spans.next()) {
     int lo = x0, hi = x1;
-    if (spanOfRow(s, &lo, &hi)) span(t, fb, y, lo, hi, depth_mask, c);
+    if (spans.span(&lo, &hi)) span(t, fb, y, lo, hi, depth_mask, c);
   }
 }
 
