@@ -450,6 +450,47 @@ void printBspTable(const MedianCollector& reporter, const std::vector<std::uniqu
 
 }  // namespace
 
+// Issue 22's bars: the z-buffer against llvmpipe on every scene, measured in back-to-back
+// pairs (a hsr frame, then an llvmpipe frame, nine times; the median of the nine ratios and
+// their range). This machine's speed drifts over minutes, so a pair's two frames see the same
+// machine where the repetitions above may not. HSR_BENCH_NO_PAIRS skips it.
+void printPairedZBufferTable() {
+  constexpr int kPairs = 9;
+  std::printf("\nz-buffer vs llvmpipe in %d back-to-back pairs, %d thread(s) (bar: 2.0x on every scene)\n", kPairs,
+              g_threads);
+  std::printf("threads=%d  %-22s %10s %12s %8s %16s %6s\n", g_threads, "scene", "zbuffer ms", "llvmpipe ms",
+              "ratio", "ratio range", "bar");
+  for (BenchScene& b : benchScenes()) {
+    ensureScene(b);
+    if (!b.mesa) {
+      b.mesa = std::make_unique<hsr::testing::MesaScene>(*b.scene, b.camera);
+      b.mesa->renderFrameMs();
+    }
+    hsr::RenderOptions options;
+    options.threads = g_threads;
+    hsr::Frame frame;
+    hsr::render(*b.scene, b.camera, options, frame);  // warm
+    std::vector<double> ours, mesa, ratio;
+    for (int k = 0; k < kPairs; ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      hsr::render(*b.scene, b.camera, options, frame);
+      ours.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      mesa.push_back(b.mesa->renderFrameMs());
+      ratio.push_back(mesa.back() / ours.back());
+    }
+    const auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
+    const double r = median(ratio);
+    char range[32];
+    std::snprintf(range, sizeof range, "%.2f-%.2f", *std::min_element(ratio.begin(), ratio.end()),
+                  *std::max_element(ratio.begin(), ratio.end()));
+    std::printf("threads=%d  %-22s %10.2f %12.2f %8.2f %16s %6s\n", g_threads, b.label.c_str(), median(ours),
+                median(mesa), r, range, r >= 2.0 ? "met" : "not");
+  }
+}
+
 int main(int argc, char** argv) {
   // Thread count for both renderers; llvmpipe reads LP_NUM_THREADS once, at its first context.
   if (const char* t = std::getenv("HSR_BENCH_THREADS")) g_threads = std::max(1, std::atoi(t));
@@ -544,6 +585,7 @@ int main(int argc, char** argv) {
   printABufferTable(reporter);
   std::printf(
       "(ratio = llvmpipe time / algorithm time, median of repetitions: > 1 means hsr is faster)\n");
+  if (!std::getenv("HSR_BENCH_NO_PAIRS")) printPairedZBufferTable();
   benchmark::Shutdown();
   return 0;
 }
