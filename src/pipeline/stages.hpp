@@ -216,9 +216,6 @@ inline std::uint32_t polygonRgba(const Context& ctx, PolygonId id, const glm::dv
 
 // ---- the output of one chunk of polygons
 
-// Where a chunk's screen triangles go: its own slot of the pipeline's output, with room for as
-// many triangles as the chunk's polygons have, or, once clipping makes more than that, a
-// vector of its own that takes over (what the slot held first, then the rest).
 // Stores a triangle with streaming stores where the processor has them (a whole cache line,
 // not read first and kept out of the cache): a million triangles are 64 MiB, read again only
 // after the whole stage. The caller ends its writes with finishStreaming().
@@ -240,6 +237,9 @@ inline void finishStreaming() {
 #endif
 }
 
+// Where a chunk's screen triangles go: its own slot of the pipeline's output, with room for as
+// many triangles as the chunk's polygons have, or, once clipping makes more than that, a
+// vector of its own that takes over (what the slot held first, then the rest).
 class TriangleSink {
  public:
   void reset(ScreenTriangle* slot, std::size_t capacity) {
