@@ -14,6 +14,7 @@
 #include <glm/common.hpp>
 
 #include "core/bit_cast.hpp"
+#include "core/default_init.hpp"
 #include "core/check.hpp"
 #include "core/parallel.hpp"
 
@@ -108,6 +109,7 @@ struct Range {
 struct Builder {
   std::vector<PrimRef>& refs;
   std::vector<BinaryNode>& nodes;
+  std::vector<CollapsePlan, DefaultInitAllocator<CollapsePlan>>& plans;
   std::atomic<std::uint32_t> next_node{0};
   std::atomic<std::uint32_t> max_depth{0};
 
@@ -123,6 +125,7 @@ struct Builder {
     const std::uint32_t n = r.end - r.begin;
     if (n <= kLeafSize) {
       node.leaf = true, node.first = r.begin, node.count = n;
+      planCollapse(nullptr, nullptr, 0.0f, &plans[index]);
       return;
     }
     Range left, right;
@@ -136,6 +139,7 @@ struct Builder {
       build(l, left, depth + 1);
       build(rr, right, depth + 1);
     }
+    planCollapse(&plans[l], &plans[rr], r.box.halfArea(), &plans[index]);
   }
 
   // Reorders r's PrimRefs into two non-empty halves, each with its bounds.
@@ -273,6 +277,7 @@ struct Builder {
 // The binary tree collapsed to eight children per node, depth first.
 struct Collapser {
   const std::vector<BinaryNode>& binary;
+  const std::vector<CollapsePlan, DefaultInitAllocator<CollapsePlan>>& plans;
   const std::vector<PrimRef>& refs;
   std::span<const glm::vec3> a, b, c;
   Bvh& bvh;
@@ -308,23 +313,26 @@ struct Collapser {
     return BvhNode::kLeaf | static_cast<std::uint32_t>(bvh.leaves.size() - 1);
   }
 
+  // The roots a subtree stands as in `slots` slots, by its plan
+  void rootsOf(std::uint32_t index, int slots, std::uint32_t* kids, int* count) const {
+    const CollapsePlan& p = plans[index];
+    if (binary[index].leaf || p.left[slots - 1] == 0) {
+      kids[(*count)++] = index;
+      return;
+    }
+    rootsOf(binary[index].left, p.left[slots - 1], kids, count);
+    rootsOf(binary[index].right, p.right[slots - 1], kids, count);
+  }
+
   std::uint32_t collapse(std::uint32_t index, std::uint64_t level) {
     const BinaryNode& n = binary[index];
     if (n.leaf) return leaf(n);
     depth = std::max(depth, level);
-    // The children: the two halves, then, while fewer than kBvhWidth, the largest inner child opened
-    std::uint32_t kids[kBvhWidth] = {n.left, n.right};
-    int count = 2;
-    while (count < kBvhWidth) {
-      int open = -1;
-      float area = -1.0f;
-      for (int i = 0; i < count; ++i)
-        if (!binary[kids[i]].leaf && binary[kids[i]].box.halfArea() > area) open = i, area = binary[kids[i]].box.halfArea();
-      if (open < 0) break;
-      const BinaryNode& o = binary[kids[open]];
-      kids[open] = o.left;
-      kids[count++] = o.right;
-    }
+    // The children: the roots the plan spreads the two halves over
+    std::uint32_t kids[kBvhWidth];
+    int count = 0;
+    rootsOf(n.left, plans[index].node_left, kids, &count);
+    rootsOf(n.right, plans[index].node_right, kids, &count);
     sah += n.box.halfArea();
     const auto me = static_cast<std::uint32_t>(bvh.nodes.size());
     bvh.nodes.emplace_back();
@@ -348,6 +356,38 @@ struct Collapser {
 };
 
 }  // namespace
+
+void planCollapse(const CollapsePlan* l, const CollapsePlan* r, float area, CollapsePlan* out) {
+  if (!l) {
+    for (int i = 0; i < kBvhWidth; ++i) out->cost[i] = 0.0f, out->left[i] = out->right[i] = 0;
+    return;
+  }
+  // spread[j - 1]: the best with the left and right parts given j slots between them
+  float spread[kBvhWidth];
+  std::uint8_t spread_left[kBvhWidth];
+  spread[0] = INFINITY, spread_left[0] = 0;
+  for (int j = 2; j <= kBvhWidth; ++j) {
+    float best = INFINITY;
+    int best_k = 1;
+    for (int k = 1; k < j; ++k) {
+      const float c = l->cost[k - 1] + r->cost[j - k - 1];
+      if (c < best) best = c, best_k = k;
+    }
+    spread[j - 1] = best, spread_left[j - 1] = static_cast<std::uint8_t>(best_k);
+  }
+  out->node_left = spread_left[kBvhWidth - 1];
+  out->node_right = static_cast<std::uint8_t>(kBvhWidth - out->node_left);
+  out->cost[0] = area + spread[kBvhWidth - 1], out->left[0] = out->right[0] = 0;
+  for (int i = 2; i <= kBvhWidth; ++i) {
+    if (spread[i - 1] < out->cost[i - 2]) {
+      out->cost[i - 1] = spread[i - 1];
+      out->left[i - 1] = spread_left[i - 1];
+      out->right[i - 1] = static_cast<std::uint8_t>(i - spread_left[i - 1]);
+    } else {
+      out->cost[i - 1] = out->cost[i - 2], out->left[i - 1] = out->left[i - 2], out->right[i - 1] = out->right[i - 2];
+    }
+  }
+}
 
 Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::span<const glm::vec3> c) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -373,13 +413,14 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
   }
   // The binary tree: at most 2n - 1 nodes
   std::vector<BinaryNode> binary(2 * refs.size());
-  Builder builder{refs, binary};
+  std::vector<CollapsePlan, DefaultInitAllocator<CollapsePlan>> plans(binary.size());
+  Builder builder{refs, binary, plans};
   const Range all = builder.bounds(0, static_cast<std::uint32_t>(refs.size()));
   bvh.lo = all.box.lo, bvh.hi = all.box.hi;
   const std::uint32_t root = builder.newNode();
   builder.build(root, all, 0);
   // Collapsed, depth first
-  Collapser collapser{binary, refs, a, b, c, bvh};
+  Collapser collapser{binary, plans, refs, a, b, c, bvh};
   bvh.nodes.reserve(builder.next_node.load() / 3 + 1);
   bvh.leaves.reserve(refs.size() / 2 + 1);
   bvh.root = collapser.collapse(root, 1);

@@ -3,7 +3,9 @@
 // hsr::RayScene). Built top down with the surface-area heuristic over binned centroids
 // (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"), then collapsed
 // to eight children per node so that one ray tests eight boxes at each step (Dammertz, Hanika &
-// Keller 2008; Embree's BVH8). Leaves hold up to four triangles side by side.
+// Keller 2008; Embree's BVH8), choosing which binary nodes become eight-wide ones by the least
+// summed area (Ylitie, Karras & Laine 2017's optimal collapse). Leaves hold up to four
+// triangles side by side.
 //
 // Guarantees: every triangle with finite vertices is in exactly one leaf; a ray that hits a
 // triangle reaches its leaf (the box test is conservative: its far distance is widened by
@@ -51,6 +53,26 @@ struct alignas(16) BvhTriangles4 {
   float a[3][4], b[3][4], c[3][4];  // [axis][lane]
   std::uint32_t triangle[4];        // the caller's triangle number, kBvhNoTriangle if unused
 };
+
+// How a binary subtree is best spread over up to kBvhWidth slots of the eight-wide node above
+// it: the optimal collapse of Ylitie, Karras & Laine 2017 ("Efficient incoherent ray traversal
+// on GPUs through compressed wide BVHs", section 4), for leaves the binary tree has already
+// made. A subtree given i slots either stands whole in one (a leaf, or an eight-wide node of
+// its own, whose cost is its area plus its children's best spread over eight slots) or gives
+// its left part k slots and its right part the rest. Leaves cost the same however the tree is
+// collapsed, so the cost is the SAH's node term alone: the summed area of the eight-wide nodes.
+// Greedy collapsing left a third of the nodes holding just two leaves, each a step of its own.
+struct CollapsePlan {
+  float cost[kBvhWidth];           // cost[i - 1]: the best with at most i slots
+  std::uint8_t left[kBvhWidth];    // its slots for the left part; 0: the subtree whole in one slot
+  std::uint8_t right[kBvhWidth];   // and for the right part
+  std::uint8_t node_left, node_right;  // an eight-wide node of this subtree: its children's spread
+  // (no initialisers: the plans are made in place, without a zero fill of the whole array)
+};
+
+// The plan of a subtree from its children's plans (a leaf: both null, area unused). Open to
+// the tests, which check it against every collapse of small random trees.
+void planCollapse(const CollapsePlan* left, const CollapsePlan* right, float area, CollapsePlan* out);
 
 struct BvhStats {
   std::uint64_t triangles = 0;  // in the tree (non-finite ones are left out)

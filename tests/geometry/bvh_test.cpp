@@ -232,6 +232,73 @@ TEST(Bvh, EveryTriangleInOneLeafInsideItsBoxes) {
   EXPECT_GT(bvh.stats.sah_cost, 0.0);
 }
 
+// The optimal collapse (Ylitie, Karras & Laine 2017): on random binary trees of up to 15
+// leaves with whole-number areas (sums exact in float), the plan's cost for the root equals the
+// least over every way of keeping some inner nodes as eight-wide ones (the root always kept,
+// each kept node's children, once the others are dissolved into it, at most eight): the
+// summed area of the kept nodes, found by trying them all.
+TEST(Bvh, CollapsePlanIsTheLeastOverEveryCollapse) {
+  struct Node {
+    int left = -1, right = -1;  // -1: a leaf
+    float area = 0;
+  };
+  detail::SplitMix64 rng(7);
+  int trees_with_choice = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    // A random shape: split a random leaf until there are `leaves`
+    const int leaves = 2 + static_cast<int>(rng.next() % 14);
+    std::vector<Node> tree(1);
+    std::vector<int> open{0};
+    while (static_cast<int>(open.size()) < leaves) {
+      const std::size_t pick = rng.next() % open.size();
+      const int n = open[pick];
+      tree[n].left = static_cast<int>(tree.size());
+      tree[n].right = static_cast<int>(tree.size()) + 1;
+      tree.resize(tree.size() + 2);
+      open[pick] = tree[n].left;
+      open.push_back(tree[n].right);
+    }
+    for (Node& n : tree) n.area = static_cast<float>(1 + rng.next() % 50);
+    // The plans, children first (children always follow their parent here)
+    std::vector<detail::CollapsePlan> plan(tree.size());
+    for (int n = static_cast<int>(tree.size()) - 1; n >= 0; --n) {
+      if (tree[n].left < 0) detail::planCollapse(nullptr, nullptr, 0.0f, &plan[n]);
+      else detail::planCollapse(&plan[tree[n].left], &plan[tree[n].right], tree[n].area, &plan[n]);
+    }
+    // Every choice of kept inner nodes below the root
+    std::vector<int> inner;
+    for (int n = 1; n < static_cast<int>(tree.size()); ++n)
+      if (tree[n].left >= 0) inner.push_back(n);
+    if (tree[0].left < 0) continue;
+    if (!inner.empty()) trees_with_choice++;
+    float best = INFINITY;
+    for (std::uint32_t keep = 0; keep < (1u << inner.size()); ++keep) {
+      std::vector<bool> kept(tree.size(), false);
+      kept[0] = true;
+      for (std::size_t i = 0; i < inner.size(); ++i) kept[inner[i]] = (keep >> i) & 1u;
+      // A kept node's children: its descendants reached through dissolved inner nodes
+      bool fits = true;
+      float cost = 0;
+      for (int n = 0; n < static_cast<int>(tree.size()); ++n) {
+        if (!kept[n] || tree[n].left < 0) continue;
+        cost += tree[n].area;
+        int children = 0;
+        std::vector<int> walk{tree[n].left, tree[n].right};
+        while (!walk.empty()) {
+          const int c = walk.back();
+          walk.pop_back();
+          if (tree[c].left < 0 || kept[c]) children++;
+          else walk.push_back(tree[c].left), walk.push_back(tree[c].right);
+        }
+        fits = fits && children <= detail::kBvhWidth;
+      }
+      if (fits) best = std::min(best, cost);
+    }
+    ASSERT_EQ(plan[0].cost[0], best) << "trial " << trial << ", " << leaves << " leaves";
+  }
+  EXPECT_GT(trees_with_choice, 300);
+}
+
 // The node test is conservative: every box the ray meets within [tmin, tmax], by a slab test in
 // double, is reported hit (the scalar test, in every build); and the SSE sibling gives the
 // scalar test's bits, the mask and the entry distances (in the SIMD build, where they differ).
