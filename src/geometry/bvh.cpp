@@ -53,12 +53,16 @@ struct Box {
 };
 
 // A node of the binary tree the SAH builds, before it is collapsed.
+// (No initialisers: the array has room for 2n nodes and the build writes each node it makes;
+// the rest is never touched, so never zero-filled or even mapped.)
 struct BinaryNode {
-  Box box;
-  std::uint32_t left = 0, right = 0;  // inner: children
-  std::uint32_t first = 0, count = 0;  // leaf: the PrimRefs [first, first + count)
-  bool leaf = false;
+  glm::vec3 lo, hi;      // its box
+  std::uint32_t left, right;   // inner: children
+  std::uint32_t first, count;  // leaf: the PrimRefs [first, first + count)
+  bool leaf;
+  Box box() const { return {lo, hi}; }
 };
+static_assert(std::is_trivially_default_constructible_v<BinaryNode>);
 
 // Per bin: the triangles whose centroid falls in it, and their boxes. A node of n triangles
 // uses min(n, kBins) bins (more bins than triangles find no better split), and only those
@@ -108,7 +112,7 @@ struct Range {
 
 struct Builder {
   std::vector<PrimRef>& refs;
-  std::vector<BinaryNode>& nodes;
+  std::vector<BinaryNode, DefaultInitAllocator<BinaryNode>>& nodes;
   std::vector<CollapsePlan, DefaultInitAllocator<CollapsePlan>>& plans;
   std::atomic<std::uint32_t> next_node{0};
   std::atomic<std::uint32_t> max_depth{0};
@@ -121,10 +125,11 @@ struct Builder {
     while (depth > seen && !max_depth.compare_exchange_weak(seen, depth)) {
     }
     BinaryNode& node = nodes[index];
-    node.box = r.box;
+    node.lo = r.box.lo, node.hi = r.box.hi;
     const std::uint32_t n = r.end - r.begin;
-    if (n <= kLeafSize) {
-      node.leaf = true, node.first = r.begin, node.count = n;
+    node.leaf = n <= kLeafSize;
+    if (node.leaf) {
+      node.first = r.begin, node.count = n;
       planCollapse(nullptr, nullptr, 0.0f, &plans[index]);
       return;
     }
@@ -276,7 +281,7 @@ struct Builder {
 
 // The binary tree collapsed to eight children per node, depth first.
 struct Collapser {
-  const std::vector<BinaryNode>& binary;
+  const std::vector<BinaryNode, DefaultInitAllocator<BinaryNode>>& binary;
   const std::vector<CollapsePlan, DefaultInitAllocator<CollapsePlan>>& plans;
   const std::vector<PrimRef>& refs;
   std::span<const glm::vec3> a, b, c;
@@ -307,7 +312,7 @@ struct Collapser {
         sorted.c[ax][i] = t.c[ax][order[i]];
       }
     }
-    sah += n.box.halfArea() * blocks(n.count);
+    sah += n.box().halfArea() * blocks(n.count);
     bvh.leaves.push_back(sorted);
     bvh.stats.leaves++;
     return BvhNode::kLeaf | static_cast<std::uint32_t>(bvh.leaves.size() - 1);
@@ -333,13 +338,13 @@ struct Collapser {
     int count = 0;
     rootsOf(n.left, plans[index].node_left, kids, &count);
     rootsOf(n.right, plans[index].node_right, kids, &count);
-    sah += n.box.halfArea();
+    sah += n.box().halfArea();
     const auto me = static_cast<std::uint32_t>(bvh.nodes.size());
     bvh.nodes.emplace_back();
     for (int i = 0; i < kBvhWidth; ++i) {
       BvhNode node = bvh.nodes[me];
       if (i < count) {
-        const Box& box = binary[kids[i]].box;
+        const Box box = binary[kids[i]].box();
         for (int ax = 0; ax < 3; ++ax) node.lo[ax][i] = box.lo[ax], node.hi[ax][i] = box.hi[ax];
       } else {
         for (int ax = 0; ax < 3; ++ax) node.lo[ax][i] = INFINITY, node.hi[ax][i] = -INFINITY;
@@ -412,7 +417,7 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
     return bvh;
   }
   // The binary tree: at most 2n - 1 nodes
-  std::vector<BinaryNode> binary(2 * refs.size());
+  std::vector<BinaryNode, DefaultInitAllocator<BinaryNode>> binary(2 * refs.size());
   std::vector<CollapsePlan, DefaultInitAllocator<CollapsePlan>> plans(binary.size());
   Builder builder{refs, binary, plans};
   const Range all = builder.bounds(0, static_cast<std::uint32_t>(refs.size()));
@@ -426,7 +431,7 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
   bvh.root = collapser.collapse(root, 1);
   bvh.stats.nodes = bvh.nodes.size();
   bvh.stats.depth = std::max<std::uint64_t>(collapser.depth, 1);
-  const float root_area = binary[root].box.halfArea();
+  const float root_area = binary[root].box().halfArea();
   bvh.stats.sah_cost = root_area > 0.0f ? collapser.sah / root_area : 0.0;
   bvh.stats.bytes = bvh.nodes.capacity() * sizeof(BvhNode) + bvh.leaves.capacity() * sizeof(BvhTriangles4);
   bvh.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
