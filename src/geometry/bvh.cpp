@@ -339,10 +339,8 @@ struct Collapser {
     rootsOf(n.left, plans[index].node_left, kids, &count);
     rootsOf(n.right, plans[index].node_right, kids, &count);
     sah += n.box().halfArea();
-    const auto me = static_cast<std::uint32_t>(bvh.nodes.size());
-    bvh.nodes.emplace_back();
+    BvhNode node{};
     for (int i = 0; i < kBvhWidth; ++i) {
-      BvhNode node = bvh.nodes[me];
       if (i < count) {
         const Box box = binary[kids[i]].box();
         for (int ax = 0; ax < 3; ++ax) node.lo[ax][i] = box.lo[ax], node.hi[ax][i] = box.hi[ax];
@@ -350,8 +348,9 @@ struct Collapser {
         for (int ax = 0; ax < 3; ++ax) node.lo[ax][i] = INFINITY, node.hi[ax][i] = -INFINITY;
         node.child[i] = BvhNode::kEmpty;
       }
-      bvh.nodes[me] = node;
     }
+    const auto me = static_cast<std::uint32_t>(bvh.nodes.size());
+    bvh.nodes.push_back(node);
     for (int i = 0; i < count; ++i) {
       const std::uint32_t ref = collapse(kids[i], level + 1);
       bvh.nodes[me].child[i] = ref;
