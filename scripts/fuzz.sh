@@ -10,6 +10,9 @@
 #   fuzz_obj_text                                  the web page's OBJ reader (hsr::parseObjText), drawn
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]
 #        scripts/fuzz.sh --merge [TARGET...]   minimise the working corpus into fuzz/corpus/
+# Targets run HSR_FUZZ_JOBS at a time (default: one per core); each has its own core and its
+# full SECONDS_PER_TARGET (a fuzzer is one process: two of them on two cores take the time one
+# took alone).
 # Each target starts from its committed corpus (fuzz/corpus/TARGET), the known-bug seeds of
 # its format (fuzz/seeds/*.EXT; fuzz/seeds/args/ and scene/ for the two others) and, for mesh
 # formats, Debian's assimp test models; what it finds goes to build-fuzz/corpus/TARGET (the
@@ -27,9 +30,12 @@ targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
 scripts/install-deps.sh
-echo "== libFuzzer build (clang, ASan+UBSan) =="
-CC=clang-14 CXX=clang++-14 scripts/build.sh build-fuzz -DHSR_BUILD_FUZZ=ON -DHSR_SANITIZE=ON \
-  -DHSR_BUILD_TESTS=OFF -DHSR_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+echo "== libFuzzer build (clang, ASan+UBSan): the fuzz targets alone =="
+generator=()
+if [ ! -f build-fuzz/CMakeCache.txt ] && command -v ninja >/dev/null; then generator=(-G Ninja); fi
+CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz "${generator[@]}" -DHSR_BUILD_FUZZ=ON -DHSR_SANITIZE=ON \
+  -DHSR_BUILD_TESTS=OFF -DHSR_BUILD_BENCH=OFF -DHSR_BUILD_PEERS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake --build build-fuzz -j"$(nproc)" --target "${all[@]}"
 
 # libassimp leaks inside its ASCII STL reader (not ours): suppressed for LSan only.
 # ASan's free-memory quarantine (256 MB by default) counts towards -rss_limit_mb=512; 64 MB
@@ -64,19 +70,25 @@ seed_dirs() {  # extra read-only seed directories for a target
 }
 
 status=0
-for t in "${targets[@]}"; do
-  mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" "fuzz/corpus/$t"
-  seeds=$(seed_dirs "$t")
-  if [ $merge -eq 1 ]; then
+if [ $merge -eq 1 ]; then
+  for t in "${targets[@]}"; do
+    mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" "fuzz/corpus/$t"
+    seed_dirs "$t" >/dev/null
     echo "== $t: minimising into fuzz/corpus/$t =="
     tmp=$(mktemp -d)
     "build-fuzz/$t" -merge=1 "${flags[@]}" $(target_flags "$t") -artifact_prefix="build-fuzz/artifacts/$t/" "$tmp" "fuzz/corpus/$t" "build-fuzz/corpus/$t" \
       > "build-fuzz/$t-merge.log" 2>&1
     rm -rf "fuzz/corpus/$t" && mv "$tmp" "fuzz/corpus/$t" && chmod 755 "fuzz/corpus/$t"
     echo "   $(ls "fuzz/corpus/$t" | wc -l) files, $(du -sh "fuzz/corpus/$t" | cut -f1)"
-    continue
-  fi
-  echo "== $t: ${seconds} s =="
+  done
+  exit 0
+fi
+
+# One target for `seconds`: its line in build-fuzz/fuzz-log.tsv, and its finding if any
+run_target() {
+  local t=$1 seeds log start rc cpu wall execs cov corp result
+  mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" "fuzz/corpus/$t"
+  seeds=$(seed_dirs "$t")
   log=build-fuzz/$t.log
   start=$(date +%s)
   rc=0
@@ -94,11 +106,27 @@ for t in "${targets[@]}"; do
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}' || true)
   corp=$(ls "build-fuzz/corpus/$t" | wc -l)
   result=ok
-  [ "$rc" -ne 0 ] && result="FINDING (exit $rc)" && status=1
+  [ "$rc" -ne 0 ] && result="FINDING (exit $rc)"
+  echo "$result" > "build-fuzz/$t.result"
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$t" "$wall" "${cpu:-?}" "${execs:-?}" "${cov:-?}" "$corp" "$result" \
     | tee -a build-fuzz/fuzz-log.tsv
   if [ "$rc" -ne 0 ]; then
     grep -E "ERROR|SUMMARY|Test unit written|==[0-9]+==" "$log" | head -20 || true
+    return 1
   fi
+}
+
+jobs_max=${HSR_FUZZ_JOBS:-$(nproc)}
+echo "== ${#targets[@]} targets, ${seconds} s each, ${jobs_max} at a time =="
+echo "target	seconds	cpu_s	executions	coverage	corpus	result"
+for t in "${targets[@]}"; do
+  rm -f "build-fuzz/$t.result"
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs_max" ]; do wait -n || true; done
+  run_target "$t" &
+done
+wait || true
+# Each target's result from its own file: a job's exit status can be reaped before it is asked
+for t in "${targets[@]}"; do
+  [ "$(cat "build-fuzz/$t.result" 2>/dev/null)" = ok ] || { echo "fuzz: $t: $(cat "build-fuzz/$t.result" 2>/dev/null || echo 'no result')"; status=1; }
 done
 exit $status

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hsr builds, tests and benchmarks with. Idempotent.
 set -euo pipefail
-pkgs=(build-essential cmake pkg-config
+pkgs=(build-essential cmake ninja-build pkg-config
       libglm-dev libgmp-dev libassimp-dev zlib1g-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtbb-dev libstb-dev libspng-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       libosmesa6-dev libembree-dev libcgal-dev libpolyclipping-dev libboost-dev assimp-testmodels

@@ -1,25 +1,58 @@
 #!/usr/bin/env bash
-# Install, build and pass every test: the Release suite (SIMD span path), the web page's tests
-# (scripts/test-web.sh: its WebAssembly build against the native one), the same suite under
-# ASan+UBSan built with HSR_NO_SIMD (the scalar span path), then every libFuzzer target for
-# HSR_FUZZ_SECONDS (default 3; 60 before the ray caster's suites lengthened the sanitizer leg, 30 before
-# the A-buffer's, 20 before CI neared 45 minutes, 15 before Roberts joined every suite, 10 before
-# the hidden-line drawings' sources and tests, 5 before Open CASCADE's peer and the line drawings'
-# race joined the builds) each.
-# HSR_TEST_INTENSITY: 1 (default, CI) or 3 for long local runs.
+# Install, build and pass every test; this is what CI runs (.ci/run). The legs, in order:
+#   1. Release (GCC, link-time optimisation, SIMD span path): the library, the CLI, the Python
+#      module, both test programs (hsr's own tests, and the peer-agreement tests against Mesa,
+#      Embree, Open CASCADE, CGAL and ZDBSP) and the benchmarks' sources (compiled, not linked:
+#      HSR_BENCH_LINK=OFF); then every test under CTest, two at a time.
+#   2. The web page (scripts/test-web.sh): its WebAssembly build against the native one, under
+#      node and in headless Chromium.
+#   3. ASan+UBSan (GCC at -O1, HSR_NO_SIMD: the scalar span path): hsr's own tests again. The
+#      peers are other people's code and are checked once, in leg 1.
+#   4. libFuzzer (clang, ASan+UBSan): every target for HSR_FUZZ_SECONDS (default 30) from the
+#      committed corpus, one per core at a time.
+# Every leg's time goes to build/ci-times.tsv and is printed at the end (docs/testing.md keeps
+# the table). HSR_TEST_INTENSITY: 1 (default, CI) or 3 for long local runs.
+# Usage: scripts/test.sh            every leg (what CI runs)
+#        scripts/test.sh --quick    leg 1 alone, for a contributor between changes (a few minutes
+#                                   once built); not what CI runs
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export HSR_TEST_INTENSITY=${HSR_TEST_INTENSITY:-1}
-scripts/install-deps.sh
-echo "== Release build and tests =="
+fuzz_seconds=${HSR_FUZZ_SECONDS:-30}
+quick=0
+case "${1:-}" in
+  --quick) quick=1 ;;
+  "") ;;
+  *) echo "usage: scripts/test.sh [--quick]" >&2; exit 2 ;;
+esac
+times=$(mktemp)
+trap 'rm -f "$times"' EXIT
+t0=$(date +%s)
+stage() {  # stage NAME COMMAND...: runs it, records its seconds
+  local name=$1 start
+  shift
+  echo "== $name =="
+  start=$(date +%s)
+  "$@"
+  printf '%s\t%s\n' "$name" "$(( $(date +%s) - start ))" | tee -a "$times"
+}
+ctest_run() {  # ctest_run DIR [extra ctest args]
+  local dir=$1
+  shift
+  ctest --test-dir "$dir" --output-on-failure --no-tests=error -j"$(nproc)" "$@"
+}
+
+stage "install the Debian packages" scripts/install-deps.sh
 # Options stated, not inherited: a build/ left by scripts/demo.sh has the tests switched off
-scripts/build.sh build -DHSR_BUILD_TESTS=ON -DHSR_BUILD_BENCH=ON
-ctest --test-dir build --output-on-failure --no-tests=error -j2
-echo "== The web page: WebAssembly against the native build, under node and in Chromium =="
-scripts/test-web.sh build/hsr
-echo "== ASan+UBSan build and tests, scalar span path (HSR_NO_SIMD) =="
-scripts/build.sh build-asan -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON -DHSR_BUILD_BENCH=OFF \
-  -DHSR_NO_SIMD=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
+stage "Release build" scripts/build.sh build -DHSR_BUILD_TESTS=ON -DHSR_BUILD_BENCH=ON -DHSR_BENCH_LINK=OFF
+stage "Release tests" ctest_run build
+if [ $quick -eq 1 ]; then
+  echo "== quick: the Release suite passed (CI also runs the web page, ASan+UBSan and the fuzzers) =="
+  exit 0
+fi
+stage "web page: build and tests" scripts/test-web.sh build/hsr
+stage "ASan+UBSan build" scripts/build.sh build-asan -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON \
+  -DHSR_BUILD_BENCH=OFF -DHSR_NO_SIMD=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
 # Mesa's own allocations are not ours to track: leak checking stays off for the oracle.
 # clang 14's ASan does not hold its allocator's lock across fork(): a model import forked
 # while a oneTBB worker of the previous render is freeing memory can leave the child waiting
@@ -27,6 +60,10 @@ scripts/build.sh build-asan -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON -DHSR_BUILD_B
 # then passing 40 times in a row). A test that fails is run once more; one that fails twice
 # fails the run.
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 --repeat until-pass:2
-echo "== libFuzzer: ${HSR_FUZZ_SECONDS:-3} s per target from the committed corpus =="
-scripts/fuzz.sh "${HSR_FUZZ_SECONDS:-3}"
+  stage "ASan+UBSan tests" ctest_run build-asan --repeat until-pass:2
+stage "libFuzzer: build and ${fuzz_seconds} s per target" scripts/fuzz.sh "$fuzz_seconds"
+
+mkdir -p build
+{ cat "$times"; printf 'total\t%s\n' "$(( $(date +%s) - t0 ))"; } > build/ci-times.tsv
+echo "== time per leg (seconds) =="
+column -t -s $'\t' build/ci-times.tsv

@@ -251,13 +251,9 @@ TEST_P(ConformanceRaster, FixedCasesBitExact) {
 // random winding. Triangles of one size are batched into disjoint square cells of the 256x256
 // image (a cell of side C >= 2^k holds one triangle; pixel centres never lie on cell borders,
 // so no two triangles can share a pixel).
-// Under the sanitizers half of them (the largest size alone renders a frame per triangle);
-// Release compares all 10,000.
-#ifdef HSR_SANITIZER_BUILD
-constexpr int kRandomTriangles = 5000;
-#else
-constexpr int kRandomTriangles = 10000;
-#endif
+// In the sanitizer leg's tier (testing::legCases) a quarter of them (the largest size alone
+// renders a frame per triangle); Release compares all 10,000.
+const int kRandomTriangles = testing::legCases(10000, 4);
 
 TEST_P(ConformanceRaster, RandomTrianglesBitExact) {
   const std::uint64_t seed = 0x5EED0003ull;

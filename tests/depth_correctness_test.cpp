@@ -297,16 +297,15 @@ Scene interpenetratingPair(std::uint64_t seed) {
   return s;
 }
 
-TEST(DepthCorrectness, InterpenetratingPairsNeverShowTheFarSurface) {
-  const int pairs = 1000 * testing::countScale();
-  std::vector<const AlgorithmInfo*> algos = testing::algorithmsWith("DepthCorrectness.Interpenetrating", 0);
-  ASSERT_FALSE(algos.empty());
-  struct Tally {
-    std::uint64_t far_shown = 0, mismatches = 0;
-    int reported = 0;
-  };
-  std::vector<Tally> tally(algos.size());
-  // What the reference decides is the same for every algorithm: computed once per pair.
+// One test per algorithm (InterpenetratingPairs.NeverShowTheFarSurface/ALGORITHM), so that CTest
+// runs them side by side; each computes the reference of every pair itself.
+class InterpenetratingPairs : public testing::EveryAlgorithm {};
+
+TEST_P(InterpenetratingPairs, NeverShowTheFarSurface) {
+  // A quarter of them in the sanitizer leg's tier (testing::legCases)
+  const int pairs = testing::legCases(1000 * testing::countScale(), 4);
+  const AlgorithmInfo& algo = findAlgorithm(GetParam());
+  std::uint64_t far_shown = 0, mismatches = 0;
   std::uint64_t both = 0, both_unambiguous = 0, pairs_with_both = 0;
   std::vector<std::uint8_t> covered_by_both(std::size_t(kSize) * kSize);
   for (int i = 0; i < pairs; ++i) {
@@ -334,45 +333,40 @@ TEST(DepthCorrectness, InterpenetratingPairsNeverShowTheFarSurface) {
         both_unambiguous += covered_by_both[k] && !ref.ambiguous[k];
       }
     pairs_with_both += any_both;
-    for (std::size_t a = 0; a < algos.size(); ++a) {
-      SCOPED_TRACE("algorithm " + std::string(algos[a]->name));
-      Tally& t = tally[a];
-      RenderOptions o;
-      o.algorithm = std::string(algos[a]->name);
-      o.threads = 1 + static_cast<int>(seed % 2);
-      const Frame f = render(scene, camera, o);
-      ASSERT_EQ(f.ids.size(), ref.ids.size());
-      int reported = 0;
-      for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
-          const std::size_t k = ref.index(x, y);
-          if (ref.ambiguous[k] || f.ids[k] == ref.ids[k]) continue;
-          t.mismatches++;
-          t.far_shown += covered_by_both[k] && f.ids[k] == 1 - ref.ids[k];
-          if (reported++ < 3 && t.mismatches <= 40) {
-            const double cx = x + 0.5, cy = y + 0.5;
-            ADD_FAILURE() << "unambiguous pixel (" << x << ", " << y << ") [y up]: expected "
-                          << static_cast<int>(ref.ids[k]) << " (ref z0 " << tri[0].depthAt(cx, cy)
-                          << ", z1 " << tri[1].depthAt(cx, cy) << "), got "
-                          << static_cast<int>(f.ids[k]) << " at depth " << f.depth[k];
-          }
+    RenderOptions o;
+    o.algorithm = std::string(algo.name);
+    o.threads = 1 + static_cast<int>(seed % 2);
+    const Frame f = render(scene, camera, o);
+    ASSERT_EQ(f.ids.size(), ref.ids.size());
+    int reported = 0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        const std::size_t k = ref.index(x, y);
+        if (ref.ambiguous[k] || f.ids[k] == ref.ids[k]) continue;
+        mismatches++;
+        far_shown += covered_by_both[k] && f.ids[k] == 1 - ref.ids[k];
+        if (reported++ < 3 && mismatches <= 40) {
+          const double cx = x + 0.5, cy = y + 0.5;
+          ADD_FAILURE() << "unambiguous pixel (" << x << ", " << y << ") [y up]: expected "
+                        << static_cast<int>(ref.ids[k]) << " (ref z0 " << tri[0].depthAt(cx, cy)
+                        << ", z1 " << tri[1].depthAt(cx, cy) << "), got "
+                        << static_cast<int>(f.ids[k]) << " at depth " << f.depth[k];
         }
-    }
+      }
   }
   EXPECT_GT(both_unambiguous, both / 2) << "too few decidable overlap pixels to prove anything";
-  for (std::size_t a = 0; a < algos.size(); ++a) {
-    const Tally& t = tally[a];
-    EXPECT_EQ(t.mismatches, 0u) << algos[a]->name;
-    EXPECT_EQ(t.far_shown, 0u) << algos[a]->name;
-    testing::printFigures("row 5 " + std::string(algos[a]->name) + " (interpenetrating pairs): " +
-                          testing::grouped(pairs) + " pairs (" + testing::grouped(pairs_with_both) +
-                          " overlapping on screen), " + testing::grouped(both) +
-                          " pixels covered by both, " + testing::grouped(both_unambiguous) +
-                          " of them unambiguous, " + testing::grouped(t.far_shown) +
-                          " show the far surface; " + testing::grouped(t.mismatches) +
-                          " unambiguous mismatches in all");
-  }
+  EXPECT_EQ(mismatches, 0u);
+  EXPECT_EQ(far_shown, 0u);
+  testing::printFigures("row 5 " + std::string(algo.name) + " (interpenetrating pairs): " +
+                        testing::grouped(pairs) + " pairs (" + testing::grouped(pairs_with_both) +
+                        " overlapping on screen), " + testing::grouped(both) +
+                        " pixels covered by both, " + testing::grouped(both_unambiguous) +
+                        " of them unambiguous, " + testing::grouped(far_shown) +
+                        " show the far surface; " + testing::grouped(mismatches) +
+                        " unambiguous mismatches in all");
 }
+
+HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(InterpenetratingPairs);
 
 }  // namespace
 }  // namespace hsr

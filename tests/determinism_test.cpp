@@ -81,14 +81,10 @@ Scene uvSphere(glm::vec3 centre, int segments) {
   return s;
 }
 
-// Row-4 scenes: twenty, and six under the sanitizers (which run the same code six times
-// slower; the built-in scenes, the models and the sphere are all kept). Six since the line
-// drawings' race against Open CASCADE joined the builds (CI neared 45 minutes again).
-#ifdef HSR_SANITIZER_BUILD
-constexpr int kRandomScenes = 6;
-#else
-constexpr int kRandomScenes = 20;
-#endif
+// Row-4 scenes: twenty, and two in the sanitizer leg's tier (testing::legCases), where row 9's
+// sphere also has half the rings and segments; the built-in scenes and the models are all kept.
+const int kRandomScenes = testing::legCases(20, 10);
+const int kSphereSegments = testing::legCases(200, 2);
 
 std::vector<NamedScene> determinismScenes() {
   std::vector<NamedScene> out;
@@ -113,9 +109,9 @@ std::vector<NamedScene> determinismScenes() {
     const Camera c = frameScene(s, kW, kH);
     out.push_back({f, std::move(s), c});
   }
-  Scene sphere = uvSphere({148376.0f, 1234.0f, -223423.0f}, 200);
+  Scene sphere = uvSphere({148376.0f, 1234.0f, -223423.0f}, kSphereSegments);
   const Camera c = frameBounds(sphere.bounds(), kW, kH);
-  out.push_back({"uv sphere 200x200 at (148376, 1234, -223423)", std::move(sphere), c});
+  out.push_back({"uv sphere " + std::to_string(kSphereSegments) + "x" + std::to_string(kSphereSegments) + " at (148376, 1234, -223423)", std::move(sphere), c});
   return out;
 }
 
@@ -128,7 +124,12 @@ constexpr int kRunsPerThreadCount = 2;
 constexpr int kRunsPerThreadCount = 3;
 #endif
 
-TEST(Determinism, SixRendersAtOneAndTwoThreadsHashTheSame) {
+// One test per algorithm (Determinism.SixRendersAtOneAndTwoThreadsHashTheSame/ALGORITHM), so that
+// CTest runs them side by side: as one test over every algorithm it was the longest of the suite
+// (81 s in Release, 304 s under the sanitizers) and ran alone at the end.
+class Determinism : public testing::EveryAlgorithm {};
+
+TEST_P(Determinism, SixRendersAtOneAndTwoThreadsHashTheSame) {
   const std::vector<NamedScene> scenes = determinismScenes();
   ASSERT_GE(scenes.size(), static_cast<std::size_t>(kRandomScenes) + 6);
   struct OptionSet {
@@ -140,8 +141,8 @@ TEST(Determinism, SixRendersAtOneAndTwoThreadsHashTheSame) {
                             {"outline", true, CullMode::None},
                             {"cull back", false, CullMode::Back}};
   // Outlines need the capability; the other option sets apply to every algorithm.
-  for (const AlgorithmInfo* ap : testing::algorithmsWith("Determinism", kOutline)) {
-    const AlgorithmInfo& algo = *ap;
+  {
+    const AlgorithmInfo& algo = findAlgorithm(GetParam());
     SCOPED_TRACE("algorithm " + std::string(algo.name));
     std::uint64_t renders = 0, differing = 0, models = 0, triangles = 0;
     Frame reused;  // lives across scenes and option sets: its kept memory must not matter
@@ -192,6 +193,8 @@ TEST(Determinism, SixRendersAtOneAndTwoThreadsHashTheSame) {
                           " with a differing hash");
   }
 }
+
+HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(Determinism, kOutline);
 
 }  // namespace
 }  // namespace hsr

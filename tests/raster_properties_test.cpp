@@ -112,7 +112,7 @@ class RasterProperties : public testing::EveryAlgorithm {};
 TEST_P(RasterProperties, FanCoversEachPixelOnce) {
   const int size = 1000;
   const Camera cam = pixelCamera(size, size);
-  const int seeds = 10 * testing::countScale();
+  const int seeds = testing::legCases(10 * testing::countScale(), 2);  // half in the sanitizer leg
   for (int seed = 1; seed <= seeds; ++seed) {
     SCOPED_TRACE("fan seed " + std::to_string(seed));
     Rng rng(static_cast<std::uint64_t>(seed));
@@ -145,7 +145,7 @@ TEST_P(RasterProperties, FanCoversEachPixelOnce) {
 TEST_P(RasterProperties, ClippedFanCoversViewportOnce) {
   const int size = 1000;
   const Camera cam = pixelCamera(size, size);
-  const int seeds = 10 * testing::countScale();
+  const int seeds = testing::legCases(10 * testing::countScale(), 2);  // half in the sanitizer leg
   for (int seed = 1; seed <= seeds; ++seed) {
     SCOPED_TRACE("clipped fan seed " + std::to_string(seed));
     Rng rng(static_cast<std::uint64_t>(1000 + seed));

@@ -76,6 +76,19 @@ inline int countScale() {
   return static_cast<int>(std::lround(std::pow(10.0, (testIntensity() - 1) / 2.0)));
 }
 
+// The sanitizer leg's size tier (docs/testing.md, "Running the tests"). The sanitizers look for
+// memory errors and undefined behaviour on every path a property takes, not for more cases, and
+// run hsr's code 4 to 20 times slower: there a property of many alike cases runs 1/`share` of
+// them (at least one); Release runs them all. Every property still runs in both legs.
+inline int legCases(int cases, int share) {
+#ifdef HSR_SANITIZER_BUILD
+  return cases / share > 1 ? cases / share : 1;
+#else
+  (void)share;
+  return cases;
+#endif
+}
+
 // Tests of one suite that ran so far, and how many of them passed: for the "[ figures ]"
 // lines that the README's Reliability table quotes.
 struct SuiteTally {

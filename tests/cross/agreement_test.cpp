@@ -90,12 +90,15 @@ void compareWithReference(const Scene& scene, const Camera& camera, const Frame&
       << "seed " << seed << ": " << differ << " ambiguous pixels differ";
 }
 
-TEST(Agreement, EveryAlgorithmMatchesTheReferenceZBuffer) {
-  const int scenes = 200 * testing::countScale();
-  std::vector<AlgorithmInfo> algos;
-  for (const AlgorithmInfo* a : testing::algorithmsWith("Agreement", 0)) algos.push_back(*a);
-  ASSERT_FALSE(algos.empty());
-  std::vector<Tally> tally(algos.size());
+// One test per algorithm (Agreement.MatchesTheReferenceZBuffer/ALGORITHM), so that CTest runs
+// them side by side; each computes the reference of every scene itself.
+class Agreement : public testing::EveryAlgorithm {};
+
+TEST_P(Agreement, MatchesTheReferenceZBuffer) {
+  // A third of them in the sanitizer leg's tier (testing::legCases)
+  const int scenes = testing::legCases(200 * testing::countScale(), 3);
+  const AlgorithmInfo& algo = findAlgorithm(GetParam());
+  Tally t;
   for (int i = 0; i < scenes; ++i) {
     const std::uint64_t seed = kFirstSeed + static_cast<std::uint64_t>(i);
     SCOPED_TRACE("agreementScene(" + std::to_string(seed) + ")");
@@ -105,35 +108,31 @@ TEST(Agreement, EveryAlgorithmMatchesTheReferenceZBuffer) {
     ASSERT_LE(scene.triangleCount(), 500u);
     const ReferenceFrame ref = testing::referenceZBuffer(scene, camera);
     ASSERT_TRUE(ref.valid) << ref.problem;
-    for (std::size_t a = 0; a < algos.size(); ++a) {
-      SCOPED_TRACE("algorithm " + std::string(algos[a].name));
-      RenderOptions o;
-      o.algorithm = std::string(algos[a].name);
-      o.cull = CullMode::None;
-      o.threads = 1 + static_cast<int>(seed % 2);
-      const Frame frame = render(scene, camera, o);
-      compareWithReference(scene, camera, frame, ref, seed, tally[a]);
-    }
+    RenderOptions o;
+    o.algorithm = std::string(algo.name);
+    o.cull = CullMode::None;
+    o.threads = 1 + static_cast<int>(seed % 2);
+    const Frame frame = render(scene, camera, o);
+    compareWithReference(scene, camera, frame, ref, seed, t);
   }
-  for (std::size_t a = 0; a < algos.size(); ++a) {
-    const Tally& t = tally[a];
-    // The reference must leave most pixels decidable, or the test proves little.
-    EXPECT_GT(t.unambiguous, t.pixels / 2) << algos[a].name;
-    testing::printFigures(
-        "row 4 " + std::string(algos[a].name) + ": " + testing::grouped(t.scenes) + " scenes (" +
-        testing::grouped(t.triangles) + " triangles), " + testing::grouped(t.pixels) + " pixels, " +
-        testing::grouped(t.unambiguous) + " unambiguous, " + testing::grouped(t.mismatches) +
-        " mismatches; " + testing::grouped(t.ambiguous) + " ambiguous, " +
-        testing::grouped(t.ambiguous_differ) + " differ (" +
-        testing::percent(t.ambiguous_differ, t.pixels) + " of pixels)");
-    std::printf("  ambiguous differences by reason: edge %s, depth tie %s, intersection %s; "
-                "worst scene: seed %llu, %s px (%s)\n",
-                testing::grouped(t.differ_edge).c_str(), testing::grouped(t.differ_tie).c_str(),
-                testing::grouped(t.differ_intersection).c_str(),
-                static_cast<unsigned long long>(t.worst_seed), testing::grouped(t.worst_differ).c_str(),
-                testing::percent(t.worst_differ, t.scenes ? t.pixels / t.scenes : 0).c_str());
-  }
+  // The reference must leave most pixels decidable, or the test proves little.
+  EXPECT_GT(t.unambiguous, t.pixels / 2);
+  testing::printFigures(
+      "row 4 " + std::string(algo.name) + ": " + testing::grouped(t.scenes) + " scenes (" +
+      testing::grouped(t.triangles) + " triangles), " + testing::grouped(t.pixels) + " pixels, " +
+      testing::grouped(t.unambiguous) + " unambiguous, " + testing::grouped(t.mismatches) +
+      " mismatches; " + testing::grouped(t.ambiguous) + " ambiguous, " +
+      testing::grouped(t.ambiguous_differ) + " differ (" +
+      testing::percent(t.ambiguous_differ, t.pixels) + " of pixels)");
+  std::printf("  ambiguous differences by reason: edge %s, depth tie %s, intersection %s; "
+              "worst scene: seed %llu, %s px (%s)\n",
+              testing::grouped(t.differ_edge).c_str(), testing::grouped(t.differ_tie).c_str(),
+              testing::grouped(t.differ_intersection).c_str(),
+              static_cast<unsigned long long>(t.worst_seed), testing::grouped(t.worst_differ).c_str(),
+              testing::percent(t.worst_differ, t.scenes ? t.pixels / t.scenes : 0).c_str());
 }
+
+HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(Agreement);
 
 }  // namespace
 }  // namespace hsr

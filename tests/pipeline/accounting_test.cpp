@@ -50,7 +50,7 @@ TEST(Accounting, SpheresMillionAt1080pAddsUp) {
 // Random scenes through every mode; half of them seen from inside (near-plane clipping, parts
 // behind the eye), some objects outside the view, degenerate and non-planar polygons.
 TEST(Accounting, EveryModeAndCameraAddsUp) {
-  const int scenes = 60 * testing::countScale();
+  const int scenes = testing::legCases(60 * testing::countScale(), 2);  // half in the sanitizer leg
   std::uint64_t checked = 0, added = 0;
   for (int i = 0; i < scenes; ++i) {
     const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(i);
