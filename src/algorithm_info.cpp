@@ -72,6 +72,7 @@ std::string capabilityList(std::uint32_t caps) {
       {kDrawOver, "draw-over"},
       {kBackToFront, "back-to-front"},
       {kAntialiasing, "antialiasing"},
+      {kTieRule, "tie-rule"},
   };
   std::string names;
   for (const auto& [cap, name] : kNames)

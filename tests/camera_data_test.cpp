@@ -321,6 +321,69 @@ TEST(CameraData, ObjectsMaterialsAndNormalsPerPixel) {
   EXPECT_THROW(normalSpaceNamed("tangent"), Error);
 }
 
+// normals.npy faces the eye: at every drawn pixel, the normal n and the point p the pixel shows
+// (its window depth unprojected) satisfy n . (eye - p) >= 0 (in eye space, n . (-p) >= 0; under
+// an orthographic camera, n . (eye - target) >= 0), in world and eye space, seen from outside the
+// solids and from inside one of them (where every face seen is wound away from the eye).
+TEST(CameraData, NormalsFaceTheEyeFromOutsideAndFromInside) {
+  const Scene s = makeBuiltinScene("solids");
+  // The centroid of object 0's vertices: inside that convex solid
+  glm::dvec3 inside(0.0);
+  const Object& first = s.objects.at(0);
+  for (std::uint32_t v = 0; v < first.vertex_count; ++v) inside += glm::dvec3(s.position(first.first_vertex + v));
+  inside /= double(first.vertex_count);
+  struct View {
+    const char* name;
+    Camera camera;
+  };
+  std::vector<View> views;
+  views.push_back({"outside, perspective", frameScene(s, 160, 120)});
+  Camera ortho = frameScene(s, 160, 120);
+  ortho.ortho = true;
+  ortho.ortho_half_height = orthoHalfHeightFor(ortho, s.bounds());
+  views.push_back({"outside, orthographic", ortho});
+  Camera in = frameScene(s, 160, 120);
+  in.eye = glm::vec3(inside);
+  in.target = glm::vec3(inside) + glm::vec3(0.3f, -0.2f, -1.0f);
+  in.near = 1e-3f;
+  in.fov_deg = 100.0f;
+  views.push_back({"inside object 0, perspective", in});
+  for (const View& view : views) {
+    SCOPED_TRACE(view.name);
+    const Camera& c = view.camera;
+    const Frame f = render(s, c);
+    const glm::dmat4 view_m(c.view()), clip_from_world = glm::dmat4(c.projection()) * view_m;
+    const glm::dmat4 world_from_clip = glm::inverse(clip_from_world);
+    const glm::dvec3 eye(c.eye), toward_eye = glm::normalize(glm::dvec3(c.eye - c.target));
+    for (NormalSpace space : {NormalSpace::kWorld, NormalSpace::kEye}) {
+      const std::vector<float> n = normalsAt(f, s, c, space);
+      std::size_t drawn = 0, away = 0;
+      double worst = 1.0;
+      for (int row = 0; row < f.height; ++row)
+        for (int x = 0; x < f.width; ++x) {
+          const std::size_t k = std::size_t(row) * f.width + x;
+          if (f.ids[k] == kNoPolygon) continue;
+          ++drawn;
+          const double y = f.height - 1 - row;  // GL window y, up
+          const glm::dvec4 ndc(2.0 * (x + 0.5) / f.width - 1.0, 2.0 * (y + 0.5) / f.height - 1.0,
+                               2.0 * f.depth[k] - 1.0, 1.0);
+          glm::dvec4 pw = world_from_clip * ndc;
+          const glm::dvec3 p = glm::dvec3(pw) / pw.w;
+          glm::dvec3 to_eye = c.ortho ? toward_eye : glm::normalize(eye - p);
+          if (space == NormalSpace::kEye) to_eye = glm::dmat3(view_m) * to_eye;  // a direction
+          const glm::dvec3 normal(n[3 * k], n[3 * k + 1], n[3 * k + 2]);
+          ASSERT_NEAR(glm::length(normal), 1.0, 1e-5) << "pixel " << k;
+          const double facing = glm::dot(normal, to_eye);
+          worst = std::min(worst, facing);
+          // Seen nearly edge-on the unprojected point is only as good as the float depth
+          away += facing < -1e-4;
+        }
+      EXPECT_GT(drawn, 1000u);
+      EXPECT_EQ(away, 0u) << "pixels whose normal points away from the eye; worst cosine " << worst;
+    }
+  }
+}
+
 // A Z-up model (CAD, Blender) framed with --up 0,0,1 is seen from its front three-quarter,
 // from above, keeping z up; y up frames as it always did.
 TEST(CameraData, FramingFollowsTheGivenUpAxis) {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <zlib.h>
 #include <glm/geometric.hpp>
 
 #include "cross/compare_with_zbuffer.hpp"
@@ -585,6 +586,175 @@ TEST(LineDrawing, FilledVisibleSetShowsTheZBuffersColours) {
   testing::printFigures("filled visible set vs z-buffer colours: " + grouped(same) + " of " +
                         grouped(inner) + " pixels inside a polygon agree (" + share(same, inner) +
                         ")");
+}
+
+// Line visibility at its tolerance: a line lying on an occluding polygon's plane is not hidden
+// by it (a line on a triangle's own plane, such as its edge, must stay visible), while the same
+// line moved a little behind the plane (1e-3 of a unit, seen from some 5 units: a window depth
+// difference about twenty times the tolerance) is hidden whole. The line: the foot of a
+// triangle standing on a square floor (another object); 40 such scenes, each turned by a random
+// rotation and seen in perspective from a random eye above the floor, so that the floor's plane
+// is tilted in the window and its depth rounds differently at every corner.
+TEST(LineDrawing, ALineOnAnOccludersPlaneIsVisibleAndALittleBehindItHidden) {
+  testing::Rng rng(52);
+  double worst_on = 0, least_behind = 1e300;
+  int cases = 0;
+  for (int i = 0; i < 40; ++i) {
+    SCOPED_TRACE("case " + std::to_string(i));
+    // A random rotation (normalised random quaternion) applied to everything
+    const glm::dvec4 q = glm::normalize(glm::dvec4(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1),
+                                                   rng.uniform(-1, 1)));
+    const auto turn = [&](glm::dvec3 p) {
+      const glm::dvec3 u(q.x, q.y, q.z);
+      return p + 2.0 * glm::cross(u, glm::cross(u, p) + q.w * p);
+    };
+    const glm::dvec3 f0(rng.uniform(-0.9f, -0.3f), 0, rng.uniform(-0.5f, 0.5f));
+    const glm::dvec3 f1(rng.uniform(0.3f, 0.9f), 0, rng.uniform(-0.5f, 0.5f));
+    const glm::dvec3 apex(rng.uniform(-0.2f, 0.2f), rng.uniform(0.5f, 1.2f), rng.uniform(-0.2f, 0.2f));
+    const auto scene = [&](double behind) {
+      Scene s;
+      const std::uint32_t m = s.addMaterial({});
+      s.beginObject("floor");
+      std::vector<glm::vec3> floor;
+      for (const glm::dvec3 p : {glm::dvec3(-2, 0, -2), glm::dvec3(2, 0, -2), glm::dvec3(2, 0, 2), glm::dvec3(-2, 0, 2)})
+        floor.push_back(glm::vec3(turn(p)));
+      s.addPolygonVertices(floor, m);
+      s.beginObject("fin");
+      const glm::dvec3 down(0, -behind, 0);
+      s.addPolygonVertices({glm::vec3(turn(f0 + down)), glm::vec3(turn(f1 + down)), glm::vec3(turn(apex))}, m);
+      return s;
+    };
+    Camera c;
+    const double azimuth = rng.uniform(0, 6.2831853f), elevation = rng.uniform(0.35f, 1.2f);
+    c.eye = glm::vec3(turn(5.0 * glm::dvec3(std::cos(elevation) * std::cos(azimuth), std::sin(elevation),
+                                             std::cos(elevation) * std::sin(azimuth))));
+    c.target = glm::vec3(turn(glm::dvec3(0, 0.2, 0)));
+    c.up = glm::vec3(turn(glm::dvec3(0, 1, 0)));
+    c.width = 400, c.height = 300, c.near = 0.5f, c.far = 20.0f;
+    // The foot in the drawing's coordinates (window pixels, y down, pixel centres at integers)
+    const glm::dmat4 clip_from_world = glm::dmat4(c.projection()) * glm::dmat4(c.view());
+    const auto window = [&](glm::dvec3 p) {
+      const glm::dvec4 h = clip_from_world * glm::dvec4(turn(p), 1.0);
+      return glm::dvec2((h.x / h.w + 1) * 0.5 * c.width - 0.5, (1 - h.y / h.w) * 0.5 * c.height - 0.5);
+    };
+    const double foot = glm::length(window(f1) - window(f0));
+    if (foot < 20.0) continue;  // seen too end-on to measure
+    ++cases;
+    // The length of a layer's strokes that runs along the foot, `behind` below the floor
+    // (within 0.05 px of it); the rest of the drawing (the fin hides part of the floor's
+    // edges) is not the question here
+    const auto alongFoot = [&](const std::vector<LineStroke>& strokes, double behind) {
+      const glm::dvec2 p0 = window(f0 - glm::dvec3(0, behind, 0)), p1 = window(f1 - glm::dvec3(0, behind, 0));
+      const glm::dvec2 u = glm::normalize(p1 - p0), n(-u.y, u.x);
+      double length = 0;
+      for (const LineStroke& st : strokes)
+        for (std::size_t k = 0; k + 1 < st.points.size(); ++k) {
+          const glm::dvec2 pa = st.points[k], pb = st.points[k + 1];
+          if (std::abs(glm::dot(pa - p0, n)) < 0.05 && std::abs(glm::dot(pb - p0, n)) < 0.05)
+            length += glm::length(pb - pa);
+        }
+      return length;
+    };
+    const LineDrawingOptions lines{kCreaseDeg, true};
+    const LineDrawing on = lineDrawing(scene(0.0), c, {}, lines);
+    const LineDrawing below = lineDrawing(scene(1e-3), c, {}, lines);
+    const double on_hidden = alongFoot(on.hidden, 0.0), below_hidden = alongFoot(below.hidden, 1e-3);
+    EXPECT_LT(on_hidden, 1e-3) << "on the floor's plane " << on_hidden << " px of the " << foot << " px foot were hidden";
+    EXPECT_GT(alongFoot(on.visible, 0.0), 0.99 * foot) << "on the floor's plane the foot is not drawn whole";
+    EXPECT_GT(below_hidden, 0.99 * foot) << "a little behind the floor only " << below_hidden << " px of the "
+                                         << foot << " px foot were hidden";
+    worst_on = std::max(worst_on, on_hidden);
+    least_behind = std::min(least_behind, below_hidden / foot);
+  }
+  EXPECT_GE(cases, 30);
+  testing::printFigures("line visibility at its tolerance: " + std::to_string(cases) +
+                        " turned scenes; a line on an occluder's plane: at most " + fmt::format("{:.3g}", worst_on) +
+                        " px hidden; 1e-3 behind it: at least " + fmt::format("{:.4f}", least_behind) +
+                        " of it hidden");
+}
+
+// The PDF's page content, its Flate streams inflated (cairo compresses them)
+std::string pdfContent(const std::string& pdf) {
+  std::string out;
+  for (std::size_t at = 0; (at = pdf.find("stream", at)) != std::string::npos;) {
+    if (at >= 3 && pdf.compare(at - 3, 3, "end") == 0) {
+      at += 6;
+      continue;
+    }
+    std::size_t begin = at + 6;
+    if (pdf[begin] == '\r') ++begin;
+    if (pdf[begin] == '\n') ++begin;
+    const std::size_t end = pdf.find("endstream", begin);
+    if (end == std::string::npos) break;
+    std::string inflated(1 << 22, '\0');
+    uLongf size = inflated.size();
+    if (uncompress(reinterpret_cast<Bytef*>(inflated.data()), &size,
+                   reinterpret_cast<const Bytef*>(pdf.data() + begin), end - begin) == Z_OK) {
+      inflated.resize(size);
+      out += inflated + "\n";
+    }
+    at = end + 9;
+  }
+  return out;
+}
+
+// The PDF draws the hidden layer dashed, as the SVG does: in its content stream a dash array of
+// the page's pattern is set before the hidden strokes and none before the visible ones. The
+// dash operator is "[a b] phase d"; cairo sets "[] 0 d" (solid) for the visible layer or leaves
+// it at the solid default.
+TEST(LineDrawing, PdfHiddenLayerIsDashed) {
+  const Scene scene = loadScene("solids");
+  const Camera camera = frameScene(scene, 200, 150);
+  const SvgPage a4 = svgPageNamed("A4-landscape");
+  const auto dashArrays = [](const std::string& content) {
+    std::vector<std::string> arrays;  // the operands of every d operator, in order
+    std::istringstream in(content);
+    std::string token, array;
+    bool in_array = false;
+    while (in >> token) {
+      if (token.front() == '[') in_array = true, array.clear();
+      if (in_array) array += token + " ";
+      if (in_array && token.back() == ']') {
+        in_array = false;
+        std::string phase, op;
+        std::streampos back = in.tellg();
+        if (in >> phase >> op && op == "d") {
+          arrays.push_back(array);
+        } else {
+          in.clear();
+          in.seekg(back);
+        }
+      }
+    }
+    return arrays;
+  };
+  const auto solid = [](const std::string& a) { return a.find_first_of("123456789") == std::string::npos; };
+  const auto strokesAfterLastDash = [](const std::string& content) {
+    const std::size_t dash = content.rfind(" d\n");
+    int strokes = 0;
+    std::istringstream in(content.substr(dash == std::string::npos ? 0 : dash));
+    for (std::string t; in >> t;) strokes += t == "S";
+    return strokes;
+  };
+  LineDrawingOptions with_hidden{kCreaseDeg, true};
+  const LineDrawing d = lineDrawing(scene, camera, {}, with_hidden);
+  ASSERT_FALSE(d.hidden.empty());
+  ASSERT_FALSE(d.visible.empty());
+  const std::string content = pdfContent(lineDrawingPdf(d, a4));
+  ASSERT_FALSE(content.empty()) << "no content stream could be read";
+  const std::vector<std::string> arrays = dashArrays(content);
+  ASSERT_FALSE(arrays.empty()) << "no dash operator at all";
+  EXPECT_FALSE(solid(arrays.back())) << "the last dash set is solid: " << arrays.back();
+  // The numbers of the pattern (2,1 in mm on the page), in the PDF's units
+  EXPECT_EQ(std::count_if(arrays.back().begin(), arrays.back().end(), [](char c) { return c == ' '; }), 3)
+      << "two numbers in the hidden layer's dash array: " << arrays.back();
+  // Every hidden stroke comes after it, and is stroked
+  EXPECT_GE(strokesAfterLastDash(content), 1);
+  // Without hidden lines nothing is dashed
+  const LineDrawing visible_only = lineDrawing(scene, camera, {}, {kCreaseDeg, false});
+  ASSERT_TRUE(visible_only.hidden.empty());
+  for (const std::string& a : dashArrays(pdfContent(lineDrawingPdf(visible_only, a4))))
+    EXPECT_TRUE(solid(a)) << "a dash array in a drawing of visible lines only: " << a;
 }
 
 // Past the time limit the exact drawing stops: an error, or with the raster fallback lines

@@ -37,6 +37,10 @@ enum Capability : std::uint32_t {
                                    // opaque ones, as the z-buffer)
   kAntialiasing = 1u << 10,        // covers sub-pixel samples (--samples): antialiased colour
                                    // and a coverage buffer; ids and depth at pixel centres
+  kTieRule = 1u << 11,             // settles coplanar polygons as the z-buffer's depth test: of
+                                   // those whose own float depths at a pixel centre are equal,
+                                   // the first submitted stays (LESS; the last with LEQUAL where
+                                   // it has depth-funcs); the nearer float depth wins otherwise
 };
 
 struct AlgorithmInfo {

@@ -47,9 +47,15 @@ using glm::dvec3;
 // A point must lie this far inside a triangle's outline (pixels) to be hidden by it: a line
 // that runs along a triangle's side, or only touches it at a corner, is not hidden.
 constexpr double kInside = 1e-7;
-// ... and this far behind it in window depth: a line on a triangle's own plane (its edge,
-// a corner it shares) is not hidden by it.
+// ... and this far behind it in window depth, where two triangles are compared (step 3): a
+// line on a triangle's own plane (its edge, a corner it shares) is not hidden by it.
 constexpr double kBehind = 1e-11;
+// Step 4 compares a line with a triangle of another polygon, both given by the pipeline's float
+// window positions: a line lying in the triangle's plane is off it by their rounding, which is
+// a few float ulps of the depth plus the plane's slope times a few ulps of x and y (1e-7 of
+// depth, not 1e-11: on a tilted floor, a quarter of a fin's foot standing on it was hidden).
+// Within kRoundingUlps such ulps of the triangle's plane, a line is on it, not behind it.
+constexpr double kRoundingUlps = 16;
 // Triangles with less doubled area than this in the window (pixels squared) are edge-on:
 // they hide nothing.
 constexpr double kEdgeOn = 1e-12;
@@ -170,6 +176,7 @@ struct Occluder {
   glm::vec3 v[3];              // counter-clockwise in x, y
   double ex[3], ey[3], ec[3];  // sides: ex x + ey y + ec is the distance inside (pixels)
   double dzdx = 0, dzdy = 0;   // depth plane: v[0].z + dzdx (x - v[0].x) + dzdy (y - v[0].y)
+  double behind = 0;           // a line must lie this far behind the plane to be hidden by it
   float zmin = 0, zmax = 0;
   float xmin = 0, ymin = 0, xmax = 0, ymax = 0;
   PolygonId id = kNoPolygon;
@@ -198,6 +205,11 @@ bool makeOccluder(dvec3 a, dvec3 b, dvec3 c, PolygonId id, std::uint32_t object,
   o.dzdy = (e2.z * e1.x - e1.z * e2.x) / area2;
   o.zmin = static_cast<float>(std::min({a.z, b.z, c.z}));
   o.zmax = static_cast<float>(std::max({a.z, b.z, c.z}));
+  const double reach_z = std::max({std::abs(a.z), std::abs(b.z), std::abs(c.z)});
+  const double reach_xy = std::max({std::abs(a.x), std::abs(b.x), std::abs(c.x), std::abs(a.y),
+                                    std::abs(b.y), std::abs(c.y)});
+  o.behind = std::max(kBehind, kRoundingUlps * 0x1p-24 *
+                                   (reach_z + (std::abs(o.dzdx) + std::abs(o.dzdy)) * reach_xy));
   o.xmin = static_cast<float>(std::min({a.x, b.x, c.x}));
   o.xmax = static_cast<float>(std::max({a.x, b.x, c.x}));
   o.ymin = static_cast<float>(std::min({a.y, b.y, c.y}));
@@ -356,8 +368,8 @@ void hide(const Line& line, std::uint32_t stamp, const std::vector<Occluder>& oc
       }
       if (!(t0 < t1)) continue;
       // ... where the triangle is in front: d(t) = line depth - triangle depth, linear in t
-      const double d0 = a.z - o.depthAt(a.x, a.y) - kBehind;
-      const double d1 = b.z - o.depthAt(b.x, b.y) - kBehind;
+      const double d0 = a.z - o.depthAt(a.x, a.y) - o.behind;
+      const double d1 = b.z - o.depthAt(b.x, b.y) - o.behind;
       const double dt0 = d0 + t0 * (d1 - d0), dt1 = d0 + t1 * (d1 - d0);
       if (dt0 <= 0 && dt1 <= 0) continue;
       if (dt0 < 0)

@@ -102,5 +102,59 @@ TEST(Raycast, RealModelsAgreeWithTheZBuffer) {
   });
 }
 
+// A tie at the nearest hit found so far: two triangles at the same t in different leaves of the
+// hierarchy. 48 pairs of overlapping triangles in one plane facing an orthographic camera (every
+// hit of a pixel's ray at the same t and window depth, exactly), each triangle of a pair wrapped
+// in a cloud of small triangles behind the plane so that the two land in different leaves, and
+// the pair's ids in either order (the left one first, or the right one): wherever the two
+// overlap the ray caster must show the first submitted, as the z-buffer's LESS does, whichever
+// leaf its walk reaches first.
+TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
+  constexpr int kW = 384, kH = 256;
+  testing::Rng rng(47);
+  Scene s;
+  const std::uint32_t m = s.addMaterial({});
+  struct Tri {
+    glm::vec3 a, b, c;
+  };
+  std::vector<Tri> front, cloud;
+  for (int p = 0; p < 48; ++p) {
+    const float x0 = 8.0f + 46.0f * (p % 8), y0 = 8.0f + 40.0f * (p / 8);
+    const float z = 0.25f;  // the plane facing the camera
+    const Tri left{{x0, y0, z}, {x0 + 30, y0 + 4, z}, {x0 + 4, y0 + 30, z}};
+    const Tri right{{x0 + 40, y0 + 30, z}, {x0 + 10, y0 + 26, z}, {x0 + 36, y0, z}};
+    // Which one is submitted first alternates from pair to pair
+    front.push_back(p % 2 ? right : left);
+    front.push_back(p % 2 ? left : right);
+    for (const Tri& t : {left, right}) {
+      const glm::vec3 centre = (t.a + t.b + t.c) / 3.0f;
+      for (int k = 0; k < 12; ++k) {
+        const glm::vec3 q = centre + glm::vec3(rng.uniform(-6, 6), rng.uniform(-6, 6), -1.0f - rng.uniform(0, 2));
+        cloud.push_back({q, q + glm::vec3(1.5f, 0, 0), q + glm::vec3(0, 1.5f, 0)});
+      }
+    }
+  }
+  // The pairs' triangles keep their order; the clouds come after, so ids are the pairs' order
+  for (const Tri& t : front) s.addPolygonVertices({t.a, t.b, t.c}, m);
+  for (const Tri& t : cloud) s.addPolygonVertices({t.a, t.b, t.c}, m);
+  const Camera camera = testing::pixelCamera(kW, kH);
+  RenderOptions o;
+  o.cull = CullMode::None;
+  const Frame z = render(s, camera, o);
+  o.algorithm = "raycast";
+  const Frame r = render(s, camera, o);
+  std::size_t overlap = 0, differ = 0;
+  for (std::size_t k = 0; k < z.ids.size(); ++k) {
+    if (z.ids[k] == kNoPolygon || z.ids[k] >= front.size()) continue;
+    // Covered by both of a pair: the z-buffer shows the pair's first (even id) there
+    overlap += z.ids[k] % 2 == 0 && r.ids[k] != kNoPolygon;
+    differ += r.ids[k] != z.ids[k];
+  }
+  EXPECT_GT(overlap, 3000u);
+  EXPECT_EQ(differ, 0u) << "pixels of the pairs where the ray caster shows another polygon than the z-buffer";
+  testing::printFigures("raycast ties between leaves: 48 pairs at one depth, " + grouped(overlap) +
+                        " pixels, " + grouped(differ) + " differ from the z-buffer");
+}
+
 }  // namespace
 }  // namespace hsr
