@@ -183,7 +183,11 @@ Scene readScene(Reader& r) {
         r.fail(fmt::format("corrupt: polygon {} has {} vertices", s.polygonCount(), n));
       local.resize(n);
       for (std::uint32_t& v : local) v = r.u32();
-      s.addPolygon(local, material);  // refuses a vertex outside the object
+      for (const std::uint32_t v : local)  // checked here, so that the refusal names the file
+        if (v >= vertices)
+          r.fail(fmt::format("corrupt: polygon {} uses vertex {} of an object with {}", s.polygonCount(), v,
+                             vertices));
+      s.addPolygon(local, material);
     }
   }
   return s;

@@ -18,6 +18,7 @@
 
 #include "hsr/compare.hpp"
 #include "hsr/io.hpp"
+#include "cli_run.hpp"
 #include "png_read.hpp"
 #include "test_util.hpp"
 
@@ -26,43 +27,10 @@ namespace {
 namespace fs = std::filesystem;
 using hsr::testing::ScratchDir;
 
-struct CliRun {
-  int code;
-  std::string err;
-  std::string out;
-};
-
-CliRun runCli(const std::string& args, const fs::path& cwd = {}) {
-  const ScratchDir scratch("hsr_cli_stderr");
-  const fs::path err = scratch / "stderr.txt";
-  const std::string cmd = (cwd.empty() ? "" : "cd '" + cwd.string() + "' && ") + "timeout 60 " +
-                          std::string(HSR_CLI_PATH) + " " + args + " 2>" + err.string();
-  CliRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  while (p && fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int status = p ? pclose(p) : -1;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  std::ifstream in(err);
-  r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  return r;
-}
-
-int lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
-
-void expectCleanError(const std::string& args, const std::string& must_mention = "") {
-  const CliRun r = runCli(args);
-  EXPECT_EQ(r.code, 2) << args << "\nstderr: " << r.err;
-  EXPECT_EQ(lines(r.err), 1) << args << "\nstderr: " << r.err;
-  EXPECT_EQ(r.err.rfind("hsr: ", 0), 0u) << r.err;
-  if (!must_mention.empty()) {
-    EXPECT_NE(r.err.find(must_mention), std::string::npos) << args << "\nstderr: " << r.err;
-  }
-}
+using hsr::testing::CliRun;
+using hsr::testing::expectCleanError;
+using hsr::testing::runCli;
+int lines(const std::string& s) { return hsr::testing::lineCount(s); }
 
 TEST(Cli, BadCameraAndSizeGiveOneLineAndExit2) {
   const ScratchDir scratch("hsr_cli_test");

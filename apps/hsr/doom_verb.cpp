@@ -33,7 +33,7 @@ std::vector<std::string> mapsToBuild(const doom::Wad& wad, const std::string& wa
 doom::Nodes nodesFor(const doom::Map& map, bool shipped, int split_cost) {
   if (shipped) {
     if (!map.shipped)
-      throw hsr::Error(fmt::format("map {}: the WAD holds no usable nodes for it", map.name));
+      throw hsr::Error(fmt::format("the WAD's own nodes cannot be used: {}", map.shipped_problem));
     return *map.shipped;
   }
   doom::BuildOptions options;

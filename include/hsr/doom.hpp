@@ -97,6 +97,8 @@ struct Map {
   std::vector<Sector> sectors;
   std::optional<Nodes> shipped;  // the nodes the WAD holds, when it holds them in the vanilla
                                  // formats, every index in range, as one tree
+  std::string shipped_problem;   // else why not, in one line ("map MAP01: seg 7 names vertex 12
+                                 // of 12"): never read, only reported when they are asked for
 };
 
 struct Lump {

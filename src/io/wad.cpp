@@ -106,12 +106,19 @@ std::vector<T> records(const Lump& lump, std::size_t size, const std::string& wh
   return out;
 }
 
-// The shipped nodes, or nullopt where they are absent, not vanilla, or do not hold together.
+// The shipped nodes, or nullopt where they are absent, not vanilla, or do not hold together;
+// then *problem says which (the first index out of range, with its table's length).
 std::optional<Nodes> shippedNodes(const Lump* vertexes, const Lump* segs, const Lump* subsectors,
-                                  const Lump* nodes, const Map& map, const std::string& where) {
-  if (!segs || !subsectors || !nodes || segs->bytes.empty() || subsectors->bytes.empty()) return {};
+                                  const Lump* nodes, const Map& map, const std::string& where,
+                                  std::string* problem) {
+  const auto refuse = [&](std::string why) -> std::optional<Nodes> {
+    *problem = where + ": " + std::move(why);
+    return std::nullopt;
+  };
+  if (!segs || !subsectors || !nodes) return refuse("no SEGS, SSECTORS or NODES lump");
+  if (segs->bytes.empty() || subsectors->bytes.empty()) return refuse("empty SEGS or SSECTORS lump");
   if (segs->bytes.size() % 12 || subsectors->bytes.size() % 4 || nodes->bytes.size() % 28)
-    return {};
+    return refuse("SEGS, SSECTORS or NODES not in the vanilla format (their sizes are not whole records)");
   Nodes n;
   n.vertices = records<Vertex>(*vertexes, 4, where, [](Fields& f) {
     return Vertex{f.i16(), f.i16()};
@@ -130,25 +137,37 @@ std::optional<Nodes> shippedNodes(const Lump* vertexes, const Lump* segs, const 
                 {{{f.i16(), f.i16(), f.i16(), f.i16()}, {f.i16(), f.i16(), f.i16(), f.i16()}}},
                 {f.u16(), f.u16()}};
   });
-  for (const Seg& s : n.segs) {
-    if (s.v1 >= n.vertices.size() || s.v2 >= n.vertices.size() ||
-        s.linedef >= map.linedefs.size() || (s.side != 0 && s.side != 1) ||
-        map.linedefs[s.linedef].side[s.side] == kNoSide)
-      return {};
+  for (std::size_t i = 0; i < n.segs.size(); ++i) {
+    const Seg& s = n.segs[i];
+    if (s.v1 >= n.vertices.size() || s.v2 >= n.vertices.size())
+      return refuse(fmt::format("seg {} names vertex {} of {}", i, std::max(s.v1, s.v2), n.vertices.size()));
+    if (s.linedef >= map.linedefs.size())
+      return refuse(fmt::format("seg {} names linedef {} of {}", i, s.linedef, map.linedefs.size()));
+    if (s.side != 0 && s.side != 1) return refuse(fmt::format("seg {} has side {}", i, s.side));
+    if (map.linedefs[s.linedef].side[s.side] == kNoSide)
+      return refuse(fmt::format("seg {} runs along a side linedef {} does not have", i, s.linedef));
   }
-  for (const Subsector& s : n.subsectors)
-    if (s.count == 0 || std::size_t(s.first) + s.count > n.segs.size()) return {};
-  for (const Node& d : n.nodes)
-    for (std::uint16_t c : d.child) {
-      if ((c & kSubsectorBit) ? (c & ~kSubsectorBit) >= n.subsectors.size() : c >= n.nodes.size())
-        return {};
+  for (std::size_t i = 0; i < n.subsectors.size(); ++i) {
+    const Subsector& s = n.subsectors[i];
+    if (s.count == 0) return refuse(fmt::format("subsector {} has no seg", i));
+    if (std::size_t(s.first) + s.count > n.segs.size())
+      return refuse(fmt::format("subsector {} takes segs {} to {} of {}", i, s.first,
+                                std::size_t(s.first) + s.count - 1, n.segs.size()));
+  }
+  for (std::size_t i = 0; i < n.nodes.size(); ++i)
+    for (std::uint16_t c : n.nodes[i].child) {
+      if ((c & kSubsectorBit) && (c & ~kSubsectorBit) >= n.subsectors.size())
+        return refuse(fmt::format("node {} names subsector {} of {}", i, c & ~kSubsectorBit,
+                                  n.subsectors.size()));
+      if (!(c & kSubsectorBit) && c >= n.nodes.size())
+        return refuse(fmt::format("node {} names node {} of {}", i, c, n.nodes.size()));
     }
   // One tree from the root (the last node): every node and subsector reached exactly once, so
   // that whatever walks it ends.
   std::vector<char> node_seen(n.nodes.size()), ss_seen(n.subsectors.size());
   std::vector<std::uint16_t> stack;
   if (n.nodes.empty()) {
-    if (n.subsectors.size() != 1) return {};
+    if (n.subsectors.size() != 1) return refuse("no node, but more than one subsector");
     ss_seen[0] = 1;
   } else {
     stack.push_back(static_cast<std::uint16_t>(n.nodes.size() - 1));
@@ -156,17 +175,17 @@ std::optional<Nodes> shippedNodes(const Lump* vertexes, const Lump* segs, const 
   while (!stack.empty()) {
     const std::uint16_t id = stack.back();
     stack.pop_back();
-    if (node_seen[id]++) return {};
+    if (node_seen[id]++) return refuse(fmt::format("node {} is reached twice", id));
     for (std::uint16_t c : n.nodes[id].child) {
       if (!(c & kSubsectorBit))
         stack.push_back(c);
       else if (ss_seen[c & ~kSubsectorBit]++)
-        return {};
+        return refuse(fmt::format("subsector {} is reached twice", c & ~kSubsectorBit));
     }
   }
   if (std::count(node_seen.begin(), node_seen.end(), 0) ||
       std::count(ss_seen.begin(), ss_seen.end(), 0))
-    return {};
+    return refuse("not one tree: some node or subsector is not reached from the root");
   return n;
 }
 
@@ -302,8 +321,8 @@ Map readMap(const Wad& wad, std::string_view map_name) {
     const auto it = lumps.find(n);
     return it == lumps.end() ? nullptr : it->second;
   };
-  map.shipped =
-      shippedNodes(find("VERTEXES"), find("SEGS"), find("SSECTORS"), find("NODES"), map, where);
+  map.shipped = shippedNodes(find("VERTEXES"), find("SEGS"), find("SSECTORS"), find("NODES"), map,
+                             where, &map.shipped_problem);
   map.vertices.resize(used);  // the shipped nodes' split vertices follow the linedefs' own
   return map;
 }

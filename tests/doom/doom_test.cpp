@@ -18,6 +18,7 @@
 #include "hsr/algorithms.hpp"
 #include "hsr/compare.hpp"
 #include "hsr/io.hpp"
+#include "cli_run.hpp"
 #include "doom/doom_points.hpp"
 #include "hsr/render.hpp"
 
@@ -319,6 +320,20 @@ TEST(DoomWad, RefusesMalformedMaps) {
   bad = ok;
   bad[3].second = sidedef(3);
   expectMapRefused(bad, "sector 3");
+  // Each index at its table's length, the first one past the end (a check written with > in
+  // place of >= would read it)
+  bad = ok;
+  bad[2].second = linedef(0, 4, 0, 0xFFFF);
+  expectMapRefused(bad, "names vertex 4 of 4");
+  bad = ok;
+  bad[2].second = linedef(0, 1, 1, 0xFFFF);
+  expectMapRefused(bad, "names sidedef 1 of 1");
+  bad = ok;
+  bad[2].second = linedef(0, 1, 0, 1);
+  expectMapRefused(bad, "names sidedef 1 of 1");
+  bad = ok;
+  bad[3].second = sidedef(1);
+  expectMapRefused(bad, "names sector 1 of 1");
   bad = ok;
   bad.erase(bad.begin() + 5);
   expectMapRefused(bad, "no SECTORS");

@@ -271,6 +271,68 @@ TEST(Bsp, SavedTreeRendersEveryViewAsABuiltOne) {
   }
 }
 
+// Where the indices lie in a saved tree's payload (src/bsp_file.cpp's layout, read here on
+// its own): the first polygon's material and first vertex, node 0's front child, the first tree
+// polygon's id and its first cut's node; with the length of each one's table.
+struct IndexFields {
+  std::size_t material = 0, vertex = 0, child = 0, tree_polygon_id = 0, cut_node = 0;
+  std::uint32_t materials = 0, object_vertices = 0, nodes = 0, scene_polygons = 0;
+};
+IndexFields indexFieldsOf(const std::string& p) {
+  std::size_t at = 0;
+  const auto u32 = [&] {
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(p.at(at + i))) << (8 * i);
+    at += 4;
+    return v;
+  };
+  const auto skip = [&](std::size_t n) { at += n; };
+  const auto str = [&] { skip(u32()); };
+  IndexFields f;
+  str();                   // splitter
+  skip(8 + 4 + 8 + 8 + 8);  // seed, candidates, input polygons, splits, build ms
+  skip(8);                 // epsilon
+  str();                   // scene name
+  f.materials = u32();
+  skip(16 * std::size_t{f.materials});
+  const bool camera = p.at(at) != 0;
+  skip(1);
+  if (camera) skip(9 * 4 + 4 + 1 + 4 + 4 + 4);
+  const std::uint32_t objects = u32();
+  bool first_polygon = true;
+  for (std::uint32_t o = 0; o < objects; ++o) {
+    str();
+    const std::uint32_t vertices = u32();
+    skip(12 * std::size_t{vertices});
+    const std::uint32_t polygons = u32();
+    f.scene_polygons += polygons;
+    for (std::uint32_t k = 0; k < polygons; ++k) {
+      if (first_polygon) f.material = at, f.vertex = at + 8, f.object_vertices = vertices;
+      skip(4);
+      const std::uint32_t n = u32();
+      skip(4 * std::size_t{n});
+      first_polygon = false;
+    }
+  }
+  f.nodes = u32();
+  EXPECT_GE(f.nodes, 2u) << "the tree has no child to forge";
+  f.child = at + 32 + 8;  // node 0: plane (4 doubles), first polygon, count, then front
+  skip(48 * std::size_t{f.nodes});
+  const std::uint32_t tree_polygons = u32();
+  bool found_cut = false;
+  for (std::uint32_t i = 0; i < tree_polygons; ++i) {
+    if (i == 0) f.tree_polygon_id = at;
+    skip(8);
+    const std::uint32_t cuts = u32();
+    if (cuts > 0 && !found_cut) f.cut_node = at, found_cut = true;
+    skip(5 * std::size_t{cuts});
+    skip(24 * std::size_t{u32()});
+  }
+  EXPECT_TRUE(found_cut) << "no tree polygon was cut: no cut to forge";
+  EXPECT_EQ(at, p.size()) << "the payload's layout is not the one this test reads";
+  return f;
+}
+
 // A file that is not one saveBsp wrote is refused with one line naming it: truncated, a byte
 // flipped, another magic or version, and hostile files whose checksum is right but whose
 // contents lie (a count beyond the file, a child that makes a loop, an id out of range).
@@ -324,6 +386,21 @@ TEST(Bsp, DamagedOrHostileFilesAreRefusedWithOneLine) {
   std::string huge = payload;
   for (int i = 0; i < 4; ++i) huge[i] = '\xff';
   refused(forged(huge), "more bytes than the file has left");
+  // Every index the format holds, set to its table's length (the first value past the end: a
+  // check written with > in place of >= would read it), is refused with a line naming it.
+  const IndexFields at = indexFieldsOf(payload);
+  const auto withU32 = [&](std::size_t offset, std::uint32_t v) {
+    std::string p = payload;
+    for (int i = 0; i < 4; ++i) p[offset + i] = static_cast<char>(v >> (8 * i));
+    return forged(p);
+  };
+  refused(withU32(at.material, at.materials), "uses material " + std::to_string(at.materials) + " of");
+  refused(withU32(at.vertex, at.object_vertices),
+          "uses vertex " + std::to_string(at.object_vertices) + " of an object with");
+  refused(withU32(at.child, at.nodes), "names child " + std::to_string(at.nodes));
+  refused(withU32(at.tree_polygon_id, at.scene_polygons),
+          "names polygon " + std::to_string(at.scene_polygons));
+  refused(withU32(at.cut_node, at.nodes), "has a cut by no node");
   // Every byte of the payload changed in turn (the checksum forged): refused or loaded, never
   // a crash; what loads renders.
   std::uint64_t loaded = 0;
