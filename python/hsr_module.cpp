@@ -75,9 +75,19 @@ std::span<const glm::vec3> rowsOf(const Rows& a, const char* what) {
 }
 
 // One mesh as an object of the scene: vertices N x 3, faces M x k vertex indices (k >= 3)
-void addMesh(hsr::Scene& scene, const Rows& vertices, const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& faces,
+void addMesh(hsr::Scene& scene, const Rows& vertices, const py::object& face_rows,
              const std::string& name, const py::object& color, float alpha, const std::string& material) {
   const std::span<const glm::vec3> v = rowsOf(vertices, "vertices");
+  const py::array face_array = py::array::ensure(face_rows);  // an array, or a list of rows
+  if (!face_array) throw hsr::Error("faces must be an M x k array of vertex indices");
+  // Indices must be integers: a float array would be truncated (1.7 -> vertex 1), and a bool
+  // array read as 0 and 1
+  const char kind = face_array.dtype().kind();
+  if (kind != 'i' && kind != 'u')
+    throw hsr::Error("faces must be an integer array of vertex indices (got dtype " +
+                     py::str(face_array.dtype()).cast<std::string>() + ")");
+  const auto faces = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(face_array);
+  if (!faces) throw hsr::Error("faces must be an M x k array of vertex indices");
   if (faces.ndim() != 2 || faces.shape(1) < 3) throw hsr::Error("faces must be an M x k array of vertex indices, k >= 3");
   if (v.size() > 50'000'000 || faces.shape(0) > 50'000'000) throw hsr::Error("a mesh of over 50M vertices or faces");
   hsr::Material m;

@@ -69,10 +69,17 @@ void checkFrameable(const Args& a, const hsr::Scene& scene) {
   if (b.empty()) return;
   const float reach = std::max({std::abs(b.lo.x), std::abs(b.lo.y), std::abs(b.lo.z),
                                 std::abs(b.hi.x), std::abs(b.hi.y), std::abs(b.hi.z)});
-  if (reach > kMaxCoordinate)
-    throw hsr::Error(fmt::format("{}: coordinates reach {:.3g}, beyond the +-1e18 within which "
-                                 "the camera's float arithmetic works; scale the model",
-                                 a.scene, reach));
+  if (reach > kMaxCoordinate) {
+    // The limit holds whether the camera is framed or given (every vertex goes through the same
+    // float transforms and clipping, whose squared distances overflow past 1.8e19): so say what
+    // to do, with the power of ten to scale by.
+    const int down = static_cast<int>(std::ceil(std::log10(double(reach) / double(kMaxCoordinate))));
+    throw hsr::Error(fmt::format(
+        "{}: coordinates reach {:.3g}, beyond the +-1e18 that hsr's float camera arithmetic is "
+        "held to (a camera given by hand does not lift it); scale the model by 1e-{} or less "
+        "(most exporters have a unit or scale option), or remove the vertices that far out",
+        a.scene, reach, std::max(down, 1)));
+  }
   if (b.lo == b.hi && scene.cameras.empty() && a.camera_file.empty() && a.pose_file.empty() &&
       (a.eye.empty() || a.target.empty()))
     throw hsr::Error(fmt::format("{}: every vertex lies at the same point ({:g}, {:g}, {:g}): "
@@ -86,8 +93,21 @@ void parseImageSize(const std::string& s, int* w, int* h) { parseSize(s, w, h); 
 
 std::string readUserFile(const std::string& path, const char* option, std::uintmax_t limit) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
+  const fs::file_status st = fs::status(path, ec);
+  if (!fs::exists(st)) {
+    if (ec && ec != std::errc::no_such_file_or_directory)  // a loop of links, a folder it may not search
+      throw hsr::Error(fmt::format("{} {}: {}", option, path, ec.message()));
     throw hsr::Error(fmt::format("{} {}: no such file", option, path));
+  }
+  if (!fs::is_regular_file(st)) {
+    const char* what = fs::is_directory(st)           ? "a directory"
+                       : fs::is_character_file(st)    ? "a character device"
+                       : fs::is_block_file(st)        ? "a block device"
+                       : fs::is_fifo(st)              ? "a FIFO"
+                       : fs::is_socket(st)            ? "a socket"
+                                                      : "not a regular file";
+    throw hsr::Error(fmt::format("{} {}: {}, not a file; name a file", option, path, what));
+  }
   const std::uintmax_t bytes = fs::file_size(path, ec);
   if (ec || bytes > limit)
     throw hsr::Error(fmt::format("{} {}: {} (the limit is {} MiB)", option, path,
@@ -115,6 +135,10 @@ hsr::Intrinsics parseIntrinsics(const std::string& s) {
     at = comma + 1;
   }
   if (v.size() != 4) throw hsr::Error(fmt::format("--intrinsics must be fx,fy,cx,cy in pixels (got '{}')", s));
+  // Every value given is used or refused: fx = fy = 0 is how a camera says "no intrinsics", so
+  // zero focal lengths would otherwise be dropped for the default 45-degree camera
+  if (!(v[0] > 0) || !(v[1] > 0))
+    throw hsr::Error(fmt::format("--intrinsics: the focal lengths fx and fy must be positive pixels (got '{}')", s));
   return {v[0], v[1], v[2], v[3]};
 }
 
@@ -139,8 +163,9 @@ hsr::Camera cameraFromFile(const Args& a) {
                                     {!a.pose_file.empty(), "--pose"}, {a.camera_index != "0", "--camera-index"}})
     if (given) throw hsr::Error(fmt::format("{} and --camera both set the view: give one", name));
   hsr::Camera cam;
+  const std::string text = readUserFile(a.camera_file, "--camera", 16u << 20);  // names itself
   try {
-    cam = hsr::cameraFromJson(readUserFile(a.camera_file, "--camera", 16u << 20));
+    cam = hsr::cameraFromJson(text);
   } catch (const hsr::Error& e) {
     throw hsr::Error(fmt::format("--camera {}: {}", a.camera_file, e.what()));
   }
@@ -188,9 +213,9 @@ hsr::Camera makeCamera(const Args& a, const hsr::Scene& scene) {
     if (!a.pose_file.empty()) {
       if (!a.eye.empty() || !a.target.empty() || !a.up.empty())
         throw hsr::Error("--pose and --eye, --target or --up all place the camera: give one");
+      const std::string text = readUserFile(a.pose_file, "--pose", 1u << 20);  // names itself
       try {
-        hsr::setPose(cam, hsr::poseFromText(readUserFile(a.pose_file, "--pose", 1u << 20)),
-                     hsr::poseConventionNamed(a.pose_convention));
+        hsr::setPose(cam, hsr::poseFromText(text), hsr::poseConventionNamed(a.pose_convention));
       } catch (const hsr::Error& e) {
         throw hsr::Error(fmt::format("--pose {}: {}", a.pose_file, e.what()));
       }

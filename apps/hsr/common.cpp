@@ -150,13 +150,30 @@ void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam) {
 // A perspective depth buffer of floats resolves about 2^24 steps between near and far, most of
 // them close to the near plane: past far/near = 2^24 every surface's depth rounds towards the
 // clear value 1.0, and the picture comes out blank or merged. Valid, so a warning.
+bool depthUnresolvable(const hsr::Camera& cam) {
+  return !cam.ortho && cam.far / cam.near > 16777216.0f;
+}
+
 bool warnIfDepthUnresolvable(const hsr::Camera& cam) {
-  if (cam.ortho || !(cam.far / cam.near > 16777216.0f)) return false;
+  if (!depthUnresolvable(cam)) return false;
   printError(fmt::format("warning: far/near = {:.3g} (near {:g}, far {:g}) is more than a float "
                          "depth buffer resolves (2^24): depths round to the clear value and "
                          "surfaces vanish or merge; raise --near",
                          cam.far / cam.near, cam.near, cam.far));
   return true;
+}
+
+void refuseIfNothingResolved(const hsr::Frame& f, const hsr::Camera& cam) {
+  if (!depthUnresolvable(cam) || f.stats.fragments_tested == 0) return;
+  for (const hsr::PolygonId id : f.ids)
+    if (id != hsr::kNoPolygon) return;
+  // Every fragment's depth rounded to the clear value: the picture would be empty, and an empty
+  // picture written with exit 0 reads as "nothing there"
+  throw hsr::Error(fmt::format(
+      "nothing could be drawn: with near {:g} and far {:g} (far/near {:.3g}, past the 2^24 a float "
+      "depth buffer resolves) every one of the {} fragments rounded to the clear depth; raise "
+      "--near (to {:.3g} or more for this far)",
+      cam.near, cam.far, cam.far / cam.near, f.stats.fragments_tested, cam.far / 1e6));
 }
 
 std::vector<std::string> splitList(const std::string& s) {

@@ -99,7 +99,11 @@ class OutputPlan {
 // A file name's stem, or a built-in scene's spec, made safe as a file name.
 std::string sceneLabel(const std::string& spec);
 void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam);
+bool depthUnresolvable(const hsr::Camera& cam);  // far/near past what a float depth buffer resolves
 bool warnIfDepthUnresolvable(const hsr::Camera& cam);  // true when it warned
+// Refuses (hsr::Error) a frame in which nothing was drawn because every depth rounded to the
+// clear value (depthUnresolvable), instead of writing an empty picture.
+void refuseIfNothingResolved(const hsr::Frame& frame, const hsr::Camera& cam);
 std::vector<std::string> splitList(const std::string& s);
 void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm);
 // The frame's counts and stage times, and the camera used when given (its intrinsics too).

@@ -75,8 +75,9 @@ ViewPlan planViews(const Args& a, const Given& given) {
                                     {!a.intrinsics.empty(), "--intrinsics"}, {!a.pose_file.empty(), "--pose"},
                                     {!a.near.empty(), "--near"}, {!a.far.empty(), "--far"}})
       if (set) throw hsr::Error(fmt::format("{} and --views both set the view: each view of the file is whole", name));
+    const std::string text = hsr::cli::readUserFile(a.views_file, "--views", 256u << 20);  // names itself
     try {
-      v.listed = hsr::camerasFromJson(hsr::cli::readUserFile(a.views_file, "--views", 256u << 20));
+      v.listed = hsr::camerasFromJson(text);
     } catch (const hsr::Error& e) {
       throw hsr::Error(fmt::format("--views {}: {}", a.views_file, e.what()));
     }
@@ -149,7 +150,7 @@ int runRender(const Args& a, const Given& given) {
   for (const hsr::Camera& cam : cameras)
     for (const std::string& kind : kinds) hsr::checkPngSize(pngPath(0, kind), cam.width, cam.height, 3);
   warnIfEyeInside(scene, cameras.front());
-  const bool depth_unresolved = warnIfDepthUnresolvable(cameras.front());
+  const bool depth_unresolved = hsr::cli::depthUnresolvable(cameras.front());
   const hsr::RenderOptions opt = makeOptions(a);
 
   // One frame for every view: what an algorithm builds once (a BSP tree, an octree, a BVH)
@@ -163,7 +164,11 @@ int runRender(const Args& a, const Given& given) {
     hsr::render(scene, cam, opt, frame);
     (k == 0 ? first_ms : rest_ms) += frame.stats.totalMs();
     if (k == 0) warnIfUnresolved(frame, opt.algorithm);
-    if (k == 0 && !depth_unresolved) hsr::cli::warnIfNothingDrawn(frame, opt);  // that warning says why
+    if (k == 0 && depth_unresolved) {
+      hsr::cli::refuseIfNothingResolved(frame, cam);  // before any file is written
+      hsr::cli::warnIfDepthUnresolvable(cam);         // drawn, but depths may merge: said why
+    }
+    if (k == 0 && !depth_unresolved) hsr::cli::warnIfNothingDrawn(frame, opt);
     std::vector<std::pair<std::string, fs::path>> pictures;
     for (const std::string& kind : kinds) pictures.emplace_back(kind, pngPath(k, kind));
     hsr::writePictures(frame, pictures, [&frame](std::string_view kind, std::vector<std::uint8_t>& rgb) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -143,6 +144,18 @@ Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, b
   c.near = std::max(dist - 1.5f * r, dist * 1e-3f);
   c.far = dist + 1.5f * r;
   c.ortho_half_height = std::max({half_h, half_w / aspect, r * 1e-3f}) * 1.06f;
+  // A field of view so narrow that the eye stands where float cannot tell near from far (at
+  // 1e-6 degrees the bounds of the demo need 3.9e8 units, where floats are 32 apart) is the
+  // reason, not the near and far it gives: said so
+  if (!ortho && !(c.far > c.near && std::isfinite(c.far) && std::isfinite(glm::length(c.eye)))) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "a field of view of %g degrees is too narrow to frame the scene: its eye would stand "
+                  "%.3g units away, where float cannot tell the near plane from the far; widen the "
+                  "field of view, or place the camera by hand",
+                  double(fov_deg), double(dist));
+    throw Error(buf);
+  }
   return c;
 }
 

@@ -154,6 +154,9 @@ Camera cameraOf(const Json& in) {
       const Json& k = field(j, "intrinsics");
       if (!k.is_object()) bad("\"intrinsics\" must be an object with fx, fy, cx and cy");
       c.intrinsics = {number(k, "fx"), number(k, "fy"), number(k, "cx"), number(k, "cy")};
+      // All zero is how a camera says "none": refused here, never dropped for the default fov
+      if (!(c.intrinsics.fx > 0) || !(c.intrinsics.fy > 0))
+        bad("\"intrinsics\": fx and fy must be positive pixels");
     } else {
       c.fov_deg = floatNumber(j, "fov_deg");
     }
@@ -183,20 +186,55 @@ std::string cameraJson(const Camera& camera) { return detail::cameraObject(camer
 Camera cameraFromJson(std::string_view text) { return cameraOf(parse(text)); }
 
 std::vector<Camera> camerasFromJson(std::string_view text) {
-  const Json j = parse(text);
-  const Json* list = &j;
-  if (j.is_object() && j.contains("views")) list = &j["views"];
-  if (!list->is_array()) return {cameraOf(j)};
-  if (list->empty()) bad("the list of views is empty");
-  if (list->size() > kMaxViews) bad("more than " + std::to_string(kMaxViews) + " views");
+  // A list of views, bare or as {"views": [...]}, is read view by view: each becomes a Camera
+  // as soon as its value is whole and is then dropped from the parsed tree, so that memory
+  // stays the cameras' own (not the JSON tree of every view: 973 MB for a million), and the
+  // count is checked as they come, so that a list past the limit is refused at its first view
+  // too many, not after the whole file.
+  enum class Top { kUnknown, kArray, kObject } top = Top::kUnknown;
+  bool views_key = false;   // the top-level object's member being read is "views"
+  int element_depth = -1;   // the depth of the list's elements once the list is open
   std::vector<Camera> cameras;
-  for (std::size_t k = 0; k < list->size(); ++k) {
+  const auto take = [&](const Json& view) {
+    if (cameras.size() == kMaxViews) bad("more than " + std::to_string(kMaxViews) + " views");
     try {
-      cameras.push_back(cameraOf((*list)[k]));
+      cameras.push_back(cameraOf(view));
     } catch (const Error& e) {
-      throw Error("view " + std::to_string(k) + ": " + e.what());
+      throw Error("view " + std::to_string(cameras.size()) + ": " + e.what());
     }
-  }
+  };
+  const Json::parser_callback_t each = [&](int depth, Json::parse_event_t event, Json& parsed) {
+    using E = Json::parse_event_t;
+    if (depth == 0 && top == Top::kUnknown) {
+      if (event == E::array_start) top = Top::kArray, element_depth = 1;
+      if (event == E::object_start) top = Top::kObject;
+      return true;
+    }
+    if (top == Top::kObject && depth == 1 && event == E::key) {
+      views_key = parsed == "views";
+      return true;
+    }
+    if (top == Top::kObject && views_key && depth == 1 && event == E::array_start) {
+      element_depth = 2;
+      return true;
+    }
+    if (top == Top::kObject && views_key && depth == 1 && event == E::array_end) {
+      element_depth = -1;
+      return true;
+    }
+    // A whole element of the list: an object, or any other value (which cameraOf refuses)
+    if (depth == element_depth &&
+        (event == E::object_end || event == E::array_end || event == E::value)) {
+      take(parsed);
+      return false;  // dropped from the tree
+    }
+    return true;
+  };
+  Json j = Json::parse(text, each, false);
+  if (j.is_discarded()) bad("not valid JSON");
+  const bool listed = top == Top::kArray || (j.is_object() && j.contains("views") && j["views"].is_array());
+  if (!listed) return {cameraOf(j)};
+  if (cameras.empty()) bad("the list of views is empty");
   return cameras;
 }
 

@@ -1100,8 +1100,16 @@ Scene loadMeshFile(const fs::path& path, const ImportLimits& limits) {
 }
 
 Scene loadScene(std::string_view spec, const ImportLimits& limits) {
-  // An existing file wins over a built-in of the same name
-  if (!spec.empty()) {
+  const std::string_view name = spec.substr(0, spec.find(':'));
+  const auto builtin = [&] {
+    for (const BuiltinScene& b : builtinScenes())
+      if (!name.empty() && b.name.substr(0, b.name.find(':')) == name) return true;
+    return false;
+  };
+  // An existing file wins over a built-in of the same name; a directory does not (a folder
+  // named "demo" in the working directory is not a model: the built-in is meant)
+  std::error_code dir_ec;
+  if (!spec.empty() && !(builtin() && fs::is_directory(fs::path{std::string(spec)}, dir_ec))) {
     std::error_code ec;
     const fs::path path{std::string(spec)};
     const auto isWad = [](const fs::path& p) {
@@ -1120,9 +1128,7 @@ Scene loadScene(std::string_view spec, const ImportLimits& limits) {
     if (ec && ec != std::errc::no_such_file_or_directory && ec != std::errc::not_a_directory)
       throw Error(std::string(spec) + ": " + ec.message());
   }
-  const std::string_view name = spec.substr(0, spec.find(':'));
-  for (const BuiltinScene& b : builtinScenes())
-    if (!name.empty() && b.name.substr(0, b.name.find(':')) == name) return makeBuiltinScene(spec);
+  if (builtin()) return makeBuiltinScene(spec);
   throw Error("no such file or built-in scene: " + std::string(spec));
 }
 

@@ -59,6 +59,13 @@ def test_bad_arrays_are_refused_with_a_clear_error():
         hsr.scene_from_arrays(v, np.array([[0, 1, 9]]))
     with pytest.raises(hsr.Error, match="N x 3"):
         hsr.scene_from_arrays(v[:, :2], f)
+    # Indices must be integers: 1.7 would have been read as vertex 1
+    for bad_dtype in (np.float64, np.float32, bool):
+        with pytest.raises(hsr.Error, match="integer array of vertex indices"):
+            hsr.scene_from_arrays(v, f.astype(bad_dtype))
+    with pytest.raises(hsr.Error, match="integer"):
+        hsr.scene_from_arrays(v, [[0.0, 1.5, 2.0]])
+    assert hsr.scene_from_arrays(v, f.astype(np.uint16)).polygon_count == len(f)
     with pytest.raises(hsr.Error, match="not finite"):
         bad = v.copy()
         bad[1, 0] = np.nan
@@ -83,6 +90,64 @@ def test_render_matches_the_cli_raw_files_byte_for_byte(cli, tmp_path):
         assert on_disk.tobytes() == array.tobytes(), name
     assert out.stats["camera"]["projection"] == manifest["camera"]["projection"]
     assert [o["name"] for o in out.stats["objects"]] == [o["name"] for o in manifest["objects"]]
+
+
+OBJ_OBJECTS_AND_MATERIALS_DIFFER = """mtllib two.mtl
+o first
+v -1.5 -1 0
+v -0.5 -1 0.3
+v -1 1 0.1
+usemtl blue
+f 1 2 3
+o second
+v -0.6 -1 -0.4
+v 0.6 -1 0.2
+v 0 1.2 -0.1
+usemtl red
+f 4 5 6
+o third
+v 0.4 -1 0.1
+v 1.6 -1 -0.3
+v 1.1 1 0.2
+usemtl blue
+f 7 8 9
+"""
+MTL_TWO = "newmtl red\nKd 0.9 0.1 0.1\nnewmtl blue\nKd 0.1 0.2 0.9\n"
+
+
+def test_every_array_matches_the_cli_raw_file_byte_for_byte(cli, tmp_path):
+    # Three objects over two materials (the first and the third share one): an object index
+    # given for a material index, or the other way round, cannot pass.
+    (tmp_path / "three.obj").write_text(OBJ_OBJECTS_AND_MATERIALS_DIFFER)
+    (tmp_path / "two.mtl").write_text(MTL_TWO)
+    model = str(tmp_path / "three.obj")
+    scene = hsr.Scene.load(model)
+    assert len(scene.objects) == 3
+    cases = [("zbuffer", "window", "world"), ("scanline", "linear", "eye"),
+             ("abuffer", "distance", "world"), ("painter", "window", "eye"), ("raycast", "linear", "world")]
+    for algorithm, depth, normals in cases:
+        raw = tmp_path / ("raw-" + algorithm)
+        subprocess.run([cli, "render", model, "--size", "96x72", "--output", "none", "--raw", str(raw),
+                        "--depth", depth, "--normals", normals, "--algorithm", algorithm], check=True)
+        manifest = json.loads((raw / "manifest.json").read_text())
+        camera = hsr.Camera.from_json(json.dumps(manifest["camera"]))
+        out = hsr.render(scene, camera, algorithm=algorithm, depth=depth, normals=normals)
+        arrays = [("depth", out.depth), ("ids", out.ids), ("objects", out.objects),
+                  ("materials", out.materials), ("normals", out.normals), ("overdraw", out.overdraw)]
+        if algorithm == "abuffer":
+            arrays.append(("coverage", out.coverage))
+        else:
+            assert out.coverage is None and not (raw / "coverage.npy").exists()
+        for name, array in arrays:
+            on_disk = np.load(raw / (name + ".npy"))
+            assert array is not None, (algorithm, name)
+            assert on_disk.dtype == array.dtype and on_disk.shape == array.shape, (algorithm, name)
+            assert on_disk.tobytes() == array.tobytes(), (algorithm, name)
+        drawn = out.ids != hsr.NO_ID
+        # The scene tells the two apart: objects 0..2, materials 0..1 (or with a default first)
+        assert set(np.unique(out.objects[drawn])) == {0, 1, 2}, algorithm
+        assert len(np.unique(out.materials[drawn])) == 2, algorithm
+        assert (out.objects[drawn] != out.materials[drawn]).any(), algorithm
 
 
 def test_every_algorithm_by_name_agrees_with_the_reference_on_ids():
