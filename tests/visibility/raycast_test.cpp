@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -102,15 +103,16 @@ TEST(Raycast, RealModelsAgreeWithTheZBuffer) {
   });
 }
 
-// A tie at the nearest hit found so far: two triangles at the same t in different leaves of the
-// hierarchy. 48 pairs of overlapping triangles in one plane facing an orthographic camera (every
-// hit of a pixel's ray at the same t and window depth, exactly), each triangle of a pair wrapped
-// in a cloud of small triangles behind the plane so that the two land in different leaves, and
-// the pair's ids in either order (the left one first, or the right one): wherever the two
-// overlap the ray caster must show the first submitted, as the z-buffer's LESS does, whichever
-// leaf its walk reaches first.
+// A tie at the nearest hit found so far: triangles at the same t in different leaves of the
+// hierarchy. 48 stacks of six overlapping triangles in one plane facing an orthographic camera
+// (every hit of a pixel's ray at the same t and window depth, exactly); a leaf holds four
+// triangles, so every stack spans two leaves or more, and each stack's six are submitted in a
+// shuffled order, so that in some stacks the first submitted lies in a leaf the walk reaches
+// after another. Each stack is wrapped in a cloud of small triangles behind the plane. Wherever
+// they overlap the ray caster must show the first submitted, as the z-buffer's LESS does,
+// whichever leaf its walk reaches first.
 TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
-  constexpr int kW = 384, kH = 256;
+  constexpr int kW = 384, kH = 256, kStacks = 48, kPerStack = 6;
   testing::Rng rng(47);
   Scene s;
   const std::uint32_t m = s.addMaterial({});
@@ -118,23 +120,29 @@ TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
     glm::vec3 a, b, c;
   };
   std::vector<Tri> front, cloud;
-  for (int p = 0; p < 48; ++p) {
-    const float x0 = 8.0f + 46.0f * (p % 8), y0 = 8.0f + 40.0f * (p / 8);
-    const float z = 0.25f;  // the plane facing the camera
-    const Tri left{{x0, y0, z}, {x0 + 30, y0 + 4, z}, {x0 + 4, y0 + 30, z}};
-    const Tri right{{x0 + 40, y0 + 30, z}, {x0 + 10, y0 + 26, z}, {x0 + 36, y0, z}};
-    // Which one is submitted first alternates from pair to pair
-    front.push_back(p % 2 ? right : left);
-    front.push_back(p % 2 ? left : right);
-    for (const Tri& t : {left, right}) {
-      const glm::vec3 centre = (t.a + t.b + t.c) / 3.0f;
-      for (int k = 0; k < 12; ++k) {
-        const glm::vec3 q = centre + glm::vec3(rng.uniform(-6, 6), rng.uniform(-6, 6), -1.0f - rng.uniform(0, 2));
-        cloud.push_back({q, q + glm::vec3(1.5f, 0, 0), q + glm::vec3(0, 1.5f, 0)});
+  for (int p = 0; p < kStacks; ++p) {
+    const glm::vec3 centre(26.0f + 46.0f * (p % 8), 26.0f + 40.0f * (p / 8), 0.25f);  // the plane z = 0.25
+    // Six triangles inscribed in a circle of radius 16 around the centre, each turned 20 degrees
+    // (and up to 6 more) from the last: each covers the disc of radius 8 around the centre
+    std::vector<Tri> stack;
+    for (int k = 0; k < kPerStack; ++k) {
+      const double start = k * (2 * std::numbers::pi / 3 / kPerStack) + rng.uniform(0.0f, 0.1f);
+      glm::vec3 v[3];
+      for (int i = 0; i < 3; ++i) {
+        const double angle = start + i * (2 * std::numbers::pi / 3);
+        v[i] = centre + glm::vec3(static_cast<float>(16 * std::cos(angle)), static_cast<float>(16 * std::sin(angle)), 0.0f);
       }
+      stack.push_back({v[0], v[1], v[2]});
+    }
+    for (int k = kPerStack - 1; k > 0; --k)  // Fisher-Yates: the submission order
+      std::swap(stack[static_cast<std::size_t>(k)], stack[static_cast<std::size_t>(rng.next() % (k + 1))]);
+    front.insert(front.end(), stack.begin(), stack.end());
+    for (int k = 0; k < 24; ++k) {
+      const glm::vec3 q = centre + glm::vec3(rng.uniform(-14, 14), rng.uniform(-14, 14), -1.25f - rng.uniform(0, 2));
+      cloud.push_back({q, q + glm::vec3(1.5f, 0, 0), q + glm::vec3(0, 1.5f, 0)});
     }
   }
-  // The pairs' triangles keep their order; the clouds come after, so ids are the pairs' order
+  // The stacks' triangles keep their order; the clouds come after, so ids are the stacks' order
   for (const Tri& t : front) s.addPolygonVertices({t.a, t.b, t.c}, m);
   for (const Tri& t : cloud) s.addPolygonVertices({t.a, t.b, t.c}, m);
   const Camera camera = testing::pixelCamera(kW, kH);
@@ -143,17 +151,41 @@ TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
   const Frame z = render(s, camera, o);
   o.algorithm = "raycast";
   const Frame r = render(s, camera, o);
-  std::size_t overlap = 0, differ = 0;
+  // A pixel centre within 0.01 px of an edge of its stack is left out (counted): there the
+  // ray caster's watertight test and the z-buffer's fill rule may cover it differently (the ray
+  // caster lacks exact-coverage), which is not a tie
+  const auto nearAnEdge = [&](std::size_t stack, double px, double py) {
+    for (std::size_t t = stack * kPerStack; t < (stack + 1) * kPerStack; ++t) {
+      const glm::vec3 v[3] = {front[t].a, front[t].b, front[t].c};
+      for (int e = 0; e < 3; ++e) {
+        const double ax = v[e].x, ay = v[e].y, bx = v[(e + 1) % 3].x, by = v[(e + 1) % 3].y;
+        const double d = std::abs((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / std::hypot(bx - ax, by - ay);
+        if (d < 0.01) return true;
+      }
+    }
+    return false;
+  };
+  std::size_t tied = 0, not_lowest = 0, differ = 0, on_edges = 0;
   for (std::size_t k = 0; k < z.ids.size(); ++k) {
     if (z.ids[k] == kNoPolygon || z.ids[k] >= front.size()) continue;
-    // Covered by both of a pair: the z-buffer shows the pair's first (even id) there
-    overlap += z.ids[k] % 2 == 0 && r.ids[k] != kNoPolygon;
+    const std::size_t stack = z.ids[k] / kPerStack;
+    const double px = static_cast<double>(k % kW) + 0.5, py = static_cast<double>(k / kW) + 0.5;
+    if (nearAnEdge(stack, px, py) || nearAnEdge(stack, px, kH - py)) {  // rows either way up
+      on_edges++;
+      continue;
+    }
+    tied++;
+    // Where the z-buffer shows a stack's triangle other than its first, the first does not cover
+    // the pixel: the test's scenes must also have pixels of later triangles in the lead
+    not_lowest += z.ids[k] % kPerStack != 0;
     differ += r.ids[k] != z.ids[k];
   }
-  EXPECT_GT(overlap, 3000u);
-  EXPECT_EQ(differ, 0u) << "pixels of the pairs where the ray caster shows another polygon than the z-buffer";
-  testing::printFigures("raycast ties between leaves: 48 pairs at one depth, " + grouped(overlap) +
-                        " pixels, " + grouped(differ) + " differ from the z-buffer");
+  EXPECT_GT(tied, 20000u);
+  EXPECT_GT(not_lowest, 1000u);
+  EXPECT_EQ(differ, 0u) << "pixels of the stacks where the ray caster shows another polygon than the z-buffer";
+  testing::printFigures("raycast ties between leaves: " + grouped(kStacks) + " stacks of " + grouped(kPerStack) +
+                        " triangles at one depth, " + grouped(tied) + " pixels, " + grouped(differ) +
+                        " differ from the z-buffer (" + grouped(on_edges) + " on an edge left out)");
 }
 
 }  // namespace
