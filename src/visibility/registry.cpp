@@ -93,7 +93,11 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
         .source = "Roberts 1963; the notes' \"Roberts Algorithm\"",
         .precision = Precision::kObject,
         .input = InputKind::kWindowPolygons,
-        .capabilities = kOutline | kTransparency | kExplain | kTieRule},
+        // Not kTieRule: in the WebAssembly build (libc++) different coplanar polygons facing an
+        // orthographic camera resolve to another than the first submitted (145,173 pixels of
+        // Coplanar.OverlappingFacingTheCameraFirstSubmittedWins; native builds keep the rule).
+        // Until the cause is found the rule is not claimed (docs/testing.md row 6).
+        .capabilities = kOutline | kTransparency | kExplain},
        &drawRoberts},
   };
   return table;
