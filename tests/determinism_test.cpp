@@ -82,7 +82,8 @@ Scene uvSphere(glm::vec3 centre, int segments) {
 }
 
 // Row-4 scenes: twenty, and two in the sanitizer leg's tier (testing::legCases), where row 9's
-// sphere also has half the rings and segments; the built-in scenes and the models are all kept.
+// sphere also has half the rings and segments and the two large built-ins a quarter of their
+// triangles; every built-in scene and every model is kept.
 const int kRandomScenes = testing::legCases(20, 10);
 const int kSphereSegments = testing::legCases(200, 2);
 
@@ -96,7 +97,11 @@ std::vector<NamedScene> determinismScenes() {
   }
   // Odd sizes, so that the 64x64 tiles of the z-buffer are cut at the right and bottom.
   constexpr int kW = 301, kH = 227;
-  for (const char* spec : {"demo", "solids", "cyclic", "penetrating", "spheres:2000", "soup:3000:7"}) {
+  // The two large built-ins at a quarter of their triangles in the sanitizer leg's tier
+  const std::string spheres = "spheres:" + std::to_string(testing::legCases(2000, 4));
+  const std::string soup = "soup:" + std::to_string(testing::legCases(3000, 4)) + ":7";
+  for (const std::string& spec : {std::string("demo"), std::string("solids"), std::string("cyclic"),
+                                  std::string("penetrating"), spheres, soup}) {
     Scene s = makeBuiltinScene(spec);
     const Camera c = frameScene(s, kW, kH);
     out.push_back({spec, std::move(s), c});
