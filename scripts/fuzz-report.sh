@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The fuzzing campaign's figures as a Markdown table, from the per-run log that
-# scripts/fuzz.sh appends to (default build-fuzz/fuzz-log.tsv; the campaign's own log is
+# scripts/fuzz.sh appends to (default build-san/fuzz-log.tsv; the campaign's own log is
 # committed as fuzz/campaign.tsv). Every run of a target starts from the corpus the earlier
 # runs left, so the figures add up: runs, wall and CPU time, executions and findings are
 # sums; coverage and corpus size are those at the end of the target's last run.
 # Usage: scripts/fuzz-report.sh [LOG.tsv]
 set -euo pipefail
-log=${1:-build-fuzz/fuzz-log.tsv}
+log=${1:-build-san/fuzz-log.tsv}
 [ -r "$log" ] || { echo "fuzz-report: cannot read $log" >&2; exit 1; }
 awk -F'\t' '
   NF < 7 { next }

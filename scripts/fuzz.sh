@@ -15,10 +15,10 @@
 # took alone).
 # Each target starts from its committed corpus (fuzz/corpus/TARGET), the known-bug seeds of
 # its format (fuzz/seeds/*.EXT; fuzz/seeds/args/ and scene/ for the two others) and, for mesh
-# formats, Debian's assimp test models; what it finds goes to build-fuzz/corpus/TARGET (the
+# formats, Debian's assimp test models; what it finds goes to build-san/corpus/TARGET (the
 # tree stays clean). Any crash, leak, timeout
-# or out-of-memory fails the run; the input is kept in build-fuzz/artifacts/TARGET/.
-# A line per target is appended to build-fuzz/fuzz-log.tsv: target, seconds, CPU seconds
+# or out-of-memory fails the run; the input is kept in build-san/artifacts/TARGET/.
+# A line per target is appended to build-san/fuzz-log.tsv: target, seconds, CPU seconds
 # (the target and its import children), executions, coverage, corpus size, result.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -30,12 +30,16 @@ targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
 scripts/install-deps.sh
-echo "== libFuzzer build (clang, ASan+UBSan): the fuzz targets alone =="
-generator=()
-if [ ! -f build-fuzz/CMakeCache.txt ] && command -v ninja >/dev/null; then generator=(-G Ninja); fi
-CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz "${generator[@]}" -DHSR_BUILD_FUZZ=ON -DHSR_SANITIZE=ON \
-  -DHSR_BUILD_TESTS=OFF -DHSR_BUILD_BENCH=OFF -DHSR_BUILD_PEERS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build build-fuzz -j"$(nproc)" --target "${all[@]}"
+echo "== libFuzzer build (clang, ASan+UBSan): the fuzz targets =="
+# The sanitizer tree (scripts/test.sh builds its tests in it too): configured here only when new
+if [ ! -f build-san/CMakeCache.txt ]; then
+  generator=()
+  command -v ninja >/dev/null && generator=(-G Ninja)
+  CC=clang-14 CXX=clang++-14 cmake -S . -B build-san "${generator[@]}" -DHSR_BUILD_FUZZ=ON -DHSR_SANITIZE=ON \
+    -DHSR_BUILD_TESTS=OFF -DHSR_BUILD_BENCH=OFF -DHSR_BUILD_PEERS=OFF \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+fi
+cmake --build build-san -j"$(nproc)" --target "${all[@]}"
 
 # libassimp leaks inside its ASCII STL reader (not ours): suppressed for LSan only.
 # ASan's free-memory quarantine (256 MB by default) counts towards -rss_limit_mb=512; 64 MB
@@ -55,7 +59,7 @@ target_flags() {
 }
 
 seed_dirs() {  # extra read-only seed directories for a target
-  local t=$1 ext=${1#fuzz_} d=build-fuzz/seeds/$1
+  local t=$1 ext=${1#fuzz_} d=build-san/seeds/$1
   rm -rf "$d" && mkdir -p "$d"
   case $t in
   fuzz_scene|fuzz_args|fuzz_bsp|fuzz_clip|fuzz_camera|fuzz_wad|fuzz_obj_text)  # literal inputs: fuzz/seeds/args/, scene/, bsp/, clip/, camera/, wad/, obj_text/
@@ -72,44 +76,44 @@ seed_dirs() {  # extra read-only seed directories for a target
 status=0
 if [ $merge -eq 1 ]; then
   for t in "${targets[@]}"; do
-    mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" "fuzz/corpus/$t"
+    mkdir -p "build-san/corpus/$t" "build-san/artifacts/$t" "fuzz/corpus/$t"
     seed_dirs "$t" >/dev/null
     echo "== $t: minimising into fuzz/corpus/$t =="
     tmp=$(mktemp -d)
-    "build-fuzz/$t" -merge=1 "${flags[@]}" $(target_flags "$t") -artifact_prefix="build-fuzz/artifacts/$t/" "$tmp" "fuzz/corpus/$t" "build-fuzz/corpus/$t" \
-      > "build-fuzz/$t-merge.log" 2>&1
+    "build-san/$t" -merge=1 "${flags[@]}" $(target_flags "$t") -artifact_prefix="build-san/artifacts/$t/" "$tmp" "fuzz/corpus/$t" "build-san/corpus/$t" \
+      > "build-san/$t-merge.log" 2>&1
     rm -rf "fuzz/corpus/$t" && mv "$tmp" "fuzz/corpus/$t" && chmod 755 "fuzz/corpus/$t"
     echo "   $(ls "fuzz/corpus/$t" | wc -l) files, $(du -sh "fuzz/corpus/$t" | cut -f1)"
   done
   exit 0
 fi
 
-# One target for `seconds`: its line in build-fuzz/fuzz-log.tsv, and its finding if any
+# One target for `seconds`: its line in build-san/fuzz-log.tsv, and its finding if any
 run_target() {
   local t=$1 seeds log start rc cpu wall execs cov corp result
-  mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" "fuzz/corpus/$t"
+  mkdir -p "build-san/corpus/$t" "build-san/artifacts/$t" "fuzz/corpus/$t"
   seeds=$(seed_dirs "$t")
-  log=build-fuzz/$t.log
+  log=build-san/$t.log
   start=$(date +%s)
   rc=0
   # CPU time of the fuzzer and its import children (bash's `time` counts reaped descendants)
   TIMEFORMAT='%U %S'
-  { time { "build-fuzz/$t" -max_total_time="$seconds" "${flags[@]}" $(target_flags "$t") \
-             -artifact_prefix="build-fuzz/artifacts/$t/" \
-             "build-fuzz/corpus/$t" "fuzz/corpus/$t" "$seeds" > "$log" 2>&1 || rc=$?; }; } \
-    2> "build-fuzz/$t.time"
-  cpu=$(awk '{ printf "%.0f", $1 + $2 }' "build-fuzz/$t.time")
+  { time { "build-san/$t" -max_total_time="$seconds" "${flags[@]}" $(target_flags "$t") \
+             -artifact_prefix="build-san/artifacts/$t/" \
+             "build-san/corpus/$t" "fuzz/corpus/$t" "$seeds" > "$log" 2>&1 || rc=$?; }; } \
+    2> "build-san/$t.time"
+  cpu=$(awk '{ printf "%.0f", $1 + $2 }' "build-san/$t.time")
   wall=$(( $(date +%s) - start ))
   # A finding while the seeds are read leaves no "cov:" line: the figures are then "?" (and
   # pipefail must not end the script before it reports the finding)
   execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | awk '{print $2}' | tail -1 || true)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}' || true)
-  corp=$(ls "build-fuzz/corpus/$t" | wc -l)
+  corp=$(ls "build-san/corpus/$t" | wc -l)
   result=ok
   [ "$rc" -ne 0 ] && result="FINDING (exit $rc)"
-  echo "$result" > "build-fuzz/$t.result"
+  echo "$result" > "build-san/$t.result"
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$t" "$wall" "${cpu:-?}" "${execs:-?}" "${cov:-?}" "$corp" "$result" \
-    | tee -a build-fuzz/fuzz-log.tsv
+    | tee -a build-san/fuzz-log.tsv
   if [ "$rc" -ne 0 ]; then
     grep -E "ERROR|SUMMARY|Test unit written|==[0-9]+==" "$log" | head -20 || true
     return 1
@@ -120,13 +124,13 @@ jobs_max=${HSR_FUZZ_JOBS:-$(nproc)}
 echo "== ${#targets[@]} targets, ${seconds} s each, ${jobs_max} at a time =="
 echo "target	seconds	cpu_s	executions	coverage	corpus	result"
 for t in "${targets[@]}"; do
-  rm -f "build-fuzz/$t.result"
+  rm -f "build-san/$t.result"
   while [ "$(jobs -rp | wc -l)" -ge "$jobs_max" ]; do wait -n || true; done
   run_target "$t" &
 done
 wait || true
 # Each target's result from its own file: a job's exit status can be reaped before it is asked
 for t in "${targets[@]}"; do
-  [ "$(cat "build-fuzz/$t.result" 2>/dev/null)" = ok ] || { echo "fuzz: $t: $(cat "build-fuzz/$t.result" 2>/dev/null || echo 'no result')"; status=1; }
+  [ "$(cat "build-san/$t.result" 2>/dev/null)" = ok ] || { echo "fuzz: $t: $(cat "build-san/$t.result" 2>/dev/null || echo 'no result')"; status=1; }
 done
 exit $status

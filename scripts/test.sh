@@ -6,9 +6,10 @@
 #      HSR_BENCH_LINK=OFF); then every test under CTest, two at a time.
 #   2. The web page (scripts/test-web.sh): its WebAssembly build against the native one, under
 #      node and in headless Chromium.
-#   3. ASan+UBSan (GCC at -O1, HSR_NO_SIMD: the scalar span path): hsr's own tests again. The
-#      peers are other people's code and are checked once, in leg 1.
-#   4. libFuzzer (clang, ASan+UBSan): every target for HSR_FUZZ_SECONDS (default 30) from the
+#   3. ASan+UBSan (clang 14, one tree, build-san, for this leg and the next: hsr's code with the
+#      sanitizers and libFuzzer's coverage, the tests uninstrumented around it): hsr's own tests
+#      again. The peers are other people's code and are checked once, in leg 1.
+#   4. libFuzzer (the same tree): every target for HSR_FUZZ_SECONDS (default 30) from the
 #      committed corpus, one per core at a time.
 # Every leg's time goes to build/ci-times.tsv and is printed at the end (docs/testing.md keeps
 # the table). HSR_TEST_INTENSITY: 1 (default, CI) or 3 for long local runs.
@@ -51,17 +52,20 @@ if [ $quick -eq 1 ]; then
   exit 0
 fi
 stage "web page: build and tests" scripts/test-web.sh build/hsr
-stage "ASan+UBSan build" scripts/build.sh build-asan -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON \
-  -DHSR_BUILD_BENCH=OFF -DHSR_NO_SIMD=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
-# Mesa's own allocations are not ours to track: leak checking stays off for the oracle.
+# One clang tree for legs 3 and 4: hsr's code compiled once, with the sanitizers and libFuzzer's
+# coverage, for the tests and the fuzz targets alike
+CC=clang-14 CXX=clang++-14 stage "ASan+UBSan build (clang: the tests and the fuzz targets)" \
+  scripts/build.sh build-san -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON -DHSR_BUILD_FUZZ=ON \
+  -DHSR_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+# Leak checking stays off for the tests (the fuzz targets keep it, scripts/fuzz.sh).
 # clang 14's ASan does not hold its allocator's lock across fork(): a model import forked
 # while a oneTBB worker of the previous render is freeing memory can leave the child waiting
 # on that lock forever (seen once: an import refused after its 120 s limit, the same test
 # then passing 40 times in a row). A test that fails is run once more; one that fails twice
 # fails the run.
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  stage "ASan+UBSan tests" ctest_run build-asan --repeat until-pass:2
-stage "libFuzzer: build and ${fuzz_seconds} s per target" scripts/fuzz.sh "$fuzz_seconds"
+  stage "ASan+UBSan tests" ctest_run build-san --repeat until-pass:2
+stage "libFuzzer: ${fuzz_seconds} s per target" scripts/fuzz.sh "$fuzz_seconds"
 
 mkdir -p build
 { cat "$times"; printf 'total\t%s\n' "$(( $(date +%s) - t0 ))"; } > build/ci-times.tsv

@@ -329,7 +329,8 @@ class ConformanceNearPlane : public testing::EveryAlgorithm {};
 TEST_P(ConformanceNearPlane, BehindTheEye) {
   const std::uint64_t seed = 0xBE41Du;
   Rng rng(seed);
-  const int per_k = 300 * testing::countScale();
+  // Half of them in the sanitizer leg's tier (testing::legCases)
+  const int per_k = testing::legCases(300 * testing::countScale(), 2);
   const double tan_half = std::tan(glm::radians(30.0));
   NearResult r;
   std::uint64_t cases = 0, fully_behind_drawn = 0, partly_drawn_cases = 0;
@@ -501,13 +502,15 @@ TEST_P(ConformanceNearPlane, Far30000Beyond26Directions) {
       std::rotate(t.begin(), t.begin() + static_cast<int>(rng.next() % 3), t.end());
       run(2, t);
     }
-  // Three out: all 26^3 triples at intensity >= 3, a fixed random sample of 2000 otherwise.
+  // Three out: all 26^3 triples at intensity >= 3, a fixed random sample of 2000 otherwise (500
+  // in the sanitizer leg's tier, testing::legCases).
   if (testing::testIntensity() >= 3) {
     for (const glm::vec3& d1 : dirs)
       for (const glm::vec3& d2 : dirs)
         for (const glm::vec3& d3 : dirs) run(3, Tri{outside(d1), outside(d2), outside(d3)});
   } else {
-    for (int i = 0; i < 2000; ++i)
+    const int samples = testing::legCases(2000, 4);
+    for (int i = 0; i < samples; ++i)
       run(3, Tri{outside(dirs[rng.next() % 26]), outside(dirs[rng.next() % 26]),
                  outside(dirs[rng.next() % 26])});
   }

@@ -345,7 +345,9 @@ TEST(Bvh, NodeTestIsConservativeAndSseEqualsScalar) {
       const unsigned mb = detail::boxHitsSse(node, r, 0.0f, 10.0f, b);
       ASSERT_EQ(ma, mb) << "case " << i;
       for (int c = 0; c < W; ++c)
-        if (ma & (1u << c)) ASSERT_EQ(detail::bitCast<std::uint32_t>(a[c]), detail::bitCast<std::uint32_t>(b[c]));
+        if (ma & (1u << c)) {
+          ASSERT_EQ(detail::bitCast<std::uint32_t>(a[c]), detail::bitCast<std::uint32_t>(b[c]));
+        }
     }
     ++cases;
     hits += static_cast<unsigned>(std::popcount(ma));
@@ -510,7 +512,9 @@ TEST(Bvh, LeafTestAnswersAsTheWatertightTest) {
       const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
       const bool hit = detail::intersectTriangle(r, a, b, c, -INFINITY, INFINITY, detail::HitSides::kBoth, &h);
       hits += hit;
-      if (hit) ASSERT_TRUE(kept & (1u << lane)) << "case " << i << " lane " << lane << ": a hit left out";
+      if (hit) {
+        ASSERT_TRUE(kept & (1u << lane)) << "case " << i << " lane " << lane << ": a hit left out";
+      }
       dropped += !(kept & (1u << lane));
       if (!(kept & (1u << lane))) continue;
       // The lane finished from the screen: the same answer, on each side setting and t range
@@ -557,8 +561,9 @@ TEST(Bvh, LargePageArraysAreAlignedAndHoldTheirContents) {
     std::vector<detail::BvhNode, detail::LargePageAllocator<detail::BvhNode>> v(n);
     ASSERT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % alignof(detail::BvhNode), 0u);
 #if defined(__linux__)
-    if (n * sizeof(detail::BvhNode) >= detail::kLargePage)
+    if (n * sizeof(detail::BvhNode) >= detail::kLargePage) {
       EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % detail::kLargePage, 0u);
+    }
 #endif
     for (std::size_t i = 0; i < n; ++i) v[i].child[0] = static_cast<std::uint32_t>(i);
     v.push_back(v[n / 2]);  // grows (and moves) as a vector does

@@ -1,7 +1,7 @@
 // The Weiler-Atherton visible set (hsr/visible_set.hpp, src/visibility/weiler_atherton.cpp):
 // its regions never overlap (the area of every pairwise intersection is exactly 0), they add
-// up exactly to the union of the snapped polygons and within 0.1% to the pixels the z-buffer
-// covers, nothing is left unresolved on these scenes; and on the real models of the Mesa test
+// up exactly to the union of the snapped polygons and, within the squares its outline crosses,
+// to the pixels the z-buffer covers, nothing is left unresolved on these scenes; and on the real models of the Mesa test
 // its frame agrees with the z-buffer's (docs/testing.md row 4 is the agreement suite, which
 // it joins through the registry).
 
@@ -63,11 +63,34 @@ ExactRegion snappedUnion(const Scene& scene, const Camera& camera, const RenderO
 
 struct Tally {
   std::uint64_t scenes = 0, polygons = 0, pairs = 0, overlapping = 0;
+  double worst_share = 0;  // the largest |area - covered pixels| as a share of its bound
 };
 
+// The pixel squares the outline of a region passes through, counted with repetition (at most
+// ceil|dx| + ceil|dy| + 1 per edge, in pixels): only such a square can hold a pixel centre on the
+// other side of the outline from most of its area, and each is off by less than one. So the
+// count of pixel centres inside the region differs from its area by less than this.
+double squaresOnTheOutline(const ExactRegion& region) {
+  double squares = 0;
+  auto ring = [&](const ExactRing& points) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const ExactPoint &a = points[i], &b = points[(i + 1) % points.size()];
+      squares += std::ceil(std::abs(b.xd() - a.xd()) / detail::kSubpixelOne) +
+                 std::ceil(std::abs(b.yd() - a.yd()) / detail::kSubpixelOne) + 1;
+    }
+  };
+  for (const ExactPolygon& p : region) {
+    ring(p.outer);
+    for (const ExactRing& h : p.holes) ring(h);
+  }
+  return squares;
+}
+
 // One view: no two visible regions overlap; their exact areas add up to the union's; the
-// covered pixels of the z-buffer's frame match the summed area within 0.1% where there are
-// enough of them to say so (rounding to pixel centres is off by up to half the outline's length).
+// covered pixels of the z-buffer's frame are the summed area to within the pixel squares the
+// union's outline passes through (squaresOnTheOutline: sampling at pixel centres can be off by
+// no more). An earlier bound of 0.1% of the covered pixels was a figure seen on some scenes, not
+// a property: scene 12's centres fall 0.14% short of its area.
 void checkView(const Scene& scene, const Camera& camera, const RenderOptions& o, const std::string& what, Tally& t,
                bool union_check) {
   const VisibleSet set = visibleSet(scene, camera, o);
@@ -89,8 +112,9 @@ void checkView(const Scene& scene, const Camera& camera, const RenderOptions& o,
                       << shared << " square grid units";
     }
   }
+  const ExactRegion all = snappedUnion(scene, camera, o);
   if (union_check) {
-    EXPECT_EQ(sum, mpq_class(exactArea(snappedUnion(scene, camera, o)))) << what << ": areas add up to the union";
+    EXPECT_EQ(sum, mpq_class(exactArea(all))) << what << ": areas add up to the union";
   }
   RenderOptions z = o;
   z.algorithm = "zbuffer";
@@ -98,9 +122,9 @@ void checkView(const Scene& scene, const Camera& camera, const RenderOptions& o,
   std::uint64_t covered = 0;
   for (const PolygonId id : f.ids) covered += id != kNoPolygon;
   const double area = sum.get_d() / (double{detail::kSubpixelOne} * detail::kSubpixelOne);
-  if (covered >= 20000) {
-    EXPECT_NEAR(area, static_cast<double>(covered), 0.001 * static_cast<double>(covered)) << what;
-  }
+  const double off = std::abs(area - static_cast<double>(covered)), bound = squaresOnTheOutline(all);
+  EXPECT_LT(off, bound) << what << ": " << covered << " pixels covered, visible area " << area;
+  t.worst_share = std::max(t.worst_share, off / bound);
 }
 
 TEST(WeilerAtherton, VisibleRegionsNeverOverlapAndAddUp) {
@@ -122,7 +146,9 @@ TEST(WeilerAtherton, VisibleRegionsNeverOverlapAndAddUp) {
   EXPECT_EQ(t.overlapping, 0u);
   testing::printFigures("weiler-atherton visible set: " + grouped(t.scenes) + " views, " + grouped(t.polygons) +
                         " visible polygons, " + grouped(t.pairs) + " pairs with overlapping boxes, " +
-                        grouped(t.overlapping) + " overlapping (exact areas)");
+                        grouped(t.overlapping) + " overlapping (exact areas); covered pixels within " +
+                        std::to_string(static_cast<int>(std::lround(100 * t.worst_share))) +
+                        "% of their bound from the area");
 }
 
 // The notes' hard cases: the three sticks that overlap cyclically, and polygons that pierce one

@@ -361,8 +361,8 @@ TEST(ZBuffer, EveryDepthIsThePolygonPlaneAtThePixel) {
   EXPECT_GT(checked, 150000u);  // covered pixels of the three scenes
 }
 
-// The build runs the span paths it says it has: HSR_NO_SIMD builds only the scalar one (CI's
-// sanitizer leg), the default x86-64-v2 build also the SSE4.1 one and uses it.
+// The build runs the span paths it says it has: HSR_NO_SIMD builds only the scalar one (as the
+// web build does), the default x86-64-v2 build also the SSE4.1 one and uses it.
 TEST(SpanPaths, TheBuildHasThePathsItSays) {
   EXPECT_TRUE(detail::spanPathAvailable(detail::SpanPath::kScalar));
 #if defined(HSR_NO_SIMD) || !defined(__SSE4_1__)
