@@ -29,7 +29,7 @@ if [ "${1:-}" = "--merge" ]; then merge=1; shift; elif [[ "${1:-}" =~ ^[0-9]+$ ]
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
-scripts/install-deps.sh
+scripts/install-deps.sh tests
 echo "== libFuzzer build (clang, ASan+UBSan): the fuzz targets =="
 # The sanitizer tree (scripts/test.sh builds its tests in it too): configured here only when new
 if [ ! -f build-san/CMakeCache.txt ]; then

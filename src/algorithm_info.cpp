@@ -15,7 +15,10 @@ const AlgorithmEntry& findEntry(std::string_view name) {
   for (const AlgorithmEntry& e : algorithmTable())
     if (e.info.name == name) return e;
   std::string known;
-  for (const AlgorithmEntry& e : algorithmTable()) known += (known.empty() ? "" : ", ") + std::string(e.info.name);
+  for (const AlgorithmEntry& e : algorithmTable()) {
+    if (!known.empty()) known += ", ";
+    known += e.info.name;
+  }
   throw Error("unknown algorithm '" + std::string(name) + "' (known: " + known + ")");
 }
 
@@ -76,7 +79,10 @@ std::string capabilityList(std::uint32_t caps) {
   };
   std::string names;
   for (const auto& [cap, name] : kNames)
-    if (caps & cap) names += (names.empty() ? "" : ", ") + std::string(name);
+    if (caps & cap) {
+      if (!names.empty()) names += ", ";
+      names += name;
+    }
   return names;
 }
 

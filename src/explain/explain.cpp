@@ -60,7 +60,8 @@ std::vector<std::string> wrap(const std::string& text, std::size_t columns) {
       lines.push_back(line);
       line.clear();
     }
-    line += (line.empty() ? "" : " ") + word;
+    if (!line.empty()) line += ' ';
+    line += word;
   }
   if (!line.empty()) lines.push_back(line);
   return lines;

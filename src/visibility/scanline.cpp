@@ -502,9 +502,12 @@ class BandPass {
     if (noting_ && notes_shown_++ < 8) {
       std::string ids;
       for (const auto* list : {&opaque, &transparent})
-        for (const Inside& p : *list) ids += (ids.empty() ? "" : "+") + std::to_string(tris_[p.polygon].id);
-      notes_ += (notes_.empty() ? "" : "; ") + std::string("[") + std::to_string(xa) + ", " + std::to_string(xb) +
-                ") in " + ids + ": " + how;
+        for (const Inside& p : *list) {
+          if (!ids.empty()) ids += '+';
+          ids += std::to_string(tris_[p.polygon].id);
+        }
+      if (!notes_.empty()) notes_ += "; ";
+      notes_ += "[" + std::to_string(xa) + ", " + std::to_string(xb) + ") in " + ids + ": " + how;
     }
   }
 
@@ -621,9 +624,10 @@ class BandPass {
     for (const Crossing& e : st_.crossings) {
       const float fx = static_cast<float>(e.x) - 0.5f;
       outlines.push_back({{fx, fy - 6.0f}, {fx, fy + 6.0f}});
-      if (shown++ < 12)
-        list += (list.empty() ? "" : ", ") + std::string("x=") + std::to_string(e.x) +
-                (e.flip > 0 ? " in " : " out ") + std::to_string(tris_[e.polygon].id);
+      if (shown++ < 12) {
+        if (!list.empty()) list += ", ";
+        list += "x=" + std::to_string(e.x) + (e.flip > 0 ? " in " : " out ") + std::to_string(tris_[e.polygon].id);
+      }
     }
     if (shown > 12) list += ", ... (" + std::to_string(shown - 12) + " more)";
     if (notes_shown_ > 8) notes_ += "; ... (" + std::to_string(notes_shown_ - 8) + " more)";

@@ -132,7 +132,8 @@ TEST(WeilerAtherton, AgreesWithCgalExactlyOnRandomPairs) {
       checkPair(a, b, name + " " + std::to_string(f.vertices) + " pair " + std::to_string(i), &c);
     }
     EXPECT_LT(refused, std::max(2, f.pairs / 4)) << f.name << ": too many invalid pairs to prove anything";
-    figures += " " + std::string(f.name) + " " + std::to_string(f.vertices) + ": " + grouped(c.operations) + " ops, " +
+    figures += ' ';
+    figures += std::string(f.name) + " " + std::to_string(f.vertices) + ": " + grouped(c.operations) + " ops, " +
                grouped(c.mismatches) + " differ;";
     total.operations += c.operations, total.mismatches += c.mismatches;
   }

@@ -15,9 +15,13 @@ namespace hsr::testing {
 
 // 13107200 -> "13,107,200".
 inline std::string grouped(std::uint64_t v) {
-  std::string s = std::to_string(v);
-  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
-  return s;
+  const std::string digits = std::to_string(v);
+  std::string out;  // appended digit by digit: GCC 12 warns of inserts into a string, wrongly
+  for (std::size_t k = 0; k < digits.size(); ++k) {
+    if (k > 0 && (digits.size() - k) % 3 == 0) out.push_back(',');
+    out.push_back(digits[k]);
+  }
+  return out;
 }
 
 // Percentage with enough digits to show small fractions: 0.0001%.
