@@ -63,12 +63,13 @@ struct Builder {
   const std::vector<glm::dvec3>& lo;  // each polygon's bounding box
   const std::vector<glm::dvec3>& hi;
   Octree& tree;
+  const OctreeLimits& limits;
 
   // Fills node `n` (its box set) with `items`.
   void build(std::uint32_t n, std::vector<Item> items, int depth) {
     tree.stats.depth = std::max<std::uint64_t>(tree.stats.depth, depth);
     tree.nodes[n].depth = static_cast<std::uint8_t>(depth);
-    if (items.size() > kOctreeLeafPolygons && depth < kOctreeMaxDepth) {
+    if (items.size() > limits.leaf_polygons && depth < limits.max_depth) {
       const glm::dvec3 box_lo = tree.nodes[n].lo, box_hi = tree.nodes[n].hi;
       const glm::dvec3 mid = (box_lo + box_hi) * 0.5;
       std::vector<Item> child[8];
@@ -100,8 +101,8 @@ struct Builder {
       }
       // Cutting must separate the polygons: when it would copy more than half of them into
       // several octants (octants as small as the polygons, or polygons all crossing one point),
-      // the node stays a leaf.
-      if (2 * handed <= 3 * items.size()) {
+      // the node stays a leaf (unless the limits cut this deep regardless, for teaching).
+      if (2 * handed <= 3 * items.size() || depth < limits.cut_regardless_to) {
         const auto first = static_cast<std::int32_t>(tree.nodes.size());
         tree.nodes[n].first_child = first;
         tree.nodes.resize(tree.nodes.size() + 8);
@@ -134,9 +135,10 @@ struct Builder {
 
 }  // namespace
 
-Octree buildOctree(const Scene& scene) {
+Octree buildOctree(const Scene& scene, const OctreeLimits& limits) {
   const auto t0 = std::chrono::steady_clock::now();
   Octree tree;
+  tree.limits = limits;
   const std::size_t n = scene.polygonCount();
   std::vector<glm::dvec3> lo(n), hi(n);
   std::vector<Item> all;
@@ -162,7 +164,7 @@ Octree buildOctree(const Scene& scene) {
   if (all.empty()) box_lo = box_hi = glm::dvec3(0.0);
   tree.nodes[0].lo = box_lo;
   tree.nodes[0].hi = box_hi;
-  Builder b{lo, hi, tree};
+  Builder b{lo, hi, tree, limits};
   b.build(0, std::move(all), 0);
   tree.stats.nodes = tree.nodes.size();
   tree.stats.entries = tree.entries.size();
@@ -479,7 +481,9 @@ class Painter {
 
   void trace(std::uint32_t n, const PixelBox& fp, const std::string& what) {
     if (!in_.trace) return;
-    if (!in_.trace->wants(kStepOctant, traced_++, tree_.stats.leaves + tree_.stats.nodes / 8)) return;
+    if (trace_count_ == 0)  // the octants that can be pictured: every leaf holding something
+      for (const OctreeNode& node : tree_.nodes) trace_count_ += node.first_child < 0 && node.entry_count > 0;
+    if (!in_.trace->wants(kStepOctant, traced_++, trace_count_)) return;
     const OctreeNode& node = tree_.nodes[n];
     std::vector<TraceOutline> outlines;
     // The box's twelve edges, where all its corners are in front of the eye.
@@ -516,7 +520,7 @@ class Painter {
   glm::dvec3 eye_, toward_eye_;
   int tiles_x_ = 0;
   std::uint32_t leaf_number_ = 0;
-  std::uint64_t traced_ = 0;
+  std::uint64_t traced_ = 0, trace_count_ = 0;
   std::vector<PixelHalfPlane> cuts_;
   std::vector<std::uint32_t> touched_;  // the pixels the current leaf resolves
   PixelBox band_;
@@ -528,11 +532,13 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
   auto t0 = std::chrono::steady_clock::now();
   std::unique_ptr<Scratch> own;
   Scratch& s = algorithmScratch(in, own);
-  // The tree: built once, kept while the scene is the same.
+  // The tree: built once, kept while the scene is the same. Explained, it is cut finer, so that
+  // a teaching scene of a few polygons shows its octants (kOctreeTeachingLimits).
   const std::uint64_t fingerprint = sceneFingerprint(in.scene);
+  const OctreeLimits limits = in.trace ? kOctreeTeachingLimits : OctreeLimits{};
   bool built = false;
-  if (!s.tree || s.scene != &in.scene || s.tree->fingerprint != fingerprint) {
-    s.tree = std::make_shared<const Octree>(buildOctree(in.scene));
+  if (!s.tree || s.scene != &in.scene || s.tree->fingerprint != fingerprint || !(s.tree->limits == limits)) {
+    s.tree = std::make_shared<const Octree>(buildOctree(in.scene, limits));
     s.scene = &in.scene;
     built = true;
     frame.stats.addStage("octree build", s.tree->stats.build_ms);
@@ -544,7 +550,11 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
                           " octants, " + std::to_string(tree.stats.leaves) + " leaves, depth " +
                           std::to_string(tree.stats.depth) + "; " + std::to_string(tree.stats.polygons) +
                           " polygons held as " + std::to_string(tree.stats.entries) +
-                          " pieces (a polygon crossing octants is clipped to each).",
+                          " pieces (a polygon crossing octants is clipped to each). " +
+                          "Cut finer than for rendering, to show the octants: a leaf holds at most " +
+                          std::to_string(limits.leaf_polygons) + " polygon, the first " +
+                          std::to_string(limits.cut_regardless_to) + " levels cut whatever they copy (rendering: " +
+                          std::to_string(kOctreeLeafPolygons) + " a leaf; the same picture).",
                       &frame,
                       {}});
   t0 = std::chrono::steady_clock::now();

@@ -38,17 +38,33 @@ struct OctreeStats {
   double build_ms = 0;
 };
 
+inline constexpr std::uint32_t kOctreeLeafPolygons = 16;  // a leaf holds at most this many ...
+inline constexpr int kOctreeMaxDepth = 10;                // ... unless this deep
+
+// When a node is cut: while it holds more than `leaf_polygons` and is less than `max_depth`
+// deep, where cutting separates its polygons (copies at most half of them into several
+// octants); down to `cut_regardless_to` it is cut whether or not it separates them.
+struct OctreeLimits {
+  std::uint32_t leaf_polygons = kOctreeLeafPolygons;
+  int max_depth = kOctreeMaxDepth;
+  int cut_regardless_to = 0;
+  bool operator==(const OctreeLimits&) const = default;
+};
+// For teaching (hsr explain): the few polygons of a teaching scene would fit one leaf, so that
+// the pictures would show one octant at depth 0. A leaf holds one polygon, and the first two
+// levels are cut whatever they copy: the subdivision shows, and the result is the same (the
+// method is exact for any tree).
+inline constexpr OctreeLimits kOctreeTeachingLimits{1, 5, 2};
+
 struct Octree {
   std::vector<OctreeNode> nodes;  // nodes[0] is the root
   std::vector<OctreeEntry> entries;
   OctreeStats stats;
   std::uint64_t fingerprint = 0;  // of the scene it was built for
+  OctreeLimits limits;            // it was built with
 };
 
-inline constexpr std::uint32_t kOctreeLeafPolygons = 16;  // a leaf holds at most this many ...
-inline constexpr int kOctreeMaxDepth = 10;                // ... unless this deep
-
-Octree buildOctree(const Scene& scene);
+Octree buildOctree(const Scene& scene, const OctreeLimits& limits = {});
 
 
 }  // namespace hsr::detail

@@ -8,6 +8,8 @@
 #include <map>
 #include <sstream>
 
+#include "hsr/algorithms.hpp"
+#include "hsr/compare.hpp"
 #include "hsr/explain.hpp"
 #include "hsr/io.hpp"
 #include "test_util.hpp"
@@ -180,6 +182,74 @@ TEST(Explain, RayCasterShowsItsBoxesAndRays) {
   const Frame f = render(scene, cam, o);
   EXPECT_EQ(e.frame.ids, f.ids);
   EXPECT_EQ(e.frame.color, f.color);
+}
+
+}  // namespace
+}  // namespace hsr
+
+namespace hsr {
+namespace {
+
+// The pictures' font draws every printable ASCII character, and every caption and step name
+// that `hsr explain` writes on demo and solids, for every algorithm that explains itself, is
+// drawn whole: no character left as a blank (the scan-line spans' and octree footprints'
+// brackets once were).
+TEST(Explain, EveryCaptionIsDrawnWithGlyphsTheFontHas) {
+  for (char c = 32; c < 127; ++c) EXPECT_TRUE(labelHasGlyph(c)) << "'" << c << "'";
+  const testing::ScratchDir scratch("hsr_explain_glyphs");
+  std::size_t captions = 0;
+  for (const char* spec : {"demo", "solids"}) {
+    const Scene scene = loadScene(spec);
+    const Camera cam = frameScene(scene, 160, 120);
+    for (const AlgorithmInfo& a : algorithms()) {
+      if (!a.has(kExplain)) continue;
+      SCOPED_TRACE(std::string(a.name) + " on " + spec);
+      RenderOptions o;
+      o.algorithm = std::string(a.name);
+      const Explanation e = explain(scene, cam, o, scratch / (std::string(a.name) + "-" + spec));
+      for (const ExplainedStep& s : e.steps) {
+        captions++;
+        for (const char c : s.name + s.caption)
+          EXPECT_TRUE(labelHasGlyph(c)) << "step " << s.number << " (" << s.name << "): byte "
+                                         << int(static_cast<unsigned char>(c)) << " in \"" << s.caption << "\"";
+      }
+    }
+  }
+  EXPECT_GT(captions, 50u);
+}
+
+}  // namespace
+}  // namespace hsr
+
+namespace hsr {
+namespace {
+
+// The teaching scenes show the octree's subdivision: rendered, demo and solids each fit one
+// leaf (a single octant at depth 0), but explained they are cut more than one level deep, each
+// octant's turn pictured, and the finished picture is still the ordinary render's.
+TEST(Explain, OctreeShowsItsSubdivisionOnTheTeachingScenes) {
+  const testing::ScratchDir scratch("hsr_explain_octree");
+  for (const char* spec : {"demo", "solids"}) {
+    SCOPED_TRACE(spec);
+    const Scene scene = loadScene(spec);
+    const Camera cam = frameScene(scene, 160, 120);
+    RenderOptions o;
+    o.algorithm = "octree";
+    EXPECT_EQ(render(scene, cam, o).stats.counter("octree: depth"), 0u) << "the scene no longer fits one leaf";
+    const Explanation e = explain(scene, cam, o, scratch / spec);
+    ASSERT_FALSE(e.steps.empty());
+    ASSERT_EQ(e.steps.front().name, "build");
+    const std::string& caption = e.steps.front().caption;
+    const std::size_t at = caption.find("depth ");
+    ASSERT_NE(at, std::string::npos) << caption;
+    EXPECT_GE(std::stoi(caption.substr(at + 6)), 2) << caption;
+    int octants = 0;
+    for (const ExplainedStep& s : e.steps) octants += s.name == "octant";
+    EXPECT_GE(octants, 8) << "one picture per octant visited, at least a level's eight";
+    const Frame f = render(scene, cam, o);
+    EXPECT_EQ(e.frame.ids, f.ids);
+    EXPECT_EQ(e.frame.color, f.color);
+  }
 }
 
 }  // namespace
