@@ -129,6 +129,12 @@ constexpr Glyph kFont[] = {
     {'?', {14, 17, 1, 2, 4, 0, 4}},      {'<', {2, 4, 8, 16, 8, 4, 2}},
     {'>', {8, 4, 2, 1, 2, 4, 8}},        {';', {0, 12, 12, 0, 12, 4, 8}},
     {'#', {10, 10, 31, 10, 31, 10, 10}}, {'*', {0, 4, 21, 14, 21, 4, 0}},
+    {'[', {14, 8, 8, 8, 8, 8, 14}},      {']', {14, 2, 2, 2, 2, 2, 14}},
+    {'{', {6, 8, 8, 16, 8, 8, 6}},       {'}', {12, 2, 2, 1, 2, 2, 12}},
+    {'|', {4, 4, 4, 4, 4, 4, 4}},        {'\\', {16, 16, 8, 4, 2, 1, 1}},
+    {'^', {4, 10, 17, 0, 0, 0, 0}},      {'`', {8, 4, 2, 0, 0, 0, 0}},
+    {'~', {0, 0, 8, 21, 2, 0, 0}},       {'@', {14, 17, 23, 21, 23, 16, 15}},
+    {'$', {4, 15, 20, 14, 5, 30, 4}},    {'&', {12, 18, 20, 8, 21, 18, 13}},
 };
 
 const Glyph* findGlyph(char c) {
@@ -139,6 +145,8 @@ const Glyph* findGlyph(char c) {
 }
 
 }  // namespace
+
+bool labelHasGlyph(char c) { return c == ' ' || findGlyph(c) != nullptr; }
 
 void drawLabel(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y,
                const std::string& text, int scale) {
@@ -161,12 +169,37 @@ void drawLabel(std::vector<std::uint8_t>& rgb, int width, int height, int x, int
 }
 
 namespace {
-constexpr int kLabel = 24, kGap = 8;
+
+constexpr int kLabel = 24, kGap = 8, kLegend = 48;
+
+// The sheet as a grid of cells, one per algorithm (its colour, ids and overdraw pictures one
+// above the other), as many cells a row as fit kMaxSheetWidth; a frame too wide for one cell
+// is shown every `step`-th pixel. A legend row at the bottom.
+struct Layout {
+  int step = 1, pw = 0, ph = 0, columns = 0, rows = 0;
+  long long width = 0, height = 0;
+};
+
+Layout layoutOf(int cells, int frame_width, int frame_height) {
+  Layout l;
+  if (cells <= 0 || frame_width <= 0 || frame_height <= 0) return l;
+  l.step = std::max(1, (frame_width + kMaxSheetWidth - 2 * kGap - 1) / (kMaxSheetWidth - 2 * kGap));
+  l.pw = (frame_width + l.step - 1) / l.step;
+  l.ph = (frame_height + l.step - 1) / l.step;
+  l.columns = std::clamp((kMaxSheetWidth - kGap) / (l.pw + kGap), 1, cells);
+  l.rows = (cells + l.columns - 1) / l.columns;
+  const long long cell_h = 3LL * (kLabel + l.ph) + 2LL * kGap;
+  l.width = static_cast<long long>(l.columns) * l.pw + (l.columns + 1LL) * kGap;
+  l.width = std::max<long long>(l.width, 2 * kGap + 300);  // room for the legend
+  l.height = l.rows * cell_h + (l.rows + 1LL) * kGap + kLegend;
+  return l;
+}
+
 }  // namespace
 
 SheetSize comparisonSheetSize(int columns, int frame_width, int frame_height) {
-  return {static_cast<long long>(columns) * frame_width + (columns + 1LL) * kGap,
-          3LL * (frame_height + kLabel) + 4LL * kGap};
+  const Layout l = layoutOf(columns, frame_width, frame_height);
+  return {l.width, l.height};
 }
 
 std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows, int* width,
@@ -177,18 +210,22 @@ std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows
     if (r.not_run.empty()) run.push_back(&r);
   const int fw = run.empty() ? 0 : run[0]->frame.width;
   const int fh = run.empty() ? 0 : run[0]->frame.height;
-  const int cols = static_cast<int>(run.size());
-  const SheetSize size = comparisonSheetSize(cols, fw, fh);
-  checkPngSize("comparison sheet", size.width, size.height, 3);
-  *width = static_cast<int>(size.width);
-  *height = static_cast<int>(size.height);
+  const Layout l = layoutOf(static_cast<int>(run.size()), fw, fh);
+  checkPngSize("comparison sheet", l.width, l.height, 3);
+  *width = static_cast<int>(l.width);
+  *height = static_cast<int>(l.height);
   std::vector<std::uint8_t> sheet(static_cast<std::size_t>(*width) * *height * 3, 32);
-  for (int c = 0; c < cols; ++c) {
+  // One overdraw scale for every cell: the most fragments any algorithm wrote to a pixel
+  std::uint32_t most = 0;
+  for (const ComparisonRow* r : run) most = std::max(most, r->max_overdraw);
+  const int label_scale = l.pw >= 24 * 12 ? 2 : 1;
+  for (std::size_t c = 0; c < run.size(); ++c) {
     const ComparisonRow& r = *run[c];
+    const int ox = kGap + static_cast<int>(c % l.columns) * (l.pw + kGap);
+    const int cell_y = kGap + static_cast<int>(c / l.columns) * (3 * (kLabel + l.ph) + 3 * kGap);
     for (int k = 0; k < 3; ++k) {
-      const std::vector<std::uint8_t> pic = picture(r.frame, kKinds[k]);
-      const int ox = kGap + c * (fw + kGap);
-      const int oy = kGap + k * (fh + kLabel + kGap);
+      const std::vector<std::uint8_t> pic = k == 2 ? overdrawPicture(r.frame, most) : picture(r.frame, kKinds[k]);
+      const int oy = cell_y + k * (kLabel + l.ph + kGap);
       char label[128];
       if (k == 0)
         std::snprintf(label, sizeof label, "%s %.1f MS", r.algorithm.c_str(), r.ms);
@@ -196,11 +233,30 @@ std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows
         std::snprintf(label, sizeof label, "IDS %.3f%% = ZBUFFER", 100.0 * r.id_agreement);
       else
         std::snprintf(label, sizeof label, "OVERDRAW MEAN %.2f MAX %u", r.mean_overdraw, r.max_overdraw);
-      drawLabel(sheet, *width, *height, ox, oy + 4, label, 2);
-      for (int y = 0; y < fh; ++y)
-        std::copy_n(&pic[3 * static_cast<std::size_t>(y) * fw], 3 * fw,
-                    &sheet[3 * (static_cast<std::size_t>(oy + kLabel + y) * *width + ox)]);
+      drawLabel(sheet, *width, *height, ox, oy + 4, label, label_scale);
+      for (int y = 0; y < l.ph; ++y)
+        for (int x = 0; x < l.pw; ++x)
+          std::copy_n(&pic[3 * (static_cast<std::size_t>(y) * l.step * fw + static_cast<std::size_t>(x) * l.step)], 3,
+                      &sheet[3 * (static_cast<std::size_t>(oy + kLabel + y) * *width + ox + x)]);
     }
+  }
+  // The legend: the overdraw ramp shared by every cell, and how the ids are coloured
+  const int ly = *height - kLegend + 4;
+  char legend[160];
+  std::snprintf(legend, sizeof legend, "OVERDRAW, ONE SCALE FOR EVERY ALGORITHM: 1 ... %u FRAGMENTS (LOG)",
+                std::max(most, 1u));
+  drawLabel(sheet, *width, *height, kGap, ly, legend, 1);
+  const int ramp_w = std::min(256, *width - 2 * kGap);
+  for (int i = 0; i < ramp_w; ++i) {
+    std::uint8_t rgb[3];
+    overdrawRampColor(static_cast<float>(i) / std::max(ramp_w - 1, 1), rgb);
+    for (int y = ly + 12; y < ly + 22; ++y)
+      std::copy_n(rgb, 3, &sheet[3 * (static_cast<std::size_t>(y) * *width + kGap + i)]);
+  }
+  drawLabel(sheet, *width, *height, kGap, ly + 28, "IDS: ONE COLOUR PER POLYGON, BLACK WHERE NONE", 1);
+  if (l.step > 1) {
+    std::snprintf(legend, sizeof legend, "SHOWN AT 1/%d SIZE", l.step);
+    drawLabel(sheet, *width, *height, kGap + ramp_w + 16, ly + 12, legend, 1);
   }
   return sheet;
 }

@@ -219,6 +219,7 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
     deadline.at = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                            std::chrono::duration<double>(lines.time_limit_s));
   LineDrawing out;
+  out.engine = lines.engine;
   const bool edges = lines.engine == LineEngine::kEdges;
   tbb::task_arena arena(detail::workerThreads(options.threads));
   // ---- 1. Visible and hidden parts of every edge

@@ -10,6 +10,7 @@
 #include <tuple>
 #include <vector>
 
+#include <fmt/core.h>
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <nlohmann/json.hpp>
@@ -245,6 +246,16 @@ TEST(CameraData, CameraJsonReadBackRendersTheSamePixels) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("\"near\""), std::string::npos) << e.what();
   }
+  // Every missing field in one message, not the first alone
+  j.erase("far");
+  j.erase("width");
+  try {
+    cameraFromJson(j.dump());
+    ADD_FAILURE() << "a camera without near, far and width was read";
+  } catch (const Error& e) {
+    for (const char* field : {"\"near\"", "\"far\"", "\"width\""})
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << field << ": " << e.what();
+  }
   EXPECT_THROW(cameraFromJson("{"), Error);
   EXPECT_THROW(cameraFromJson("[]"), Error);
   EXPECT_THROW(camerasFromJson("[]"), Error);
@@ -409,6 +420,35 @@ TEST(CameraData, FramingFollowsTheGivenUpAxis) {
     EXPECT_GT(at.y, 0.0);
     EXPECT_LT(at.y, 240.0);
   }
+}
+
+// A list of views written by hand: what is left out is defaulted (the size given, up +y,
+// perspective at 45 degrees) and near and far are fitted around the scene, as frameScene fits
+// them; a plane given is kept, the other fitted around it.
+TEST(CameraData, ViewsLeftIncompleteAreFilledAsStated) {
+  const Scene scene = makeBuiltinScene("spheres:300");
+  const Camera framed = frameScene(scene, 200, 150);
+  const auto at = [](const glm::vec3& v) { return fmt::format("[{}, {}, {}]", v.x, v.y, v.z); };
+  const std::string eye = at(framed.eye), target = at(framed.target);
+  ViewList list = viewsFromJson("[{\"eye\": " + eye + ", \"target\": " + target + "}, {\"eye\": " + eye +
+                                    ", \"target\": " + target + ", \"near\": 0.5}]",
+                                ViewDefaults{200, 150});
+  ASSERT_EQ(list.cameras.size(), 2u);
+  list.fitDepth(scene.bounds());
+  Camera expected = framed;
+  expected.up = {0.0f, 1.0f, 0.0f};
+  fitNearFar(expected, scene.bounds());
+  const Camera& a = list.cameras[0];
+  EXPECT_EQ(a.width, 200);
+  EXPECT_EQ(a.height, 150);
+  EXPECT_EQ(a.fov_deg, 45.0f);
+  EXPECT_FALSE(a.ortho);
+  EXPECT_EQ(a.near, expected.near);
+  EXPECT_EQ(a.far, expected.far);
+  EXPECT_EQ(list.cameras[1].near, 0.5f);
+  EXPECT_EQ(list.cameras[1].far, expected.far);
+  // The strict reader still needs every field
+  EXPECT_THROW(camerasFromJson("[{\"eye\": " + eye + ", \"target\": " + target + "}]"), Error);
 }
 
 }  // namespace

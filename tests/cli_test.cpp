@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -14,6 +15,7 @@
 
 #include <sys/wait.h>
 
+#include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include "hsr/compare.hpp"
@@ -266,6 +268,19 @@ TEST(Cli, CamerasInReproduceTheView) {
                            " -o " + c1 + " --stats " + stats);
   ASSERT_EQ(r1.code, 0) << r1.err;
   EXPECT_NE(r1.out.find("fx 150.000 fy 140.000 cx 70.5 cy 66"), std::string::npos) << r1.out;
+  // The field of view reported is the one the intrinsics give, never the unused default 45
+  const double deg = 180.0 / 3.14159265358979323846;
+  const double fov_x = (std::atan(71.0 / 150) + std::atan((160 - 0.5 - 70.5) / 150)) * deg;
+  const double fov_y = (std::atan(66.5 / 140) + std::atan((120 - 0.5 - 66) / 140)) * deg;
+  EXPECT_EQ(r1.out.find("fov 45"), std::string::npos) << r1.out;
+  EXPECT_NE(r1.out.find(fmt::format("fov {:.4g} x {:.4g} deg (from the intrinsics)", fov_x, fov_y)), std::string::npos)
+      << r1.out;
+  {
+    const nlohmann::json camera = nlohmann::json::parse(slurp(stats))["camera"];
+    EXPECT_FALSE(camera.contains("fov_deg")) << camera.dump();
+    EXPECT_NEAR(camera["fov_x_deg"].get<double>(), fov_x, 1e-9);
+    EXPECT_NEAR(camera["fov_y_deg"].get<double>(), fov_y, 1e-9);
+  }
   const CliRun r2 = runCli("render solids --size 160x120 --intrinsics 150,140,70.5,66 --pose " + gl.string() +
                            " --pose-convention opengl -q -o " + c2);
   ASSERT_EQ(r2.code, 0) << r2.err;
@@ -330,6 +345,54 @@ TEST(Cli, ManyViewsFromOneImport) {
   expectCleanError("render solids --views " + (d / "empty.json").string(), "empty");
 }
 
+// A --views file written by hand: eye and target are enough (the size from --size, up +y,
+// perspective at 45 degrees, near and far fitted around the scene as auto-framing fits them),
+// and a view with several wrong fields is refused with every one named, and the view.
+TEST(Cli, ViewsWrittenByHandNeedOnlyEyeAndTarget) {
+  const ScratchDir d("hsr_cli_views_by_hand");
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  std::ofstream(d / "views.json") << R"([{"eye": [3, 2, 4], "target": [0, 0, 0]},
+                                         {"eye": [-3, 1, 4], "target": [0, 0.5, 0], "fov_deg": 30}])";
+  const std::string out = (d / "v.png").string(), stats = (d / "s.json").string();
+  const CliRun r = runCli("render solids --views " + (d / "views.json").string() + " --size 64x48 -q -o " + out +
+                          " --stats " + stats);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json s = nlohmann::json::parse(slurp(stats));
+  ASSERT_EQ(s.at("views").size(), 2u);
+  for (const auto& v : s.at("views")) {
+    const auto& c = v.at("camera");
+    EXPECT_EQ(c.at("width"), 64);
+    EXPECT_EQ(c.at("height"), 48);
+    EXPECT_EQ(c.at("projection_kind"), "perspective");
+    EXPECT_EQ(c.at("up"), nlohmann::json({0.0, 1.0, 0.0}));
+    EXPECT_GT(c.at("near").get<double>(), 0.0);
+    EXPECT_GT(c.at("far").get<double>(), c.at("near").get<double>());
+    EXPECT_GT(v.at("fragments_written").get<long>(), 0) << "the fitted planes clipped the scene away";
+  }
+  EXPECT_EQ(s.at("views")[0].at("camera").at("fov_deg"), 45.0);
+  EXPECT_EQ(s.at("views")[1].at("camera").at("fov_deg"), 30.0);
+  // The same camera given whole renders the same picture: the defaults are the ones stated
+  nlohmann::json whole = s.at("views")[0].at("camera");
+  std::ofstream(d / "whole.json") << nlohmann::json::array({whole}).dump();
+  const std::string again = (d / "w.png").string();
+  ASSERT_EQ(runCli("render solids --views " + (d / "whole.json").string() + " -q -o " + again).code, 0);
+  EXPECT_EQ(slurp(d / "v-0000.png"), slurp(d / "w-0000.png"));
+  // Every wrong field named in one message, with the view it belongs to
+  std::ofstream(d / "bad.json") << R"([{"eye": [3, 2, 4], "target": [0, 0, 0]},
+                                       {"eye": [1, 2], "target": "origin", "near": "close", "width": 0.5}])";
+  const CliRun bad = runCli("render solids --views " + (d / "bad.json").string() + " -q -o " + out);
+  EXPECT_EQ(bad.code, 2);
+  for (const char* field : {"view 1", "\"eye\"", "\"target\"", "\"near\"", "\"width\""})
+    EXPECT_NE(bad.err.find(field), std::string::npos) << field << " not named in: " << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  // A view with neither eye nor pose says what a view needs
+  std::ofstream(d / "none.json") << R"([{"fov_deg": 40}])";
+  expectCleanError("render solids --views " + (d / "none.json").string(), "\"eye\" and \"target\"");
+}
+
 // A single picture other than colour, with no name given, says what it is in its name.
 TEST(Cli, ASingleNonColourPictureHasItsKindInItsName) {
   const ScratchDir d("hsr_cli_single_kind");
@@ -358,7 +421,34 @@ TEST(Cli, NewUserPapercuts) {
   expectCleanError("render demo --eye 1,2,3 --cul back", "did you mean --cull?");
   expectCleanError("render demo -o " + (d / "a.jpg").string(), "hsr writes PNG pictures");
   EXPECT_FALSE(fs::exists(d / "a.jpg"));
+  // hsr svg writes what the names say, or refuses before drawing: SVG text in a .pdf or .png,
+  // a PDF in a .svg were written as asked
+  for (const char* name : {"model.pdf", "x.png", "x.SVG.txt"}) {
+    SCOPED_TRACE(name);
+    expectCleanError("svg demo -o " + (d / name).string(), "hsr writes an SVG drawing there; name the file .svg");
+    EXPECT_FALSE(fs::exists(d / name));
+  }
+  expectCleanError("svg demo -o " + (d / "ok.svg").string() + " --pdf " + (d / "x.svg").string(),
+                   "--pdf " + (d / "x.svg").string() + ": hsr writes a PDF drawing there; name the file .pdf");
+  EXPECT_FALSE(fs::exists(d / "ok.svg"));
+  EXPECT_FALSE(fs::exists(d / "x.svg"));
+  // Upper-case extensions are the same format
+  const CliRun upper_case = runCli("svg demo --size 64x48 -q -o " + (d / "UP.SVG").string() + " --pdf " +
+                                   (d / "UP.PDF").string());
+  EXPECT_EQ(upper_case.code, 0) << upper_case.err;
+  EXPECT_TRUE(fs::exists(d / "UP.SVG") && fs::exists(d / "UP.PDF"));
   expectCleanError("render demo --size 20000x10", "over the limit of 16384 pixels per side");
+  // A verb mistyped is not taken for a scene's name; a vector's coordinates without commas, a
+  // camera looking along its up vector, get the hint that fixes them
+  expectCleanError("rendr demo", "rendr: no such verb, file or built-in scene; did you mean render?");
+  expectCleanError("explian demo", "did you mean explain?");
+  expectCleanError("render demo --eye 1 2 3 -o " + png, "--eye takes x,y,z joined by commas, such as --eye 1,2,3");
+  expectCleanError("render demo --eye 0,5,0 --target 0,0,0 -o " + png,
+                   "parallel to the view direction: give another up vector (--up), such as 1,0,0");
+  // --cull both: the warning says both faces go, and does not suggest the winding
+  const CliRun both = runCli("render demo --size 32x24 --cull both -o " + png);
+  EXPECT_NE(both.err.find("--cull both removes every polygon, front and back faces alike"), std::string::npos) << both.err;
+  EXPECT_EQ(both.err.find("--front-face"), std::string::npos) << both.err;
   // --eye with a negative value is still a value
   EXPECT_EQ(runCli("render demo --size 32x24 -q -o " + png + " --eye -3,2,5").code, 0);
   // --stats -: the JSON alone on stdout
@@ -379,8 +469,6 @@ TEST(Cli, NewUserPapercuts) {
   expectCleanError("render demo --polygon-mode point --point-size 100", "point size must be from 1 to 64");
   const CliRun away = runCli("render demo --size 32x24 --eye 0,0,-1000 --target 0,0,-2000 -q -o " + png);
   EXPECT_NE(away.err.find("outside the view"), std::string::npos) << away.err;
-  const CliRun culled = runCli("render demo --size 32x24 --cull both -q -o " + png);
-  EXPECT_NE(culled.err.find("--cull removed it"), std::string::npos) << culled.err;
   // Names in any case, as OpenGL's: the same picture
   auto slurp = [](const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -458,6 +546,17 @@ TEST(Cli, CompareWritesTableAndSheet) {
   EXPECT_NE(r.out.find("zbuffer"), std::string::npos);
   EXPECT_NE(r.out.find("100.0000%"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(sheet));
+  // At a real size the sheet is a grid that fits a screen's width (it was one row, 9,704 px
+  // wide at 800x600), every cell whole: the same picture count as algorithms run
+  const fs::path big = scratch.path() / "big.png";
+  const CliRun b = runCli("compare demo --size 800x600 --sheet " + big.string());
+  ASSERT_EQ(b.code, 0) << b.err;
+  const auto png = hsr::testing::decodePng(big);
+  EXPECT_LE(png.width, hsr::kMaxSheetWidth);
+  EXPECT_GE(png.width, 4 * 800) << "as many cells a row as fit";
+  const int ran = static_cast<int>(std::count(b.out.begin(), b.out.end(), '%'));  // one per algorithm run
+  const int rows = (ran + png.width / 808 - 1) / (png.width / 808);
+  EXPECT_EQ(png.height, rows * (3 * (24 + 600) + 2 * 8) + (rows + 1) * 8 + 48) << ran << " algorithms";
 }
 
 // An orbit of views: each algorithm keeps its frame (and the octree its tree) from view to
@@ -567,6 +666,39 @@ TEST(CliDoom, BadInputIsOneLine) {
   expectCleanError("doom map " + wad + " --map MAP01 --split-cost -3 --svg " + (d / "m.svg").string(), "split");
   expectCleanError("explain bsp2d " + wad + " -o " + (d / "e").string(), "--map");
   expectCleanError("explain zbuffer demo --map MAP01 -o " + (d / "e2").string(), "--map");
+}
+
+}  // namespace
+
+namespace {
+
+// The depth picture's legend says what its numbers are: window z by default, and under
+// --depth linear or distance the ends in scene units, so the three pictures differ, and only
+// inside the legend's box (the bottom-right corner; the picture itself is window z's ramp).
+TEST(Cli, DepthLegendIsInTheUnitsOfDepth) {
+  const hsr::testing::ScratchDir d("hsr_cli_depth_legend");
+  std::vector<hsr::testing::DecodedPng> pictures;
+  for (const char* kind : {"window", "linear", "distance"}) {
+    const std::string png = (d / (std::string(kind) + ".png")).string();
+    const CliRun r = runCli("render demo --size 400x300 -q --output depth -o " + png + " --raw " +
+                            (d / kind).string() + " --depth " + kind);
+    ASSERT_EQ(r.code, 0) << r.err;
+    pictures.push_back(hsr::testing::decodePng(png));
+    ASSERT_TRUE(pictures.back().ok()) << pictures.back().error;
+  }
+  const int w = pictures[0].width, h = pictures[0].height;
+  for (int k = 1; k < 3; ++k) {
+    int outside = 0, inside = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const std::size_t i = 3 * (static_cast<std::size_t>(y) * w + x) + c;
+          if (pictures[0].rgb[i] == pictures[k].rgb[i]) continue;
+          (x >= w - 170 && y >= h - 50 ? inside : outside)++;
+        }
+    EXPECT_EQ(outside, 0) << k;
+    EXPECT_GT(inside, 20) << k;  // other words in the legend
+  }
 }
 
 }  // namespace

@@ -463,6 +463,22 @@ TEST(LineDrawing, TheEnginesDrawTheSameLines) {
       hid_ba.length, pct(hid_ba)));
 }
 
+// The SVG's comment names the engine that drew it, not always the same one
+TEST(LineDrawing, SvgCommentNamesTheEngineThatDrewIt) {
+  const Scene scene = loadScene("demo");
+  for (LineEngine engine : {LineEngine::kEdges, LineEngine::kRoberts}) {
+    LineDrawingOptions lines{kCreaseDeg, false};
+    lines.engine = engine;
+    const LineDrawing d = lineDrawing(scene, frameScene(scene, 200, 150), {}, lines);
+    EXPECT_EQ(d.engine, engine);
+    const std::string svg = lineDrawingSvg(d);
+    const std::string named = engine == LineEngine::kRoberts ? "engine roberts" : "engine edges";
+    const std::string other = engine == LineEngine::kRoberts ? "engine edges" : "engine roberts";
+    EXPECT_NE(svg.find("<!-- hsr hidden-line drawing (exact, " + named), std::string::npos) << svg.substr(0, 400);
+    EXPECT_EQ(svg.find(other), std::string::npos);
+  }
+}
+
 TEST(LineDrawing, SvgHasItsLayersAndItsPageAndAPathPerStroke) {
   const Scene scene = loadScene("solids");
   const LineDrawing d = lineDrawing(scene, frameScene(scene, 400, 300), {}, {kCreaseDeg, true});

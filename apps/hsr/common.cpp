@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -94,6 +96,35 @@ std::string nearMissHint(CLI::App* app, int argc, const char* const* argv) {
   return {};
 }
 
+std::string commaHint(int argc, const char* const* argv) {
+  auto number = [](std::string_view t) {
+    if (t.empty()) return false;
+    char* end = nullptr;
+    const std::string copy(t);
+    std::strtod(copy.c_str(), &end);
+    return end == copy.c_str() + copy.size();
+  };
+  for (int i = 1; i + 2 < argc; ++i) {
+    const std::string_view o = argv[i];
+    if ((o == "--eye" || o == "--target" || o == "--up") && number(argv[i + 1]) && number(argv[i + 2]))
+      return fmt::format("{} takes x,y,z joined by commas, such as {} {},{},{}", o, o, argv[i + 1], argv[i + 2],
+                         i + 3 < argc && number(argv[i + 3]) ? argv[i + 3] : "0");
+  }
+  return {};
+}
+
+std::string verbMissHint(std::string_view first, const std::vector<std::string_view>& verbs) {
+  std::error_code ec;
+  if (first.empty() || first[0] == '-' || fs::exists(fs::path(first), ec)) return {};
+  const std::string_view base = first.substr(0, first.find(':'));
+  for (const hsr::BuiltinScene& b : hsr::builtinScenes())
+    if (b.name.substr(0, b.name.find(':')) == base) return {};
+  for (const std::string_view v : verbs)
+    if (editDistance(first, v) <= 2)
+      return fmt::format("{}: no such verb, file or built-in scene; did you mean {}?", printable(first), v);
+  return {};
+}
+
 // A message as one line on a terminal: control characters (a newline in a file name, an
 // escape sequence) are shown escaped, never acted on.
 std::string printable(std::string_view s) {
@@ -122,6 +153,15 @@ std::string printable(std::string_view s) {
 
 void printError(std::string_view message) {
   std::fprintf(stderr, "hsr: %s\n", printable(message).c_str());
+}
+
+void requireExtension(std::string_view option, const std::string& path, std::string_view extension,
+                      std::string_view what) {
+  std::string given = fs::path(path).extension().string();
+  std::transform(given.begin(), given.end(), given.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (!given.empty() && given != extension)
+    throw hsr::Error(fmt::format("{} {}: hsr writes {} there; name the file {}", option, printable(path),
+                                 what, extension));
 }
 
 std::string sceneLabel(const std::string& spec) {
@@ -225,7 +265,9 @@ void warnIfNothingDrawn(const hsr::Frame& f, const hsr::RenderOptions& o) {
   else if (s.culled_frustum == s.triangles_in)
     why = "every polygon lies outside the view (check --eye, --target, --near, --far)";
   else if (s.culled_backface > 0 && s.culled_backface + s.culled_frustum + s.clipped_away >= s.triangles_in)
-    why = "every polygon in the view faces away and --cull removed it (try --cull none or --front-face cw)";
+    why = o.cull == hsr::CullMode::FrontAndBack
+              ? "--cull both removes every polygon, front and back faces alike (try --cull back or none)"
+              : "every polygon in the view faces away and --cull removed it (try --cull none or --front-face cw)";
   else if (s.clipped_away > 0 && s.culled_frustum + s.clipped_away >= s.triangles_in)
     why = "every polygon was clipped away by the near or far plane";
   else if (s.fragments_tested > 0 && s.fragments_written == 0)
@@ -241,22 +283,38 @@ void warnIfNothingDrawn(const hsr::Frame& f, const hsr::RenderOptions& o) {
   fmt::print(stderr, "hsr: warning: nothing was drawn: {}\n", why);
 }
 
-void addLegend(const hsr::Frame& f, std::string_view kind, std::vector<std::uint8_t>& rgb) {
+void addLegend(const hsr::Frame& f, std::string_view kind, std::vector<std::uint8_t>& rgb,
+               const hsr::Camera& camera, hsr::DepthKind depth) {
   if (kind != "depth" && kind != "overdraw") return;
   constexpr int kBar = 150, kBarH = 8, kPad = 4, kText = 7;
   const int w = f.width, h = f.height;
-  const int box_w = kBar + 2 * kPad, box_h = kPad + kText + 3 + kBarH + kPad;
+  // A title row (what the numbers are), the two ends' values, the ramp
+  const int box_w = kBar + 2 * kPad, box_h = kPad + 2 * (kText + 3) + kBarH + kPad;
   if (w < box_w + 16 || h < 4 * box_h) return;  // a small picture stays as it is
   if (rgb.size() != 3ull * w * h) return;
-  std::string left, right;
+  std::string title, left, right;
   if (kind == "depth") {
     const hsr::DepthRange r = hsr::drawnDepthRange(f);
     if (!(r.hi >= r.lo)) return;  // nothing drawn
-    left = fmt::format("NEAR {:.5f}", r.lo);
-    right = fmt::format("FAR {:.5f}", r.hi);
+    if (depth == hsr::DepthKind::kWindow) {
+      title = "WINDOW Z";
+      left = fmt::format("NEAR {:.5f}", r.lo);
+      right = fmt::format("FAR {:.5f}", r.hi);
+    } else {
+      // The ends in the units --depth asks for (the ramp is the picture's: window z)
+      title = depth == hsr::DepthKind::kLinear ? "DEPTH ALONG THE VIEW AXIS" : "DISTANCE FROM THE EYE";
+      const std::vector<float> d = hsr::depthAs(f, camera, depth);
+      float lo = INFINITY, hi = -INFINITY;
+      for (const float v : d)
+        if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+      if (!(hi >= lo)) return;
+      left = fmt::format("NEAR {:.4g}", lo);
+      right = fmt::format("FAR {:.4g}", hi);
+    }
   } else {
     const std::uint32_t max = f.overdraw.empty() ? 0 : *std::max_element(f.overdraw.begin(), f.overdraw.end());
     if (max == 0) return;
+    title = "OVERDRAW";
     left = "1";
     right = fmt::format("MAX {}", max);
   }
@@ -268,14 +326,16 @@ void addLegend(const hsr::Frame& f, std::string_view kind, std::vector<std::uint
       std::uint8_t* p = &rgb[3 * (static_cast<std::size_t>(y) * w + x)];
       p[0] = p[1] = p[2] = edge ? 128 : 0;
     }
-  hsr::drawLabel(rgb, w, h, x0 + kPad, y0 + kPad, left, 1);
-  hsr::drawLabel(rgb, w, h, x0 + kPad + kBar - 6 * static_cast<int>(right.size()) + 1, y0 + kPad, right, 1);
+  hsr::drawLabel(rgb, w, h, x0 + kPad, y0 + kPad, title, 1);
+  const int values_y = y0 + kPad + kText + 3;
+  hsr::drawLabel(rgb, w, h, x0 + kPad, values_y, left, 1);
+  hsr::drawLabel(rgb, w, h, x0 + kPad + kBar - 6 * static_cast<int>(right.size()) + 1, values_y, right, 1);
   for (int i = 0; i < kBar; ++i) {
     std::uint8_t c[3];
     const float t = static_cast<float>(i) / (kBar - 1);
     if (kind == "depth") hsr::depthRampColor(t, c);
     else hsr::overdrawRampColor(t, c);
-    for (int y = y0 + kPad + kText + 3; y < y0 + kPad + kText + 3 + kBarH; ++y)
+    for (int y = values_y + kText + 3; y < values_y + kText + 3 + kBarH; ++y)
       std::copy(c, c + 3, &rgb[3 * (static_cast<std::size_t>(y) * w + x0 + kPad + i)]);
   }
 }
@@ -294,8 +354,12 @@ void printSummary(const hsr::Frame& f, const std::string& scene, const std::stri
                  c.near, c.far);
     } else {
       const hsr::Intrinsics k = hsr::intrinsicsOf(c);
-      fmt::print("fov {:g} deg, near {:g}, far {:g}; fx {:.3f} fy {:.3f} cx {:g} cy {:g} (OpenCV)\n",
-                 c.fov_deg, c.near, c.far, k.fx, k.fy, k.cx, k.cy);
+      const hsr::FieldOfView fov = hsr::fieldOfView(c);
+      const std::string angle = c.intrinsics.given()
+                                    ? fmt::format("fov {:.4g} x {:.4g} deg (from the intrinsics)", fov.x_deg, fov.y_deg)
+                                    : fmt::format("fov {:g} deg", c.fov_deg);
+      fmt::print("{}, near {:g}, far {:g}; fx {:.3f} fy {:.3f} cx {:g} cy {:g} (OpenCV)\n", angle, c.near,
+                 c.far, k.fx, k.fy, k.cx, k.cy);
     }
   }
   // Every count of the one table, with what it counts (zero counts of rarer events omitted).

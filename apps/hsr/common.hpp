@@ -15,6 +15,7 @@
 #include "hsr/output.hpp"
 
 #include "hsr/camera.hpp"
+#include "hsr/io.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
 
@@ -33,6 +34,11 @@ void lowercaseNameValues(CLI::App* app);
 // "did you mean --size?" for a token of argv that names no option of `app` but is near one
 // (edit distance at most 2); empty when none is.
 std::string nearMissHint(CLI::App* app, int argc, const char* const* argv);
+// `--eye 1 2 3`: the hint to join a vector's coordinates with commas (empty when none applies)
+std::string commaHint(int argc, const char* const* argv);
+// `hsr rendr`: a first argument that is no verb, no file and no built-in scene, but within two
+// edits of a verb, gives "did you mean render?" (otherwise it would be read as a scene's name)
+std::string verbMissHint(std::string_view first, const std::vector<std::string_view>& verbs);
 
 namespace fs = std::filesystem;
 
@@ -98,6 +104,11 @@ class OutputPlan {
 
 // A file name's stem, or a built-in scene's spec, made safe as a file name.
 std::string sceneLabel(const std::string& spec);
+// Refuses an output name whose extension says another format than the one written there:
+// `-o model.pdf` for an SVG. A name without an extension (a device, a pipe) is taken as given.
+// `extension` is lower case with its dot (".svg"); `what` names the format ("SVG drawings").
+void requireExtension(std::string_view option, const std::string& path, std::string_view extension,
+                      std::string_view what);
 void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam);
 bool depthUnresolvable(const hsr::Camera& cam);  // far/near past what a float depth buffer resolves
 bool warnIfDepthUnresolvable(const hsr::Camera& cam);  // true when it warned
@@ -109,7 +120,8 @@ void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm);
 // The frame's counts and stage times, and the camera used when given (its intrinsics too).
 // A legend in the bottom-right corner of the depth and overdraw pictures (the ramp and the
 // values at its ends: window depth, fragments), where the picture has room for it.
-void addLegend(const hsr::Frame& frame, std::string_view kind, std::vector<std::uint8_t>& rgb);
+void addLegend(const hsr::Frame& frame, std::string_view kind, std::vector<std::uint8_t>& rgb,
+               const hsr::Camera& camera, hsr::DepthKind depth);
 // When no pixel shows a polygon: a warning on stderr saying why (all culled, clipped, too
 // small, or the depth function against the clear depth).
 void warnIfNothingDrawn(const hsr::Frame& frame, const hsr::RenderOptions& options);

@@ -60,7 +60,7 @@ struct Given {
 // The views of one run: one camera from the arguments, N on an orbit around it, or a list read
 // from --views (read before the scene, so that every output can be named first).
 struct ViewPlan {
-  std::vector<hsr::Camera> listed;  // from --views
+  hsr::ViewList listed;  // from --views (near and far left out are fitted once the scene is read)
   int count = 1;
   bool many = false;  // numbered outputs
 };
@@ -71,17 +71,19 @@ ViewPlan planViews(const Args& a, const Given& given) {
   if (given.views_file) {
     for (const auto& [set, name] : {std::pair{!a.eye.empty(), "--eye"}, {!a.target.empty(), "--target"},
                                     {!a.up.empty(), "--up"}, {!a.fov.empty(), "--fov"}, {a.ortho, "--ortho"},
-                                    {!a.size.empty(), "--size"}, {!a.camera_file.empty(), "--camera"},
-                                    {!a.intrinsics.empty(), "--intrinsics"}, {!a.pose_file.empty(), "--pose"},
-                                    {!a.near.empty(), "--near"}, {!a.far.empty(), "--far"}})
-      if (set) throw hsr::Error(fmt::format("{} and --views both set the view: each view of the file is whole", name));
+                                    {!a.camera_file.empty(), "--camera"}, {!a.intrinsics.empty(), "--intrinsics"},
+                                    {!a.pose_file.empty(), "--pose"}, {!a.near.empty(), "--near"},
+                                    {!a.far.empty(), "--far"}})
+      if (set) throw hsr::Error(fmt::format("{} and --views both set the view: the file gives each view", name));
+    hsr::ViewDefaults defaults;  // --size: the size of every view that names none
+    if (!a.size.empty()) hsr::cli::parseImageSize(a.size, &defaults.width, &defaults.height);
     const std::string text = hsr::cli::readUserFile(a.views_file, "--views", 256u << 20);  // names itself
     try {
-      v.listed = hsr::camerasFromJson(text);
+      v.listed = hsr::viewsFromJson(text, defaults);
     } catch (const hsr::Error& e) {
       throw hsr::Error(fmt::format("--views {}: {}", a.views_file, e.what()));
     }
-    v.count = static_cast<int>(v.listed.size());
+    v.count = static_cast<int>(v.listed.cameras.size());
     v.many = true;
   } else if (given.orbit) {
     if (a.orbit < 1 || a.orbit > 100000) throw hsr::Error(fmt::format("--orbit must be 1 to 100000 views (got {})", a.orbit));
@@ -109,7 +111,7 @@ int runRender(const Args& a, const Given& given) {
       a.normals.empty() ? hsr::NormalSpace::kNone : hsr::normalSpaceNamed(a.normals);
   if (!a.normals.empty() && !given.raw)
     throw hsr::Error("--normals adds DIR/normals.npy to --raw: give --raw");
-  const ViewPlan views = planViews(a, given);
+  ViewPlan views = planViews(a, given);
 
   // Every output is named and checked before the scene is loaded: FILE.png, or FILE-KIND.png
   // for several pictures (and a single one other than colour when no name is given), with
@@ -136,13 +138,17 @@ int runRender(const Args& a, const Given& given) {
     if (given.raw) plan.directory("--raw", rawPath(k).string(), hsr::kRawFiles);
   }
   if (given.stats && !stats_to_stdout) plan.file("--stats", a.stats_file);
-  std::string extension = base.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (!kinds.empty() && !extension.empty() && extension != ".png")
-    throw hsr::Error(fmt::format("-o {}: hsr writes PNG pictures; name the file .png", a.output_file));
+  if (!kinds.empty()) hsr::cli::requireExtension("-o", a.output_file, ".png", "PNG pictures");
 
   const hsr::Scene scene = hsr::loadScene(a.scene, hsr::cli::importLimits(a));
-  std::vector<hsr::Camera> cameras = views.listed;
+  if (given.views_file) {
+    try {
+      views.listed.fitDepth(scene.bounds());
+    } catch (const hsr::Error& e) {
+      throw hsr::Error(fmt::format("--views {}: {}", a.views_file, e.what()));
+    }
+  }
+  std::vector<hsr::Camera> cameras = std::move(views.listed.cameras);
   if (cameras.empty()) {
     const hsr::Camera cam = makeCamera(a, scene);
     for (int k = 0; k < views.count; ++k) cameras.push_back(views.count > 1 ? hsr::orbitView(cam, k, views.count) : cam);
@@ -171,8 +177,8 @@ int runRender(const Args& a, const Given& given) {
     if (k == 0 && !depth_unresolved) hsr::cli::warnIfNothingDrawn(frame, opt);
     std::vector<std::pair<std::string, fs::path>> pictures;
     for (const std::string& kind : kinds) pictures.emplace_back(kind, pngPath(k, kind));
-    hsr::writePictures(frame, pictures, [&frame](std::string_view kind, std::vector<std::uint8_t>& rgb) {
-      hsr::cli::addLegend(frame, kind, rgb);
+    hsr::writePictures(frame, pictures, [&](std::string_view kind, std::vector<std::uint8_t>& rgb) {
+      hsr::cli::addLegend(frame, kind, rgb, cam, depth);
     });
     if (!views.many)
       for (const auto& [kind, p] : pictures) written.push_back(p.string());
@@ -367,7 +373,8 @@ int main(int argc, char** argv) {
                      "write counts, stage times and the camera as JSON (- : to stdout, instead of the summary)");
   render->add_option("--views", a.views_file,
                      "render every camera of a JSON list (as --stats writes them) from one import: "
-                     "numbered outputs FILE-NNNN.png, DIR/NNNN/");
+                     "numbered outputs FILE-NNNN.png, DIR/NNNN/. A view needs only eye and target: "
+                     "size from --size, up +y, fov 45 and near/far fitted unless it gives them");
   render->add_option("--orbit", a.orbit,
                      "render N views on a ring around the target from one import: numbered outputs");
   render->add_flag("-q,--quiet", a.quiet, "no summary");
@@ -402,8 +409,15 @@ int main(int argc, char** argv) {
   std::vector<const char*> args(argv, argv + argc);
   if (argc > 1) {
     const std::string_view first = argv[1];
-    const bool verb = first == "render" || first == "compare" || first == "explain" || first == "scenes" ||
-                      first == "bsp" || first == "svg" || first == "doom";
+    const std::vector<std::string_view> verbs = {"render", "compare", "explain", "scenes", "bsp", "svg", "doom"};
+    const bool verb = std::find(verbs.begin(), verbs.end(), first) != verbs.end();
+    if (!verb) {
+      const std::string hint = hsr::cli::verbMissHint(first, verbs);
+      if (!hint.empty()) {
+        printError(hint);
+        return 2;
+      }
+    }
     if (!verb && first != "-h" && first != "--help" && first != "--version") args.insert(args.begin() + 1, "render");
   }
   try {
@@ -415,7 +429,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const std::string hint = hsr::cli::nearMissHint(&app, static_cast<int>(args.size()), args.data());
+    std::string hint = hsr::cli::commaHint(static_cast<int>(args.size()), args.data());
+    if (hint.empty()) hint = hsr::cli::nearMissHint(&app, static_cast<int>(args.size()), args.data());
     printError(hint.empty() ? std::string(e.what()) + " (see hsr --help)" : std::string(e.what()) + "; " + hint);
     return 2;
   }

@@ -177,8 +177,12 @@ int runSvg(SvgVerb& v) {
   const std::string out = v.output.empty() ? "out/" + sceneLabel(a.scene) + ".svg" : v.output;
   OutputPlan plan(a.scene);
   plan.file("-o", out);
+  requireExtension("-o", out, ".svg", "an SVG drawing");
   if (v.verb->count("--stats") > 0) plan.file("--stats", v.stats_file);
-  if (v.verb->count("--pdf") > 0) plan.file("--pdf", v.pdf);
+  if (v.verb->count("--pdf") > 0) {
+    plan.file("--pdf", v.pdf);
+    requireExtension("--pdf", v.pdf, ".pdf", "a PDF drawing");
+  }
 
   const hsr::Scene scene = hsr::loadScene(a.scene, importLimits(a));
   const hsr::Camera camera = makeCamera(a, scene);

@@ -80,6 +80,14 @@ Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg = 
 // the principal point at the image centre); all 0 for an orthographic camera.
 Intrinsics intrinsicsOf(const Camera& camera);
 
+// The angles a perspective camera sees across the image, from its left pixel edge to its right
+// (x) and from the top edge to the bottom (y), in degrees: what fov_deg gives (y equals it), or
+// what intrinsics give (a principal point off centre included). Zero for an orthographic one.
+struct FieldOfView {
+  double x_deg = 0, y_deg = 0;
+};
+FieldOfView fieldOfView(const Camera& camera);
+
 // View k of n on a ring around the camera's target, about its up axis, at its distance from
 // the target (view 0 is the camera itself): an orbit, for showing that what an algorithm
 // builds once (a BSP tree, an octree) serves every view.

@@ -35,17 +35,23 @@ inline constexpr int kMaxCompareViews = 360;
 std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& camera,
                                              const RenderOptions& options, int views = 1);
 
-// A labelled contact sheet: one column per algorithm, rows colour / ids / overdraw.
+// A labelled contact sheet: a grid of cells no wider than kMaxSheetWidth, one per algorithm
+// (its colour, ids and overdraw pictures one above the other; a frame wider than a cell shown
+// every few pixels), the overdraw pictures on one scale for every algorithm, and a legend.
 // Returns RGB8 top row first and sets width and height.
+inline constexpr int kMaxSheetWidth = 4096;
 std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows, int* width,
                                           int* height);
-// The sheet's size for `columns` algorithms at frame_width x frame_height (known before any
+// The sheet's size for `columns` algorithms (cells) at frame_width x frame_height (known before any
 // rendering, so that a sheet too large to write is refused at once).
 struct SheetSize {
   long long width, height;
 };
 SheetSize comparisonSheetSize(int columns, int frame_width, int frame_height);
 
+// Whether the label font draws `c`: every printable ASCII character does (lower case as upper
+// case); other bytes only advance.
+bool labelHasGlyph(char c);
 // Draws text with a built-in 5x7 pixel font into an RGB8 image (for labels).
 void drawLabel(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y,
                const std::string& text, int scale = 2);

@@ -135,8 +135,24 @@ std::string cameraJson(const Camera& camera);
 // run that wrote it. Throws hsr::Error naming the missing or malformed field.
 Camera cameraFromJson(std::string_view text);
 // Many views: a JSON array of cameras (or {"views": [...]}); a single camera is one view.
+// Every field is needed, as for cameraFromJson.
 inline constexpr std::size_t kMaxViews = 100000;
 std::vector<Camera> camerasFromJson(std::string_view text);
+// A list of views written by hand (--views): each needs only "eye" and "target" (or a pose).
+// Left out: the size is the defaults' (--size), "up" is +y, the projection perspective with
+// fov_deg 45, and near and far are fitted around the scene (fitDepth, once it is read) as
+// auto-framing fits them. Fields given are read as cameraFromJson reads them; one message
+// names every field of a view that is wrong, and the view.
+struct ViewDefaults {
+  int width = 800, height = 600;
+};
+struct ViewList {
+  std::vector<Camera> cameras;
+  std::vector<std::uint8_t> fit_near, fit_far;  // per view: left out, still to be fitted
+  // Fits what was left out around `bounds`; throws naming the view where no pair results
+  void fitDepth(const Bounds& bounds);
+};
+ViewList viewsFromJson(std::string_view text, const ViewDefaults& defaults);
 // A camera's pose read from text: a 4x4 (or 3x4, the last row then 0 0 0 1) matrix, row by row,
 // numbers separated by spaces, commas or brackets (a JSON array of rows, NumPy's savetxt).
 glm::dmat4 poseFromText(std::string_view text);
@@ -152,6 +168,8 @@ DepthRange drawnDepthRange(const Frame& frame);
 std::vector<std::uint8_t> depthPicture(const Frame& frame, DepthRange range);
 std::vector<std::uint8_t> idPicture(const Frame& frame);        // golden-angle hues, bg black
 std::vector<std::uint8_t> overdrawPicture(const Frame& frame);  // heatmap
+// The same on a given scale (1 .. most fragments), so that pictures side by side share it
+std::vector<std::uint8_t> overdrawPicture(const Frame& frame, std::uint32_t most);
 // The two pictures' ramps at t in [0, 1], for legends: depth from the nearest drawn depth
 // (light) to the farthest (dark grey); overdraw from 1 fragment to the most, on a log scale.
 void depthRampColor(float t, std::uint8_t* rgb);

@@ -88,6 +88,7 @@ struct LineDrawing {
   // intersections, hide; or (kRoberts) roberts
   std::vector<std::pair<std::string, double>> stage_ms;
   bool exact = true;  // false: drawn from the z-buffer's ids after the time limit (see above)
+  LineEngine engine = LineEngine::kEdges;  // which engine found the lines (when exact)
 };
 
 // The drawing of `scene` seen by `camera`, with the pipeline's culling and clipping as

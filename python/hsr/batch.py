@@ -10,6 +10,10 @@ and a task that is run twice writes the same bytes.
     batch.run(jobs, client=distributed.Client(...))  # on a client you made
 
 A worker loads each scene once (cached per process) and reuses it for every view it renders.
+
+A script that starts its own local cluster (distributed.Client() or LocalCluster()) must do so
+under `if __name__ == "__main__":`; Dask's worker processes import the script again, and
+without the guard each starts a cluster of its own and the run waits forever.
 """
 
 import functools

@@ -56,6 +56,16 @@ Intrinsics intrinsicsOf(const Camera& camera) {
   return {focal, focal, camera.width / 2.0 - 0.5, camera.height / 2.0 - 0.5};
 }
 
+FieldOfView fieldOfView(const Camera& camera) {
+  if (camera.ortho) return {};
+  const Intrinsics k = intrinsicsOf(camera);
+  // Pixel centres at integers: the image spans [-0.5, size - 0.5] about the principal point
+  const double to_deg = 180.0 / 3.14159265358979323846;
+  const double x = std::atan((k.cx + 0.5) / k.fx) + std::atan((camera.width - 0.5 - k.cx) / k.fx);
+  const double y = std::atan((k.cy + 0.5) / k.fy) + std::atan((camera.height - 0.5 - k.cy) / k.fy);
+  return {x * to_deg, y * to_deg};
+}
+
 void Camera::validate() const {
   if (width <= 0 || height <= 0)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) +
@@ -96,8 +106,12 @@ void Camera::validate() const {
   }
   const glm::vec3 dir = target - eye;
   if (glm::length(dir) == 0.0f) throw Error("camera eye and target are the same point " + str(eye));
-  if (glm::length(glm::cross(glm::normalize(dir), up)) < 1e-6f)
-    throw Error("camera up vector " + str(up) + " is parallel to the view direction");
+  if (glm::length(glm::cross(glm::normalize(dir), up)) < 1e-6f) {
+    // The suggestion: the axis least along the view direction
+    const glm::vec3 d = glm::abs(glm::normalize(dir));
+    const char* other = d.x <= d.y && d.x <= d.z ? "1,0,0" : (d.y <= d.z ? "0,1,0" : "0,0,1");
+    throw Error("camera up vector " + str(up) + " is parallel to the view direction: give another up vector (--up), such as " + other);
+  }
 }
 
 Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, bool ortho,

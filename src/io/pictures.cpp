@@ -115,9 +115,15 @@ std::vector<std::uint8_t> idPicture(const Frame& frame) {
 
 std::vector<std::uint8_t> overdrawPicture(const Frame& frame) {
   const std::size_t n = framePixels(frame);
+  if (frame.overdraw.size() != n) return std::vector<std::uint8_t>(n * 3, 0);
+  return overdrawPicture(frame, n ? *std::max_element(frame.overdraw.begin(), frame.overdraw.end()) : 0);
+}
+
+std::vector<std::uint8_t> overdrawPicture(const Frame& frame, std::uint32_t most) {
+  const std::size_t n = framePixels(frame);
   std::vector<std::uint8_t> rgb(n * 3, 0);
-  if (frame.overdraw.size() != n) return rgb;
-  const std::uint32_t max = *std::max_element(frame.overdraw.begin(), frame.overdraw.end());
+  if (n == 0 || frame.overdraw.size() != n) return rgb;
+  const std::uint32_t max = std::max(most, *std::max_element(frame.overdraw.begin(), frame.overdraw.end()));
   // Logarithmic over 1..max: depth complexity is heavy-tailed, and a linear scale would paint
   // a few hot pixels white and everything else blue
   const float log_max = max > 1 ? std::log(static_cast<float>(max)) : 1.0f;
