@@ -445,6 +445,11 @@ TEST(Cli, NewUserPapercuts) {
   expectCleanError("render demo --eye 1 2 3 -o " + png, "--eye takes x,y,z joined by commas, such as --eye 1,2,3");
   expectCleanError("render demo --eye 0,5,0 --target 0,0,0 -o " + png,
                    "parallel to the view direction: give another up vector (--up), such as 1,0,0");
+  // An option given twice is named with the count, in words and not the parser's
+  const CliRun twice = runCli("render demo --size 10x10 --size 20x20 -o " + png);
+  EXPECT_EQ(twice.code, 2);
+  EXPECT_NE(twice.err.find("--size is given 2 times; give it once"), std::string::npos) << twice.err;
+  EXPECT_EQ(twice.err.find("At Most"), std::string::npos) << twice.err;
   // --cull both: the warning says both faces go, and does not suggest the winding
   const CliRun both = runCli("render demo --size 32x24 --cull both -o " + png);
   EXPECT_NE(both.err.find("--cull both removes every polygon, front and back faces alike"), std::string::npos) << both.err;

@@ -113,6 +113,19 @@ std::string commaHint(int argc, const char* const* argv) {
   return {};
 }
 
+std::string plainParseMessage(std::string_view what) {
+  // CLI11's ArgumentMismatch::AtMost: "NAME: At Most 1 required but received N"
+  constexpr std::string_view kAtMost = ": At Most 1 required but received ";
+  const std::size_t at = what.find(kAtMost);
+  if (at != std::string_view::npos && at > 0) {
+    const std::string_view count = what.substr(at + kAtMost.size());
+    if (!count.empty() && std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return fmt::format("{} is given {} times; give it once (a later one does not replace an earlier)",
+                         what.substr(0, at), count);
+  }
+  return std::string(what);
+}
+
 std::string verbMissHint(std::string_view first, const std::vector<std::string_view>& verbs) {
   std::error_code ec;
   if (first.empty() || first[0] == '-' || fs::exists(fs::path(first), ec)) return {};

@@ -431,7 +431,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::string hint = hsr::cli::commaHint(static_cast<int>(args.size()), args.data());
     if (hint.empty()) hint = hsr::cli::nearMissHint(&app, static_cast<int>(args.size()), args.data());
-    printError(hint.empty() ? std::string(e.what()) + " (see hsr --help)" : std::string(e.what()) + "; " + hint);
+    const std::string what = hsr::cli::plainParseMessage(e.what());
+    printError(hint.empty() ? what + " (see hsr --help)" : what + "; " + hint);
     return 2;
   }
   Given given;
