@@ -327,6 +327,7 @@ int runScenes() {
 
 extern "C" void onTerminatingSignal(int sig) {
   hsr::removeTemporaryOutputs();
+  hsr::reportReplacedOutputs(STDERR_FILENO);  // which outputs are this run's, which an earlier's
   ::raise(sig);  // SA_RESETHAND: the default action now, so the exit status names the signal
 }
 

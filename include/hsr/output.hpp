@@ -58,4 +58,10 @@ void checkOutputDirectory(const std::filesystem::path& dir,
 // Async-signal-safe: removes every temporary file and directory this process is writing.
 void removeTemporaryOutputs() noexcept;
 
+// Async-signal-safe: writes to `fd` one line naming the outputs (files and directories) this
+// process has replaced so far, in the order it replaced them (the first 16, then "..."), or
+// that it has replaced none: what a reader finds after a run stopped by a signal. One run's
+// outputs are replaced one after another, each whole (docs/reliability.md).
+void reportReplacedOutputs(int fd) noexcept;
+
 }  // namespace hsr

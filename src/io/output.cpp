@@ -15,6 +15,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -55,6 +56,45 @@ int claimSlot(const fs::path& path, SlotState kind) {
 
 void releaseSlot(int slot) {
   if (slot >= 0) g_slots[slot].state.store(kFree);
+}
+
+// ---- The outputs this process has replaced, for the signal handler's report -------------------
+// The first kReplacedKept paths in fixed arrays, each noted before its rename (pending) and
+// marked done after it: a signal that comes between the two, on any thread, finds it pending.
+constexpr int kReplacedKept = 16;
+enum ReplacedState : int { kPending = 1, kDone = 2 };
+char g_replaced[kReplacedKept][kSlotPath];
+std::atomic<int> g_replaced_state[kReplacedKept];
+std::atomic<int> g_replaced_count{0};
+std::mutex g_replaced_mutex;  // writers one at a time (the handler only reads, never locks)
+
+// Notes `path` as about to be replaced; returns its entry for replacedDone.
+int noteReplacing(const fs::path& path) {
+  const std::lock_guard<std::mutex> lock(g_replaced_mutex);
+  std::error_code ec;
+  const std::string s = fs::absolute(path, ec).string();
+  const int n = g_replaced_count.load();
+  if (n < kReplacedKept) {
+    if (s.size() < kSlotPath) std::memcpy(g_replaced[n], s.c_str(), s.size() + 1);
+    else g_replaced[n][0] = '\0';
+    g_replaced_state[n].store(kPending);
+  }
+  g_replaced_count.store(n + 1);  // after the path: the handler reads only what is complete
+  return n;
+}
+
+void replacedDone(int entry) {
+  if (entry < kReplacedKept) g_replaced_state[entry].store(kDone);
+}
+
+void writeText(int fd, const char* text) noexcept {
+  std::size_t left = std::strlen(text);
+  while (left > 0) {
+    const ssize_t n = ::write(fd, text, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;
+    text += n, left -= static_cast<std::size_t>(n);
+  }
 }
 
 // Removes a flat directory's files and the directory, with system calls only (async-signal-safe).
@@ -150,12 +190,14 @@ void writeRegularFile(const fs::path& path, std::initializer_list<std::string_vi
     releaseSlot(slot);
     throw;
   }
+  const int entry = noteReplacing(path);
   if (::rename(temporary.c_str(), path.c_str()) != 0) {
     const int error = errno;
     ::unlink(temporary.c_str());
     releaseSlot(slot);
-    fail(path, "cannot put it in place", error);
+    fail(path, "cannot put it in place", error);  // its entry stays pending: old, as it says
   }
+  replacedDone(entry);
   releaseSlot(slot);
 }
 
@@ -176,6 +218,42 @@ void removeTemporaryOutputs() noexcept {
     if (state == kFile) ::unlink(s.path);
     if (state == kDirectory) removeFlatDirectory(s.path);
   }
+}
+
+void reportReplacedOutputs(int fd) noexcept {
+  const int n = g_replaced_count.load();
+  int done = n > kReplacedKept ? n - kReplacedKept : 0;
+  const char* pending = nullptr;
+  for (int i = 0; i < n && i < kReplacedKept; ++i) {
+    if (g_replaced_state[i].load() == kDone) done++;
+    else pending = g_replaced[i][0] != '\0' ? g_replaced[i] : "(a path too long to keep)";
+  }
+  if (done == 0 && pending == nullptr) {
+    writeText(fd, "hsr: stopped by a signal before it replaced any output: every output is as an "
+                  "earlier run left it\n");
+    return;
+  }
+  writeText(fd, "hsr: stopped by a signal after it replaced ");
+  char digits[24];
+  int len = 0;
+  for (int v = done; v > 0 || len == 0; v /= 10) digits[len++] = static_cast<char>('0' + v % 10);
+  char number[24];
+  for (int i = 0; i < len; ++i) number[i] = digits[len - 1 - i];
+  number[len] = '\0';
+  writeText(fd, number);
+  writeText(fd, done == 1 ? " output" : " outputs");
+  for (int i = 0, listed = 0; i < n && i < kReplacedKept; ++i) {
+    if (g_replaced_state[i].load() != kDone) continue;
+    writeText(fd, listed++ == 0 ? ": " : ", ");
+    writeText(fd, g_replaced[i][0] != '\0' ? g_replaced[i] : "(a path too long to keep)");
+  }
+  if (n > kReplacedKept) writeText(fd, ", ...");
+  if (pending != nullptr) {
+    writeText(fd, "; ");
+    writeText(fd, pending);
+    writeText(fd, " was being put in place (the earlier one or the new one, whole)");
+  }
+  writeText(fd, "; the others it would have written are as an earlier run left them\n");
 }
 
 void writeFileAtomically(const fs::path& path, std::initializer_list<std::string_view> pieces) {
@@ -277,7 +355,10 @@ void OutputDirectory::commit(std::string_view about) {
     ::fsync(fd);
     ::close(fd);
   }
-  if (::rename(temporary_.c_str(), dir_.c_str()) != 0) {
+  const int entry = noteReplacing(dir_);
+  if (::rename(temporary_.c_str(), dir_.c_str()) == 0) {
+    replacedDone(entry);
+  } else {
     if (errno != ENOTEMPTY && errno != EEXIST) fail(dir_, "cannot put it in place", errno);
     // An earlier output is there (checked to be hsr's): exchange the two in one step, so that a
     // reader sees the old set or the new one, then remove the old one from the temporary name.
@@ -294,6 +375,7 @@ void OutputDirectory::commit(std::string_view about) {
       }
       temporary_ = old;
     }
+    replacedDone(entry);  // the new set in place; the old one's removal follows
     std::error_code ec;
     fs::remove_all(temporary_, ec);
   }

@@ -337,7 +337,8 @@ TEST(FaultOutputs, FullTmpfsDuringARawSetKeepsTheOldSetWhole) {
 
 // SIGTERM and SIGINT at times spread over a run that writes a large PNG and raw set over an
 // earlier one: afterwards every output is the old one or the new one, whole, and no temporary
-// is left.
+// is left; and a run that the signal ended says in one line which outputs it had replaced, and
+// exactly those are the new ones.
 TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
   Scratch s("signals");
   const std::string png = (s / "x.png").string(), raw = (s / "raw").string();
@@ -358,7 +359,7 @@ TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
   const double run_s = std::chrono::duration<double>(Clock::now() - t0).count();
   const std::string new_png = readFile(ref / "x.png");
 
-  int interrupted = 0, finished = 0;
+  int interrupted = 0, finished = 0, mixed = 0;
   const int kRuns = 8;
   for (int i = 0; i < kRuns; ++i) {
     Launch l{args("4,1,5"), {}, s / "err.txt"};
@@ -370,6 +371,23 @@ TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
     const Result r = wait(pid, l);
     (r.signal != 0 ? interrupted : finished)++;
     const std::string now_png = readFile(png);
+    if (r.signal != 0) {
+      // Named as replaced: the new one; named as being put in place: either; else the old one
+      const auto said = [&](const std::string& path) {
+        const std::string p = fs::absolute(path).string();
+        if (r.err.find(p + " was being put in place") != std::string::npos) return 2;
+        return r.err.find(p) != std::string::npos ? 1 : 0;
+      };
+      const int said_png = said(png), said_raw = said(raw);
+      EXPECT_NE(r.err.find("hsr: stopped by a signal"), std::string::npos) << "run " << i << ": " << r.err;
+      if (said_png != 2) {
+        EXPECT_EQ(said_png == 1, now_png == new_png) << "run " << i << ": " << r.err;
+      }
+      if (said_raw != 2) {
+        EXPECT_EQ(said_raw == 1, fingerprint(raw) == fingerprint(ref / "raw")) << "run " << i << ": " << r.err;
+      }
+      mixed += said_png == 1 && said_raw == 0;
+    }
     EXPECT_TRUE(now_png == old_png || now_png == new_png) << "run " << i << ": a mixed PNG";
     EXPECT_TRUE(decodesAsPng(now_png)) << "run " << i;
     expectWholeRawSet(raw, "run " + std::to_string(i));
@@ -380,8 +398,9 @@ TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
     // Back to the old outputs for the next run
     ASSERT_EQ(hsr(s, args("0,0,6")).code, 0);
   }
-  std::printf("[ figures ] %d runs signalled, %d ended by the signal, %d finished first\n", kRuns,
-              interrupted, finished);
+  std::printf("[ figures ] %d runs signalled, %d ended by the signal (%d of them between the PNG and "
+              "the raw set, and said so), %d finished first\n",
+              kRuns, interrupted, mixed, finished);
   EXPECT_GT(interrupted, 0);
 }
 
