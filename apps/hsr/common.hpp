@@ -36,12 +36,11 @@ void lowercaseNameValues(CLI::App* app);
 std::string nearMissHint(CLI::App* app, int argc, const char* const* argv);
 // `--eye 1 2 3`: the hint to join a vector's coordinates with commas (empty when none applies)
 std::string commaHint(int argc, const char* const* argv);
-// `hsr rendr`: a first argument that is no verb, no file and no built-in scene, but within two
-// edits of a verb, gives "did you mean render?" (otherwise it would be read as a scene's name)
 // A parse error in words: an option given more times than it takes named with its count,
 // not in the parser's terms ("At Most 1 required but received 2")
 std::string plainParseMessage(std::string_view what);
-
+// `hsr rendr`: a first argument that is no verb, no file and no built-in scene, but within two
+// edits of a verb, gives "did you mean render?" (otherwise it would be read as a scene's name)
 std::string verbMissHint(std::string_view first, const std::vector<std::string_view>& verbs);
 
 namespace fs = std::filesystem;

@@ -87,6 +87,10 @@ void replacedDone(int entry) {
   if (entry < kReplacedKept) g_replaced_state[entry].store(kDone);
 }
 
+const char* keptPath(int entry) noexcept {
+  return g_replaced[entry][0] != '\0' ? g_replaced[entry] : "(a path too long to keep)";
+}
+
 void writeText(int fd, const char* text) noexcept {
   std::size_t left = std::strlen(text);
   while (left > 0) {
@@ -226,7 +230,7 @@ void reportReplacedOutputs(int fd) noexcept {
   const char* pending = nullptr;
   for (int i = 0; i < n && i < kReplacedKept; ++i) {
     if (g_replaced_state[i].load() == kDone) done++;
-    else pending = g_replaced[i][0] != '\0' ? g_replaced[i] : "(a path too long to keep)";
+    else pending = keptPath(i);
   }
   if (done == 0 && pending == nullptr) {
     writeText(fd, "hsr: stopped by a signal before it replaced any output: every output is as an "
@@ -234,18 +238,17 @@ void reportReplacedOutputs(int fd) noexcept {
     return;
   }
   writeText(fd, "hsr: stopped by a signal after it replaced ");
-  char digits[24];
-  int len = 0;
-  for (int v = done; v > 0 || len == 0; v /= 10) digits[len++] = static_cast<char>('0' + v % 10);
   char number[24];
-  for (int i = 0; i < len; ++i) number[i] = digits[len - 1 - i];
-  number[len] = '\0';
-  writeText(fd, number);
+  char* first = number + sizeof number - 1;  // the digits written from the end
+  *first = '\0';
+  for (int v = done; v > 0 || first == number + sizeof number - 1; v /= 10)
+    *--first = static_cast<char>('0' + v % 10);
+  writeText(fd, first);
   writeText(fd, done == 1 ? " output" : " outputs");
   for (int i = 0, listed = 0; i < n && i < kReplacedKept; ++i) {
     if (g_replaced_state[i].load() != kDone) continue;
     writeText(fd, listed++ == 0 ? ": " : ", ");
-    writeText(fd, g_replaced[i][0] != '\0' ? g_replaced[i] : "(a path too long to keep)");
+    writeText(fd, keptPath(i));
   }
   if (n > kReplacedKept) writeText(fd, ", ...");
   if (pending != nullptr) {
