@@ -221,13 +221,13 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
   LineDrawing out;
   out.engine = lines.engine;
   const bool edges = lines.engine == LineEngine::kEdges;
-  tbb::task_arena arena(detail::workerThreads(options.threads));
+  const int threads = detail::workerThreads(options.threads);
   // ---- 1. Visible and hidden parts of every edge
   detail::PreparedScene ps;
   RobertsDrawing r;
   detail::LineVisibility lv;
   try {
-    arena.execute([&] {
+    detail::runWithThreads(threads, [&] {
       ps = detail::prepare(scene, camera, options, {.window_polygons = true, .triangles = !edges});
       const auto tp = std::chrono::steady_clock::now();
       out.stage_ms.emplace_back("pipeline",

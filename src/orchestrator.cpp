@@ -51,13 +51,13 @@ void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& o
     if (frame.width != camera.width || frame.height != camera.height)
       throw Error("frame size differs from the camera's");
   }
-  tbb::task_arena arena(workerThreads(options.threads));
+  const int threads = workerThreads(options.threads);
   if (!frame.scratch.ptr) frame.scratch.ptr = std::make_shared<RenderCache>();
   auto& cache = *static_cast<RenderCache*>(frame.scratch.ptr.get());
   // Scratch made by another algorithm is dropped (each algorithm owns its scratch type).
   if (cache.owner != &entry) cache.algorithm.reset();
   cache.owner = &entry;
-  arena.execute([&] {
+  runWithThreads(threads, [&] {
     PreparedScene& prepared = cache.prepared;
     prepare(scene, camera, options,
             {.window_polygons = entry.info.input == InputKind::kWindowPolygons,

@@ -1,4 +1,4 @@
-// Clearing a frame, in parallel bands (first touch spreads the pages over the workers).
+// Clearing a frame: a fresh one filled as it is sized, one drawn before in parallel bands.
 
 #include "core/frame.hpp"
 
@@ -38,11 +38,19 @@ void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
   allocate(f.depth);
   allocate(f.ids);
   allocate(f.overdraw);
-  f.color.resize(n);
-  f.depth.resize(n);
-  f.ids.resize(n);
-  f.overdraw.resize(n);
   f.coverage.clear();  // made by the algorithms that antialias
+  const bool sized = f.color.size() == n && f.depth.size() == n && f.ids.size() == n &&
+                     f.overdraw.size() == n;
+  if (!sized) {
+    // A fresh or resized frame: each buffer filled as it is sized, in one pass (resize() wrote
+    // zeros first, on one thread, and the bands then wrote the clear values over them)
+    f.color.assign(n, clear);
+    f.depth.assign(n, clear_depth);
+    f.ids.assign(n, kNoPolygon);
+    f.overdraw.assign(n, 0u);
+    return;
+  }
+  // A frame drawn before: cleared in parallel bands
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
     std::fill(f.color.begin() + r.begin(), f.color.begin() + r.end(), clear);
     std::fill(f.depth.begin() + r.begin(), f.depth.begin() + r.end(), clear_depth);
