@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Install, build and pass every test; this is what CI runs (.ci/run). The legs, in order:
 #   1. Release (GCC, link-time optimisation, SIMD span path): the library, the CLI, the Python
-#      module, both test programs (hsr's own tests, and the peer-agreement tests against Mesa,
-#      Embree, Open CASCADE, CGAL and ZDBSP) and the benchmarks' sources (compiled, not linked:
-#      HSR_BENCH_LINK=OFF); then every test under CTest, two at a time.
+#      module (linked from the library's plain code: HSR_PYTHON_LTO=OFF), both test programs
+#      (hsr's own tests, and the peer-agreement tests against Mesa, Embree, Open CASCADE, CGAL
+#      and ZDBSP) and the benchmarks' sources (compiled, not linked: HSR_BENCH_LINK=OFF); then
+#      every test under CTest, two at a time.
 #   2. The web page (scripts/test-web.sh): its WebAssembly build against the native one, under
 #      node and in headless Chromium.
 #   3. ASan+UBSan (clang 14, one tree, build-san, for this leg and the next: hsr's code with the
@@ -51,7 +52,7 @@ release_build() {
   local log
   log=$(mktemp)
   scripts/build.sh build -DHSR_BUILD_TESTS=ON -DHSR_BUILD_BENCH=ON -DHSR_BENCH_LINK=OFF \
-    -DHSR_BUILD_PYTHON=ON -DHSR_BUILD_PEERS=ON 2>&1 | tee "$log"
+    -DHSR_BUILD_PYTHON=ON -DHSR_PYTHON_LTO=OFF -DHSR_BUILD_PEERS=ON 2>&1 | tee "$log"
   local warnings
   warnings=$(grep -c "warning:" "$log" || true)
   rm -f "$log"
