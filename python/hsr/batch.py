@@ -13,14 +13,58 @@ A worker loads each scene once (cached per process) and reuses it for every view
 
 A script that starts its own local cluster (distributed.Client() or LocalCluster()) must do so
 under `if __name__ == "__main__":`; Dask's worker processes import the script again, and
-without the guard each starts a cluster of its own and the run waits forever.
+without the guard each starts a cluster of its own and the run waits forever. A script that
+imports hsr.batch before it starts the cluster is told so instead, in one line, and stopped
+(see _refuse_clusters_while_bootstrapping).
 """
 
 import functools
+import multiprocessing
 import os
+import signal
+import sys
 from dataclasses import dataclass
 
 from . import _hsr
+
+_UNGUARDED = ("hsr.batch: this script starts a Dask cluster outside `if __name__ == \"__main__\":`; "
+              "Dask's worker processes import the script again and each would start a cluster of "
+              "its own, and the run would wait forever: put the cluster and the run under that "
+              "guard (stopping the run)\n")
+
+
+def _bootstrapping():
+    """True while this process is a new worker process importing the main script again
+    (multiprocessing's spawn: the script runs as __mp_main__ before the worker starts)."""
+    return bool(getattr(multiprocessing.current_process(), "_inheriting", False))
+
+
+def _refuse_clusters_while_bootstrapping():
+    """A cluster started while a worker process is still importing the script is the missing
+    guard: Dask would restart that worker for ever. Its Client and LocalCluster then say so in
+    one line, and stop the script that started the worker (its parent) and the worker itself.
+    Any other time (the script itself, a task calling get_client()) they are Dask's own."""
+    if not _bootstrapping():
+        return
+    try:
+        import distributed
+    except ImportError:
+        return
+    for cls in (distributed.Client, distributed.LocalCluster):
+        original = cls.__init__
+
+        def init(self, *args, __original=original, **kwargs):
+            if _bootstrapping():
+                sys.stderr.write(_UNGUARDED)
+                sys.stderr.flush()
+                os.kill(os.getppid(), signal.SIGTERM)
+                os._exit(2)
+            __original(self, *args, **kwargs)
+
+        cls.__init__ = init
+
+
+_refuse_clusters_while_bootstrapping()
 
 
 @dataclass(frozen=True)

@@ -31,3 +31,38 @@ def test_dask_local_cluster_matches_a_sequential_run(tmp_path):
     assert files == tree(tmp_path / "par")
     match, mismatch, errors = filecmp.cmpfiles(tmp_path / "seq", tmp_path / "par", files, shallow=False)
     assert mismatch == [] and errors == []
+
+
+SCRIPT = """import distributed
+from hsr import batch
+{guard}
+{indent}jobs = batch.orbit_jobs("spheres:200", 4, {out!r}, width=32, height=24)
+{indent}with distributed.Client(n_workers=1, threads_per_worker=1, dashboard_address=None) as c:
+{indent}    print(len(batch.run(jobs, client=c)), "views")
+"""
+
+
+def run_script(tmp_path, guarded):
+    import subprocess
+    import sys
+    path = tmp_path / ("guarded.py" if guarded else "unguarded.py")
+    path.write_text(SCRIPT.format(guard='if __name__ == "__main__":' if guarded else "",
+                                  indent="    " if guarded else "", out=str(tmp_path / "out")))
+    return subprocess.run([sys.executable, str(path)], capture_output=True, text=True, timeout=120,
+                          cwd=tmp_path, env=dict(os.environ))
+
+
+def test_a_script_without_the_main_guard_is_told_so_and_stopped(tmp_path):
+    pytest.importorskip("distributed")
+    r = run_script(tmp_path, guarded=False)
+    assert r.returncode != 0
+    assert 'outside `if __name__ == "__main__":`' in r.stderr
+    assert "views" not in r.stdout
+
+
+def test_a_script_with_the_main_guard_runs(tmp_path):
+    pytest.importorskip("distributed")
+    r = run_script(tmp_path, guarded=True)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "4 views"
+    assert "hsr.batch:" not in r.stderr
