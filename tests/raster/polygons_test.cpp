@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -59,7 +60,8 @@ TEST(PolygonStarts, SizeIsABitPerTriangle) {
   const ScreenTriangles tris = runsOf({100000});
   PolygonStarts starts;
   EXPECT_EQ(starts.build(tris), 1u);
-  EXPECT_LE(starts.bytes(), 100000 / 8 + 100000 / 512 + 16);  // a bit each, and one per 64
+  // a bit each, and one per 64
+  EXPECT_LE(starts.bytes(), std::size_t{100000 / 8 + 100000 / 512 + 16});
   EXPECT_EQ(starts.polygonOf(99999), 0u);
 }
 
