@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstdio>
 #include <string>
 
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
+#include "core/stopwatch.hpp"
 
 namespace hsr {
 
@@ -29,9 +29,9 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
       rows.push_back(std::move(row));
       continue;
     }
-    const auto t0 = std::chrono::steady_clock::now();
+    const detail::Stopwatch t0;
     row.frame = render(scene, camera, o);
-    row.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    row.ms = t0.ms();
     row.state_bytes = row.frame.stats.state_bytes;
     std::uint64_t covered = 0, sum = 0;
     for (std::uint32_t c : row.frame.overdraw) {
@@ -76,9 +76,9 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
     for (std::size_t i = 0; i < run.size(); ++i) {
       RenderOptions o = options;
       o.algorithm = run[i]->algorithm;
-      const auto t0 = std::chrono::steady_clock::now();
+      const detail::Stopwatch t0;
       render(scene, view, o, frames[i]);
-      run[i]->view_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      run[i]->view_ms += t0.ms();
     }
     const std::vector<PolygonId>& view_ref = frames[ref_index].ids;
     for (std::size_t i = 0; i < run.size(); ++i)

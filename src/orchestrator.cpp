@@ -4,7 +4,6 @@
 #include "orchestrator.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <memory>
 #include <string>
 
@@ -13,6 +12,7 @@
 #include "core/parallel.hpp"
 #include "hsr/bsp.hpp"
 #include "hsr/error.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/samples.hpp"
 #include "visibility/algorithm.hpp"
 
@@ -65,11 +65,11 @@ void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& o
             prepared);
     Stats stats = prepared.stats;
     if (mode == DrawMode::kClear) {
-      const auto t0 = std::chrono::steady_clock::now();
+      const detail::Stopwatch t0;
       clearFrame(frame, camera.width, camera.height, options);
       stats.addStage(
           "clear",
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+          t0.ms());
     }
     HSR_CHECK_EQ(frame.ids.size(), static_cast<std::size_t>(camera.width) * camera.height);
     frame.stats = Stats{};

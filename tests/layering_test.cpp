@@ -1,7 +1,9 @@
 // The layout of src/ (docs/architecture.md): each layer includes only itself and the layers
 // below it, so the ground floor knows no stage and no arrow runs back up.
 //   core < geometry < raster < pipeline < visibility < the orchestrator (src/*.cpp, *.hpp)
-//   io and explain stand at the side: io on core alone, explain on the orchestrator.
+//   io stands at the side, on core alone. The two wings: doom (a WAD's maps, their 2D BSP, the
+//   column view) on visibility and io; lines (the hidden-line drawings) on the orchestrator.
+//   explain stands on the orchestrator and the doom wing; nothing below includes a wing.
 // Public headers (include/hsr/) are the API and may be included anywhere.
 
 #include <gtest/gtest.h>
@@ -26,8 +28,10 @@ const std::map<std::string, std::set<std::string>>& allowed() {
       {"pipeline", {"core", "geometry", "raster", "pipeline"}},
       {"visibility", {"core", "geometry", "raster", "pipeline", "visibility"}},
       {"io", {"core", "io"}},
-      {"explain", {"core", "explain", "/"}},
-      {"/", {"core", "geometry", "raster", "pipeline", "visibility", "io", "explain", "/"}},
+      {"doom", {"core", "geometry", "raster", "pipeline", "visibility", "io", "doom"}},
+      {"/", {"core", "geometry", "raster", "pipeline", "visibility", "io", "/"}},
+      {"lines", {"core", "geometry", "raster", "pipeline", "visibility", "io", "/", "lines"}},
+      {"explain", {"core", "explain", "/", "doom"}},
   };
   return m;
 }

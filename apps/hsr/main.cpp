@@ -24,6 +24,7 @@
 #include "hsr/compare.hpp"
 #include "hsr/error.hpp"
 #include "hsr/explain.hpp"
+#include "hsr/hsr.hpp"
 #include "hsr/io.hpp"
 #include "hsr/output.hpp"
 #include "hsr/render.hpp"
@@ -403,7 +404,7 @@ int main(int argc, char** argv) {
   hsr::cli::DoomVerb doom;
   hsr::cli::addDoomVerb(app, doom);
 
-  app.set_version_flag("--version", "hsr " HSR_VERSION);
+  app.set_version_flag("--version", "hsr " + std::string(hsr::version()));
   hsr::cli::refuseFlagsAsValues(&app);
   hsr::cli::lowercaseNameValues(&app);
   // `hsr SCENE [options]` is `hsr render SCENE [options]`

@@ -19,7 +19,7 @@
 // collinear runs joined; a line both visible and hidden is drawn visible only) and ordered so
 // the pen travels little between them; the stats compare that travel with the unordered one.
 // Cost: see LineEngine; then O(n log n) for n segments.
-// Tests: tests/line_drawing_test.cpp.
+// Tests: tests/lines/line_drawing_test.cpp.
 
 #include <cstdint>
 #include <string>
@@ -55,7 +55,7 @@ struct LineLayerStats {
 // How the visible parts are found. Both are exact (object space, in floating point) and draw
 // the same lines; tests hold them to each other.
 //   kEdges: classify the edges first, then test only the lines against the triangles in front
-//     of them, found through a grid of screen cells (visibility/line_visibility.cpp): near
+//     of them, found through a grid of screen cells (lines/line_visibility.cpp): near
 //     linear in the scene, the default.
 //   kRoberts: Roberts' visible segments of every edge (hsr/roberts.hpp), then classified: the
 //     notes' algorithm, as a reference; its cost grows with the faces' sections.

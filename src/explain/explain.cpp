@@ -15,7 +15,7 @@
 #include "hsr/io.hpp"
 #include "hsr/output.hpp"
 #include "orchestrator.hpp"
-#include "doom_level.hpp"
+#include "doom/doom_level.hpp"
 
 namespace hsr {
 namespace {

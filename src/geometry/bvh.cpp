@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <type_traits>
@@ -17,6 +16,7 @@
 #include "core/default_init.hpp"
 #include "core/check.hpp"
 #include "core/parallel.hpp"
+#include "core/stopwatch.hpp"
 
 #if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
 #include <smmintrin.h>
@@ -394,7 +394,7 @@ void planCollapse(const CollapsePlan* l, const CollapsePlan* r, float area, Coll
 }
 
 Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::span<const glm::vec3> c) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const detail::Stopwatch t0;
   HSR_CHECK(a.size() == b.size() && b.size() == c.size());
   Bvh bvh;
   // Each finite triangle's box
@@ -412,7 +412,7 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
   }
   bvh.stats.triangles = refs.size();
   if (refs.empty()) {
-    bvh.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    bvh.stats.build_ms = t0.ms();
     return bvh;
   }
   // The binary tree: at most 2n - 1 nodes
@@ -433,7 +433,7 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
   const float root_area = binary[root].box().halfArea();
   bvh.stats.sah_cost = root_area > 0.0f ? collapser.sah / root_area : 0.0;
   bvh.stats.bytes = bvh.nodes.capacity() * sizeof(BvhNode) + bvh.leaves.capacity() * sizeof(BvhTriangles4);
-  bvh.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  bvh.stats.build_ms = t0.ms();
   return bvh;
 }
 

@@ -4,23 +4,18 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 
 #include <glm/matrix.hpp>
 
 #include "core/parallel.hpp"
+#include "core/stopwatch.hpp"
 #include "geometry/triangulate.hpp"
 #include "pipeline/stages.hpp"
 
 namespace hsr::detail {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 constexpr std::size_t kChunk = 2048;  // polygons per work item (fixed: determinism)
 
@@ -231,7 +226,7 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   out.stats.polygons_in = scene.polygonCount();
 
   // Transform: world -> eye -> clip for every vertex of an object not culled by its bounds.
-  auto t0 = Clock::now();
+  Stopwatch t0;
   const glm::mat4 mvp = camera.projection() * camera.view();
   // No guard band: x/y are clipped at the viewport, as llvmpipe does (its draw module runs
   // with guard_band_xy off), so edges of clipped triangles snap exactly as Mesa's do.
@@ -239,10 +234,10 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   const Viewport vp = viewportOf(camera);
   cullObjects(scene, mvp, cs, options.frustum_cull, scratch.object_state);
   transformVertices(scene, mvp, cs, vp, scratch.object_state, scratch.clip, scratch.verts);
-  out.stats.addStage("transform", msSince(t0));
+  out.stats.addStage("transform", t0.ms());
 
   // Cull, clip, project and snap, in fixed chunks of polygons joined in order.
-  t0 = Clock::now();
+  t0.restart();
   // Device coordinates (pixel-centre x, y down; window z) from clip coordinates, as toWindow
   // maps them; depth planes map by the inverse transpose of world -> device.
   const glm::dmat4 device_from_world = deviceFromWorld(camera);
@@ -310,12 +305,12 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   }
   out.stats.lines_rasterized = out.lines.size();
   out.stats.points_rasterized = out.points.size();
-  out.stats.addStage("cull+clip+project", msSince(t0));
+  out.stats.addStage("cull+clip+project", t0.ms());
 
   if (options.outline) {
-    t0 = Clock::now();
+    t0.restart();
     findOutline(ctx, out);
-    out.stats.addStage("outline", msSince(t0));
+    out.stats.addStage("outline", t0.ms());
   }
 }
 

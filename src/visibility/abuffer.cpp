@@ -40,11 +40,12 @@
 // O(triangles + pixels reached + fragments x samples); memory 24 bytes a fragment in a list (a
 // pixel's own polygon costs nothing more). A frame whose listed fragments would exceed
 // RenderOptions::fragment_memory is refused.
+//
+// Tests: tests/visibility/abuffer_test.cpp and every suite of the registry its capabilities join.
 
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -57,6 +58,7 @@
 #include "core/frame.hpp"
 #include "core/parallel.hpp"
 #include "hsr/error.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/bins.hpp"
 #include "raster/edge.hpp"
 #include "raster/fragment.hpp"
@@ -668,12 +670,8 @@ void resolveTile(const FrameJob& job, const PixelBox& box, const TileLists& l) {
 }  // namespace
 
 void drawABuffer(const AlgorithmInput& in, Frame& frame) {
-  auto t0 = std::chrono::steady_clock::now();
-  auto lap = [&](const char* stage) {
-    const auto t1 = std::chrono::steady_clock::now();
-    frame.stats.addStage(stage, std::chrono::duration<double, std::milli>(t1 - t0).count());
-    t0 = t1;
-  };
+  detail::Stopwatch t0;
+  auto lap = [&](const char* stage) { frame.stats.addStage(stage, t0.lap()); };
   std::unique_ptr<Scratch> own;
   Scratch& scratch = algorithmScratch(in, own);
   const ScreenTriangles& tris = in.prepared.triangles;

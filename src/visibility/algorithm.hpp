@@ -6,11 +6,8 @@
 #include <memory>
 #include <vector>
 
-#include "core/deadline.hpp"
 #include "core/trace.hpp"
 #include "hsr/render.hpp"
-#include "hsr/roberts.hpp"
-#include "hsr/visible_set.hpp"
 #include "pipeline/pipeline.hpp"
 
 namespace hsr::detail {
@@ -60,28 +57,5 @@ void drawRaycast(const AlgorithmInput& input, Frame& frame);          // raycast
 void drawABuffer(const AlgorithmInput& input, Frame& frame);          // abuffer.cpp
 void drawWeilerAtherton(const AlgorithmInput& input, Frame& frame);   // weiler_atherton.cpp
 void drawRoberts(const AlgorithmInput& input, Frame& frame);          // roberts.cpp
-
-// The Weiler-Atherton visible set of the pipeline's window polygons (weiler_atherton.cpp);
-// `state_bytes`, when given, gets the memory its list and cells held; `close`, when given, the
-// pairs of overlapping polygons whose depths come within a float step of each other.
-struct ClosePair {
-  ExactRegion whole_a, whole_b;  // the two snapped polygons
-  DepthPlane plane_a, plane_b;
-  PolygonId id_a, id_b;
-  std::uint32_t rgba_a, rgba_b;
-};
-// With `frame`, each visible region is painted into it as it is found; with `trace`, the steps
-// are recorded (`hsr explain`).
-VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
-                                    std::size_t* state_bytes, std::vector<ClosePair>* close, Frame* frame,
-                                    Trace* trace);
-
-// Roberts' visible edges of the pipeline's window polygons (roberts.cpp); with `frame`, the
-// visible faces are filled into it; with `trace`, the steps are recorded (`hsr explain`); with
-// `hidden_parts`, the hidden parts of the edges are kept too (RobertsDrawing::hidden); with
-// `deadline`, it throws DeadlinePassed (core/deadline.hpp) once that has passed.
-RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPolygon>& polygons,
-                                int width, int height, Frame* frame, Trace* trace,
-                                bool hidden_parts = false, const Deadline* deadline = nullptr);
 
 }  // namespace hsr::detail

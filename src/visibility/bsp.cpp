@@ -22,9 +22,10 @@
 // the tree's epsilon (a polygon within it of a plane is on it) and paintPolygonPart's ties
 // (equal floats show the lower id; a float step apart, the nearer). Cost: O(nodes) to
 // traverse plus the pixels painted; front to back on request. Tests: bsp_test.cpp.
+//
+// Tests: tests/visibility/bsp_test.cpp and every suite of the registry its capabilities join.
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <string_view>
@@ -32,6 +33,7 @@
 
 #include "core/frame.hpp"
 #include "hsr/bsp.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/edge.hpp"
 #include "raster/fill_polygons.hpp"
 #include "visibility/algorithm.hpp"
@@ -167,7 +169,7 @@ void forEachBspPolygon(const BspTree& tree, const Camera& camera, bool front_to_
 }
 
 void drawBsp(const AlgorithmInput& in, Frame& frame) {
-  auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch t0;
   BspTree built;
   if (!in.given) {
     std::function<void(const BspNodeReport&)> report;
@@ -213,13 +215,13 @@ void drawBsp(const AlgorithmInput& in, Frame& frame) {
       };
     }
     built = buildBspTree(in.scene, in.options.bsp, {}, report);
-    frame.stats.addStage("bsp build", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    frame.stats.addStage("bsp build", t0.ms());
   }
   const BspTree& tree = in.given ? *static_cast<const BspTree*>(in.given) : built;
-  t0 = std::chrono::steady_clock::now();
+  t0.restart();
   paintFromBspTree(tree, in, frame);
   frame.stats.addStage("bsp traverse + paint",
-                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                       t0.ms());
   frame.stats.state_bytes += tree.stats.bytes;
   frame.stats.addCounter("bsp: polygons in the tree", tree.stats.polygons);
   frame.stats.addCounter("bsp: splits", tree.stats.splits);

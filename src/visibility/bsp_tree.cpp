@@ -23,15 +23,17 @@
 // one side, is a chain: O(k^2) for its k polygons); memory: per polygon or piece 40 B, its
 // vertices (24 B each) and its cuts (8 B per ancestor that cut it), per node 96 B.
 // Tests: bsp_test.cpp (row 11, split consistency).
+//
+// Tests: tests/visibility/bsp_test.cpp.
 
 #include "visibility/bsp_tree.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
 #include "core/random.hpp"
+#include "core/stopwatch.hpp"
 #include "geometry/polygon.hpp"
 #include "geometry/triangulate.hpp"
 #include "hsr/error.hpp"
@@ -101,7 +103,7 @@ int eyeSide(const BspNode& node, const glm::dvec3& eye) {
 BspTree buildBspTree(const Scene& scene, const BspOptions& options,
                      const std::function<void(std::uint64_t, std::uint64_t)>& progress,
                      const std::function<void(const BspNodeReport&)>& report) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const detail::Stopwatch t0;
   SplitterChoice choice;
   if (!parseSplitterChoice(options.splitter, &choice))
     throw Error("unknown BSP splitter choice '" + options.splitter +
@@ -291,7 +293,7 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
   tree.polygons = std::move(kept);
   tree.cuts = std::move(kept_cuts);
   finishBspTree(tree);
-  tree.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  tree.stats.build_ms = t0.ms();
   if (progress) progress(order.size(), order.size());
   return tree;
 }

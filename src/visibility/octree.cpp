@@ -26,11 +26,12 @@
 //
 // Cost: build O(polygons x depth); per frame O(octants visited + pixels of the pieces drawn),
 // hidden octants costing one footprint test. Memory: the tree, and three numbers per pixel.
+//
+// Tests: tests/visibility/octree_test.cpp and every suite of the registry its capabilities join.
 
 #include "visibility/octree.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -40,6 +41,7 @@
 #include "core/check.hpp"
 #include "core/frame.hpp"
 #include "core/parallel.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/edge.hpp"
 #include "raster/fill_polygons.hpp"
 #include "raster/fragment.hpp"
@@ -136,7 +138,7 @@ struct Builder {
 }  // namespace
 
 Octree buildOctree(const Scene& scene, const OctreeLimits& limits) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const detail::Stopwatch t0;
   Octree tree;
   tree.limits = limits;
   const std::size_t n = scene.polygonCount();
@@ -170,7 +172,7 @@ Octree buildOctree(const Scene& scene, const OctreeLimits& limits) {
   tree.stats.entries = tree.entries.size();
   tree.stats.bytes = tree.nodes.capacity() * sizeof(OctreeNode) + tree.entries.capacity() * sizeof(OctreeEntry);
   tree.fingerprint = sceneFingerprint(scene);
-  tree.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  tree.stats.build_ms = t0.ms();
   return tree;
 }
 
@@ -529,7 +531,7 @@ class Painter {
 }  // namespace
 
 void drawOctree(const AlgorithmInput& in, Frame& frame) {
-  auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch t0;
   std::unique_ptr<Scratch> own;
   Scratch& s = algorithmScratch(in, own);
   // The tree: built once, kept while the scene is the same. Explained, it is cut finer, so that
@@ -557,7 +559,7 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
                           std::to_string(kOctreeLeafPolygons) + " a leaf; the same picture).",
                       &frame,
                       {}});
-  t0 = std::chrono::steady_clock::now();
+  t0.restart();
   // The picture in bands of kBandRows rows, in parallel; the bands are fixed, so the picture
   // and every count are the same at any thread count.
   prepareScratch(in, frame, s);
@@ -612,7 +614,7 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("octree: pixels written once", c.pixels_written);
   frame.stats.addCounter("octree: pixels rewritten on a float tie", c.rewritten);
   frame.stats.addStage("octree traverse + draw",
-                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                       t0.ms());
 }
 
 }  // namespace hsr::detail

@@ -56,7 +56,6 @@
 // registry its capabilities join.
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <queue>
@@ -68,6 +67,7 @@
 #include <glm/vec2.hpp>
 
 #include "core/frame.hpp"
+#include "core/stopwatch.hpp"
 #include "geometry/clip.hpp"
 #include "geometry/predicates.hpp"
 #include "raster/edge.hpp"
@@ -655,7 +655,7 @@ std::vector<TraceOutline> outlineOf(const Piece* a, const Piece* b) {
 }  // namespace
 
 void drawPainter(const AlgorithmInput& in, Frame& frame) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const detail::Stopwatch t0;
   const FrameView fb(frame);
   FragmentCounts fragments;
   DepthSort sort(in.prepared.polygons, frame.width, frame.height);
@@ -730,7 +730,7 @@ void drawPainter(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("painter: unresolved", c.unresolved);
   frame.stats.addStage(
       "depth sort + paint",
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      t0.ms());
 }
 
 }  // namespace hsr::detail

@@ -10,18 +10,18 @@
 // Tests: tests/visibility/painter_test.cpp measures its wrong pixels.
 
 #include <algorithm>
-#include <chrono>
 #include <numeric>
 #include <vector>
 
 #include "core/frame.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/fill_polygons.hpp"
 #include "visibility/algorithm.hpp"
 
 namespace hsr::detail {
 
 void drawPainterNaive(const AlgorithmInput& in, Frame& frame) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const detail::Stopwatch t0;
   const std::vector<WindowPolygon>& polygons = in.prepared.polygons;
   // Sort by mean depth, farthest first (ties: the later polygon first, as painter.cpp).
   std::vector<double> depth(polygons.size(), 0.0);
@@ -45,7 +45,7 @@ void drawPainterNaive(const AlgorithmInput& in, Frame& frame) {
   frame.stats.state_bytes += frameBufferBytes(frame) + order.capacity() * 12;
   frame.stats.addStage(
       "sort + paint",
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      t0.ms());
 }
 
 }  // namespace hsr::detail

@@ -33,7 +33,6 @@
 // tests/geometry/bvh_test.cpp, tests/agreement/embree_test.cpp.
 
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -42,6 +41,7 @@
 #include "core/check.hpp"
 #include "core/parallel.hpp"
 #include "core/scene_digest.hpp"
+#include "core/stopwatch.hpp"
 #include "core/trace.hpp"
 #include "raster/depth.hpp"
 #include "raster/fragment.hpp"
@@ -220,7 +220,7 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
 }  // namespace
 
 void drawRaycast(const AlgorithmInput& in, Frame& frame) {
-  auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch t0;
   std::unique_ptr<Scratch> own;
   Scratch& s = algorithmScratch(in, own);
   // The hierarchy of the opaque polygons (see-through ones are blended afterwards): built once,
@@ -251,7 +251,7 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
                       &frame,
                       std::move(outlines)});
   }
-  t0 = std::chrono::steady_clock::now();
+  t0.restart();
 
   // Each polygon's colour and depth plane, as the pipeline made them
   const Scene& scene = in.scene;
@@ -357,7 +357,7 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
                       &frame,
                       {}});
   if (in.trace) explainHierarchy(in, frame, data, sides);
-  frame.stats.addStage("raycast cast", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  frame.stats.addStage("raycast cast", t0.ms());
 
   // See-through polygons over the finished picture, in submission order, as the z-buffer
   FragmentCounts fragments;

@@ -1,5 +1,7 @@
 // The registry: the one table of visibility algorithms that the CLI, tests, benchmarks and
 // `hsr explain` loop over. Nothing else lives here.
+//
+// Tests: tests/visibility/registry_test.cpp.
 
 #include "visibility/algorithm.hpp"
 

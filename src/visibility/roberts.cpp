@@ -56,6 +56,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/frame.hpp"
+#include "core/stopwatch.hpp"
 #include "geometry/polygon.hpp"
 #include "geometry/triangulate.hpp"
 #include "hsr/clipping.hpp"
@@ -63,6 +64,7 @@
 #include "raster/fill_polygons.hpp"
 #include "raster/lines.hpp"
 #include "visibility/algorithm.hpp"
+#include "visibility/roberts.hpp"
 
 namespace hsr::detail {
 namespace {
@@ -883,10 +885,10 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
 }
 
 void drawRoberts(const AlgorithmInput& in, Frame& frame) {
-  const auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch watch;
   const RobertsDrawing d =
       robertsDrawingOf(in.scene, in.prepared.polygons, frame.width, frame.height, &frame, in.trace);
-  const auto t1 = std::chrono::steady_clock::now();
+  const double edges_ms = watch.lap();
   const FrameView fb(frame);
   FragmentCounts fragments;
   // See-through polygons over the finished picture, in submission order, as the z-buffer.
@@ -920,11 +922,8 @@ void drawRoberts(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("roberts: edges", d.edges);
   frame.stats.addCounter("roberts: junction lines", d.junctions);
   frame.stats.addCounter("roberts: visible segments", d.segments.size());
-  frame.stats.addStage("edges and faces",
-                       std::chrono::duration<double, std::milli>(t1 - t0).count());
-  frame.stats.addStage(
-      "see-through, outline",
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
+  frame.stats.addStage("edges and faces", edges_ms);
+  frame.stats.addStage("see-through, outline", watch.ms());
 }
 
 }  // namespace hsr::detail

@@ -31,6 +31,8 @@
 // Cost: O(edges x rows they cross + pixels + pixels where polygons overlap x overlap);
 // memory O(width + polygons): no buffer of depths. Rows run in bands of kBandRows on all
 // cores, each band a scan-line pass of its own.
+//
+// Tests: tests/visibility/scanline_test.cpp and every suite of the registry its capabilities join.
 
 #include "visibility/scanline.hpp"
 
@@ -45,6 +47,7 @@
 #include "core/check.hpp"
 #include "core/frame.hpp"
 #include "core/parallel.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/edge.hpp"
 #include "raster/fragment.hpp"
 #include "raster/lines.hpp"
@@ -670,7 +673,7 @@ struct Scratch {
 }  // namespace
 
 void drawScanlineObserved(const AlgorithmInput& in, Frame& frame, ScanlineObserver* observer) {
-  const auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch watch;
   std::unique_ptr<Scratch> own;
   Scratch& scratch = algorithmScratch(in, own);
   const ScreenTriangles& tris = in.prepared.triangles;
@@ -681,8 +684,7 @@ void drawScanlineObserved(const AlgorithmInput& in, Frame& frame, ScanlineObserv
   // The polygon table and the edge table.
   Tables& tb = scratch.tables;
   buildTables(tris, frame.height, band_rows, tb);
-  const auto t1 = std::chrono::steady_clock::now();
-  frame.stats.addStage("edge table", std::chrono::duration<double, std::milli>(t1 - t0).count());
+  frame.stats.addStage("edge table", watch.lap());
   if (in.trace && in.trace->wants(kStepInitialise, 0, 1))
     in.trace->record({kStepInitialise,
                       "Initialise: the polygon table holds " + std::to_string(tb.polygons) +
@@ -745,9 +747,7 @@ void drawScanlineObserved(const AlgorithmInput& in, Frame& frame, ScanlineObserv
   frame.stats.addCounter("scanline: decided at the span's ends", c.decided_at_ends);
   frame.stats.addCounter("scanline: compared pixel by pixel", c.pixel_by_pixel);
   frame.stats.addCounter("scanline: one or two pixels, compared at each", c.short_spans);
-  frame.stats.addStage(
-      "scan lines",
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
+  frame.stats.addStage("scan lines", watch.ms());
 }
 
 void drawScanline(const AlgorithmInput& in, Frame& frame) { drawScanlineObserved(in, frame, nullptr); }

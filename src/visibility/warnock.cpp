@@ -29,19 +29,21 @@
 // Cost: O(areas x polygons handed down); areas are few where the picture is simple and reach
 // pixel size along visible edges. Memory O(polygons x depth). Quadrants near the top are
 // visited in parallel; the picture and every count are the same at any thread count.
+//
+// Tests: tests/visibility/warnock_test.cpp and every suite of the registry its capabilities join.
 
 #include "visibility/warnock.hpp"
 
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <chrono>
 #include <string>
 #include <vector>
 
 #include "core/check.hpp"
 #include "core/frame.hpp"
 #include "core/parallel.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/edge.hpp"
 #include "raster/fragment.hpp"
 #include "raster/lines.hpp"
@@ -356,7 +358,7 @@ int warnockDeepestLevel(int width, int height) {
 }
 
 void drawWarnockObserved(const AlgorithmInput& in, Frame& frame, WarnockObserver* observer) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const detail::Stopwatch t0;
   const ScreenTriangles& tris = in.prepared.triangles;
   const FrameView fb(frame);
   std::vector<std::uint32_t> polygon_of;
@@ -408,7 +410,7 @@ void drawWarnockObserved(const AlgorithmInput& in, Frame& frame, WarnockObserver
   frame.stats.addCounter("warnock: triangles handed down", c.handed_down);
   frame.stats.addStage(
       "subdivide",
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      t0.ms());
 }
 
 void drawWarnock(const AlgorithmInput& in, Frame& frame) { drawWarnockObserved(in, frame, nullptr); }

@@ -58,6 +58,7 @@
 #include "core/frame.hpp"
 #include "hsr/error.hpp"
 #include "hsr/visible_set.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/fill_polygons.hpp"
 #include "raster/lines.hpp"
 #include "visibility/algorithm.hpp"
@@ -420,6 +421,17 @@ void addOutlines(const ExactRegion& r, std::vector<TraceOutline>& out) {
 
 }  // namespace
 
+// The Weiler-Atherton visible set of the pipeline's window polygons (weiler_atherton.cpp);
+// `state_bytes`, when given, gets the memory its list and cells held; `close`, when given, the
+// pairs of overlapping polygons whose depths come within a float step of each other.
+struct ClosePair {
+  ExactRegion whole_a, whole_b;  // the two snapped polygons
+  DepthPlane plane_a, plane_b;
+  PolygonId id_a, id_b;
+  std::uint32_t rgba_a, rgba_b;
+};
+// With `frame`, each visible region is painted into it as it is found; with `trace`, the steps
+// are recorded (`hsr explain`).
 VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
                                     std::size_t* state_bytes, std::vector<ClosePair>* close, Frame* frame,
                                     Trace* trace) {
@@ -542,12 +554,12 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
 }
 
 void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
-  const auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch watch;
   std::size_t bytes = 0;
   std::vector<ClosePair> close;
   const VisibleSet set =
       weilerAthertonVisibleSet(in.prepared.polygons, frame.width, frame.height, &bytes, &close, &frame, in.trace);
-  const auto t1 = std::chrono::steady_clock::now();
+  const double visible_set_ms = watch.lap();
   const FrameView fb(frame);
   FragmentCounts fragments;
   // The visible set was painted as it was found (no depth test: nothing is nearer there).
@@ -608,8 +620,8 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("weiler-atherton: close pairs", close.size());
   frame.stats.addCounter("weiler-atherton: left to the depth test", set.unresolved);
   frame.stats.addCounter("weiler-atherton: pixels settled as a float depth buffer", settled);
-  frame.stats.addStage("visible set, painted as found", std::chrono::duration<double, std::milli>(t1 - t0).count());
-  frame.stats.addStage("close pairs, see-through, outline", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
+  frame.stats.addStage("visible set, painted as found", visible_set_ms);
+  frame.stats.addStage("close pairs, see-through, outline", watch.ms());
 }
 
 }  // namespace hsr::detail

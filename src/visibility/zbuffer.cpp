@@ -18,10 +18,10 @@
 // GL's depth functions, depth mask and tie rule: under LESS the first polygon drawn keeps a
 // tie). Cost: O(polygons + pixels covered); memory 16 bytes per pixel.
 
-#include <chrono>
 #include <string>
 
 #include "core/frame.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/edge.hpp"
 #include "raster/fragment.hpp"
 #include "raster/lines.hpp"
@@ -160,13 +160,13 @@ void drawPolygons(const AlgorithmInput& in, Frame& frame) {
 }  // namespace
 
 void drawZBufferTextbook(const AlgorithmInput& in, Frame& frame) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const detail::Stopwatch t0;
   // glDepthFunc (LESS by default: "if the depth is smaller, overwrite"); with the depth test
   // disabled every fragment passes.
   withDepthFunc(effectiveDepthFunc(in.options), [&]<DepthFunc F>() { drawPolygons<F>(in, frame); });
   frame.stats.addStage(
       "scan convert",
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      t0.ms());
 }
 
 }  // namespace hsr::detail

@@ -13,12 +13,12 @@
 // set (tests/visibility/zbuffer_test.cpp). Cost: O(triangles + tiles touched + pixels
 // covered); memory 16 bytes per pixel plus the projected triangles and 4 bytes per tile entry.
 
-#include <chrono>
 #include <string>
 
 #include "core/frame.hpp"
 #include "core/parallel.hpp"
 #include "hsr/error.hpp"
+#include "core/stopwatch.hpp"
 #include "raster/bins.hpp"
 #include "raster/lines.hpp"
 #include "raster/triangle.hpp"
@@ -98,10 +98,6 @@ FragmentCounts fillTile(const TileJob& job, std::size_t tile) {
   return c;
 }
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
@@ -110,14 +106,14 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
   if (frame.width != w || frame.height != h) throw Error("frame size differs from the camera's");
 
   // 1. Bin.
-  auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch t0;
   std::unique_ptr<Scratch> own;
   Scratch& z = algorithmScratch(in, own);
   binPrimitives(ps.triangles, w, h, z.tri_bins, z.counts);
   binPrimitives(ps.lines, w, h, z.line_bins, z.counts);
   binPrimitives(ps.points, w, h, z.point_bins, z.counts, std::max(1.0f, 0.5f * in.options.point_size + 1.0f));
   binPrimitives(ps.outline, w, h, z.outline_bins, z.counts);
-  frame.stats.addStage("bin", msSince(t0));
+  frame.stats.addStage("bin", t0.ms());
   const std::size_t tiles = z.tri_bins.tiles();
   if (in.trace && in.trace->wants(kStepBin, 0, 1)) {
     std::vector<TraceOutline> grid;
@@ -136,7 +132,7 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
   }
 
   // 2. Fill tiles, in parallel (in tile order when explaining, so the pictures can follow).
-  t0 = std::chrono::steady_clock::now();
+  t0.restart();
   const FrameView fb(frame);
   const DepthFunc func = effectiveDepthFunc(in.options);
   const TileJob job{ps, z, fb, func, depthWrites(in.options), spanFunction(func), in.options.point_size};
@@ -164,7 +160,7 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
   for (const FragmentCounts& c : z.per_tile) total += c;
   frame.stats.fragments_tested += total.tested;
   frame.stats.fragments_written += total.written;
-  frame.stats.addStage("raster", msSince(t0));
+  frame.stats.addStage("raster", t0.ms());
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
                       "Done: the same picture, depths and ids as drawing polygon by polygon on "

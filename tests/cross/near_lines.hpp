@@ -1,7 +1,7 @@
 #pragma once
 // How much of one line drawing lies on another: the length of a's segments (sampled every
 // quarter pixel) within `tolerance` pixels of b's. Used to hold two drawings of the same lines
-// together (the line drawing's engines in tests/line_drawing_test.cpp, hsr against Open
+// together (the line drawing's engines in tests/lines/line_drawing_test.cpp, hsr against Open
 // CASCADE in bench/bench_lines.cpp).
 
 #include <algorithm>

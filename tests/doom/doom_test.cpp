@@ -18,7 +18,7 @@
 #include "hsr/algorithms.hpp"
 #include "hsr/compare.hpp"
 #include "hsr/io.hpp"
-#include "cli_run.hpp"
+#include "cli/cli_run.hpp"
 #include "doom/doom_points.hpp"
 #include "hsr/render.hpp"
 

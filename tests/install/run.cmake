@@ -25,4 +25,7 @@ execute_process(COMMAND ${WORK_DIR}/build/consumer WORKING_DIRECTORY ${WORK_DIR}
 if(rc OR NOT EXISTS ${WORK_DIR}/consumer.png)
   message(FATAL_ERROR "the program built against the installed hsr failed (${rc}): ${out}")
 endif()
+if(NOT out MATCHES "^hsr [0-9]+\\.[0-9]+\\.[0-9]+: [1-9][0-9]* fragments written")
+  message(FATAL_ERROR "the program built against the installed hsr printed no version and count: ${out}")
+endif()
 message(STATUS "installed, found, built and ran: ${out}")

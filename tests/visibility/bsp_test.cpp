@@ -271,7 +271,7 @@ TEST(Bsp, SavedTreeRendersEveryViewAsABuiltOne) {
   }
 }
 
-// Where the indices lie in a saved tree's payload (src/bsp_file.cpp's layout, read here on
+// Where the indices lie in a saved tree's payload (src/visibility/bsp_file.cpp's layout, read here on
 // its own): the first polygon's material and first vertex, node 0's front child, the first tree
 // polygon's id and its first cut's node; with the length of each one's table.
 struct IndexFields {

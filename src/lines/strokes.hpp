@@ -7,7 +7,7 @@
 // length lost, none drawn twice: an overlap counts once); no stroke has a zero-length piece;
 // every stroke is connected. A piece in both layers of mergeStrokes is kept in the first
 // (the visible layer wins over the hidden one). Tolerances are in the input's units.
-// Cost: O(n log n) for n segments. Tests: tests/geometry/strokes_test.cpp.
+// Cost: O(n log n) for n segments. Tests: tests/lines/strokes_test.cpp.
 
 #include <cstdint>
 #include <vector>

@@ -36,7 +36,7 @@
 #include "hsr/roberts.hpp"
 #include "hsr/visible_set.hpp"
 #include "pipeline/pipeline.hpp"
-#include "visibility/line_visibility.hpp"
+#include "lines/line_visibility.hpp"
 #include "png_read.hpp"
 #include "test_util.hpp"
 

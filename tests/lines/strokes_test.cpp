@@ -1,4 +1,4 @@
-// Segments into pen strokes (geometry/strokes.hpp): duplicates and overlaps drawn once,
+// Segments into pen strokes (lines/strokes.hpp): duplicates and overlaps drawn once,
 // collinear runs joined, chains connected, the first layer winning over the second, no length
 // lost; checked on small cases whose answer is known and on seeded random segments against a
 // brute-force union of intervals per line.
@@ -13,7 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "cross/figures.hpp"
-#include "geometry/strokes.hpp"
+#include "lines/strokes.hpp"
 #include "test_util.hpp"
 
 namespace hsr::detail {

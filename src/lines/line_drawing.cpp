@@ -11,7 +11,7 @@
 //      angle, their normals turned towards the eye. A junction line: an intersection line.
 //      Where a non-planar polygon's pieces meet, and where two polygons meet within the
 //      crease angle, there is no line.
-//   3. Strokes (geometry/strokes.hpp): merged, chained and ordered, the visible layer winning
+//   3. Strokes (lines/strokes.hpp): merged, chained and ordered, the visible layer winning
 //      where a line is both.
 // With a time limit that step 1 would pass, and the raster fallback asked for:
 //   4. Lines from the z-buffer's ids: between two pixels showing different polygons, a unit
@@ -32,15 +32,17 @@
 #include <glm/geometric.hpp>
 
 #include "core/parallel.hpp"
+#include "core/stopwatch.hpp"
 #include "geometry/polygon.hpp"
-#include "geometry/strokes.hpp"
+#include "lines/strokes.hpp"
 #include "core/deadline.hpp"
 #include "hsr/error.hpp"
 #include "hsr/roberts.hpp"
 #include "orchestrator.hpp"
 #include "pipeline/pipeline.hpp"
-#include "visibility/line_visibility.hpp"
+#include "lines/line_visibility.hpp"
 #include "visibility/algorithm.hpp"
+#include "visibility/roberts.hpp"
 
 namespace hsr {
 
@@ -213,11 +215,12 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
     throw Error("line drawing: the polygon mode must be fill");
   if (!(lines.time_limit_s >= 0) || !std::isfinite(lines.time_limit_s))
     throw Error("line drawing: the time limit must be a number of seconds, 0 for none");
-  const auto t0 = std::chrono::steady_clock::now();
+  const detail::Stopwatch t0;
   detail::Deadline deadline;
   if (lines.time_limit_s > 0)
-    deadline.at = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                           std::chrono::duration<double>(lines.time_limit_s));
+    deadline.at = std::chrono::steady_clock::now() +
+                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                      std::chrono::duration<double>(lines.time_limit_s));
   LineDrawing out;
   out.engine = lines.engine;
   const bool edges = lines.engine == LineEngine::kEdges;
@@ -229,9 +232,8 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
   try {
     detail::runWithThreads(threads, [&] {
       ps = detail::prepare(scene, camera, options, {.window_polygons = true, .triangles = !edges});
-      const auto tp = std::chrono::steady_clock::now();
-      out.stage_ms.emplace_back("pipeline",
-                                std::chrono::duration<double, std::milli>(tp - t0).count());
+      const detail::Stopwatch tp;
+      out.stage_ms.emplace_back("pipeline", t0.ms());
       if (edges)
         lv = detail::lineVisibility(scene, ps.polygons, ps.width, ps.height,
                                     {.ortho = camera.ortho,
@@ -247,9 +249,7 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
       if (edges)
         for (const auto& [stage, ms] : lv.stages) out.stage_ms.emplace_back(stage, ms);
       else
-        out.stage_ms.emplace_back("roberts", std::chrono::duration<double, std::milli>(
-                                                 std::chrono::steady_clock::now() - tp)
-                                                 .count());
+        out.stage_ms.emplace_back("roberts", tp.ms());
     });
   } catch (const detail::DeadlinePassed&) {
     if (!lines.raster_fallback)
@@ -261,20 +261,20 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
     out.exact = false;
     const std::vector<detail::StrokeSegment> segments =
         rasterLines(scene, camera, options, lines, out);
-    const auto t1 = std::chrono::steady_clock::now();
+    out.visibility_ms = t0.ms();
+    const detail::Stopwatch t1;
     std::vector<detail::Stroke> vs, hs;
     detail::StrokeStats vstats, hstats;
     detail::mergeStrokes(segments, {}, kStrokeTolerance, &vs, &hs, &vstats, &hstats);
     for (detail::Stroke& s : vs)
       out.visible.push_back({std::move(s.points), static_cast<LineKind>(s.kind)});
     out.visible_stats = layerStats(vstats);
-    out.visibility_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    out.strokes_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+    out.strokes_ms = t1.ms();
     return out;
   }
   out.width = ps.width, out.height = ps.height;
-  const auto t1 = std::chrono::steady_clock::now();
+  out.visibility_ms = t0.ms();
+  const detail::Stopwatch t1;
   std::vector<detail::StrokeSegment> visible, hidden;
   if (edges) {
     visible = std::move(lv.visible), hidden = std::move(lv.hidden);
@@ -311,9 +311,7 @@ LineDrawing lineDrawing(const Scene& scene, const Camera& camera, const RenderOp
       to->push_back({std::move(s.points), static_cast<LineKind>(s.kind)});
   out.visible_stats = layerStats(vstats);
   out.hidden_stats = layerStats(hstats);
-  const auto t2 = std::chrono::steady_clock::now();
-  out.visibility_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-  out.strokes_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+  out.strokes_ms = t1.ms();
   return out;
 }
 

@@ -9,9 +9,9 @@
 
 #include <fmt/core.h>
 
-#include "doom_level.hpp"
+#include "doom/doom_level.hpp"
 #include "hsr/error.hpp"
-#include "visibility/doom_view.hpp"
+#include "doom/doom_view.hpp"
 
 namespace hsr::doom {
 

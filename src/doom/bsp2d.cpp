@@ -33,7 +33,6 @@
 // the tree's sectors agree with the linedefs', written back and read again it is the same).
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <unordered_map>
@@ -42,6 +41,7 @@
 
 #include "hsr/doom.hpp"
 #include "hsr/error.hpp"
+#include "core/stopwatch.hpp"
 
 namespace hsr::doom {
 
@@ -375,12 +375,12 @@ class Builder {
 Nodes buildNodes(const Map& map, const BuildOptions& options, BuildStats* stats) {
   if (options.split_cost < 1 || options.split_cost > 1 << 16)
     throw Error(fmt::format("split cost {} is outside 1..65536", options.split_cost));
-  const auto start = std::chrono::steady_clock::now();
+  const detail::Stopwatch start;
   BuildStats sides;
   Nodes nodes = Builder(map, options).build(sides);
   BuildStats s = nodeStats(map, nodes);  // the figures of the tree as it is
   s.build_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      start.ms();
   if (stats) *stats = s;
   return nodes;
 }

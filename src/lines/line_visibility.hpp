@@ -10,7 +10,7 @@
 // visible where no interval covers it. Same answers as the drawing on Roberts' segments
 // (tests pin the two together), at a cost near linear in the scene: O(e k) for e line edges
 // each crossing k triangles, against Roberts' sections of every face.
-// Tests: tests/line_drawing_test.cpp.
+// Tests: tests/lines/line_drawing_test.cpp.
 
 #include <cstdint>
 #include <utility>
@@ -19,7 +19,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/deadline.hpp"
-#include "geometry/strokes.hpp"
+#include "lines/strokes.hpp"
 #include "hsr/scene.hpp"
 #include "pipeline/pipeline.hpp"
 

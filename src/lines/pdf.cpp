@@ -12,7 +12,7 @@
 #include "hsr/error.hpp"
 #include "hsr/line_drawing.hpp"
 #include "hsr/visible_set.hpp"
-#include "io/doc_frame.hpp"
+#include "lines/doc_frame.hpp"
 
 namespace hsr {
 

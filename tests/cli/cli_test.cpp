@@ -20,7 +20,7 @@
 
 #include "hsr/compare.hpp"
 #include "hsr/io.hpp"
-#include "cli_run.hpp"
+#include "cli/cli_run.hpp"
 #include "png_read.hpp"
 #include "test_util.hpp"
 
@@ -178,7 +178,7 @@ TEST(Cli, BspBuildInfoRenderAndOrbit) {
 }
 
 // --raw's depth.npy in scene units on request, and the camera used in the manifest, the stats
-// and the summary (tests/camera_data_test.cpp checks the values).
+// and the summary (tests/io/camera_data_test.cpp checks the values).
 TEST(Cli, RawDepthInSceneUnitsAndTheCameraUsed) {
   const ScratchDir d("hsr_cli_depth");
   const std::string png = (d / "s.png").string(), raw = (d / "raw").string(),

@@ -23,11 +23,10 @@
 // See-through polygons are left out: they hide nothing, and their edges are not drawn (the
 // z-buffer's ids, which the drawings are checked against, do not show them either).
 
-#include "visibility/line_visibility.hpp"
+#include "lines/line_visibility.hpp"
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -36,6 +35,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/parallel.hpp"
+#include "core/stopwatch.hpp"
 #include "geometry/triangulate.hpp"
 
 namespace hsr::detail {
@@ -428,12 +428,8 @@ bool addPiece(std::vector<StrokeSegment>& to, std::vector<LinePiece>* to3, const
 LineVisibility lineVisibility(const Scene& scene, const std::vector<WindowPolygon>& polygons,
                               int width, int height, const LineRequest& request) {
   LineVisibility out;
-  auto t0 = std::chrono::steady_clock::now();
-  auto lap = [&](const char* stage) {
-    const auto t = std::chrono::steady_clock::now();
-    out.stages.emplace_back(stage, std::chrono::duration<double, std::milli>(t - t0).count());
-    t0 = t;
-  };
+  detail::Stopwatch t0;
+  auto lap = [&](const char* stage) { out.stages.emplace_back(stage, t0.lap()); };
   const std::uint32_t np = static_cast<std::uint32_t>(polygons.size());
   // ---- 1. Edges
   std::size_t corners = 0;

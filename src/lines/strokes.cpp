@@ -1,4 +1,4 @@
-// Segments into pen strokes (geometry/strokes.hpp), in three steps:
+// Segments into pen strokes (lines/strokes.hpp), in three steps:
 //   1. Lines. Segments on one line (their direction and offset within the tolerance) are
 //      taken together: along the line, each stretch is drawn once, in the first layer where
 //      any segment covers it, with the lowest kind of those there.
@@ -7,7 +7,7 @@
 //   3. Order. From the page's corner, the pen goes each time to the nearest free end of a
 //      stroke (drawing the stroke backwards when that end is its last point).
 
-#include "geometry/strokes.hpp"
+#include "lines/strokes.hpp"
 
 #include <algorithm>
 #include <array>

@@ -30,7 +30,7 @@
 #include "hsr/doom.hpp"
 #include "hsr/error.hpp"
 #include "pipeline/pipeline.hpp"
-#include "visibility/doom_view.hpp"
+#include "doom/doom_view.hpp"
 
 namespace hsr::doom {
 namespace {

@@ -9,6 +9,9 @@
 // with its cuts). Counts are u32; every count is checked against the bytes left before
 // anything is allocated, so a hostile count cannot ask for more memory than the file holds.
 // Reading refuses, with one line naming the file, anything saveBsp could not have written.
+//
+// Tests: tests/visibility/bsp_test.cpp (round trips, and every refusal of a damaged file) and
+// fuzz/fuzz_bsp.cpp.
 
 #include <zlib.h>
 
