@@ -76,6 +76,7 @@ std::string capabilityList(std::uint32_t caps) {
       {kBackToFront, "back-to-front"},
       {kAntialiasing, "antialiasing"},
       {kTieRule, "tie-rule"},
+      {kZBufferFrame, "zbuffer-frame"},
   };
   std::string names;
   for (const auto& [cap, name] : kNames)

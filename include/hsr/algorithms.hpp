@@ -41,6 +41,8 @@ enum Capability : std::uint32_t {
                                    // those whose own float depths at a pixel centre are equal,
                                    // the first submitted stays (LESS; the last with LEQUAL where
                                    // it has depth-funcs); the nearer float depth wins otherwise
+  kZBufferFrame = 1u << 12,        // draws the z-buffer's frame bit for bit: ids, depths and
+                                   // colours at every pixel (an antialiasing one at one sample)
 };
 
 struct AlgorithmInfo {

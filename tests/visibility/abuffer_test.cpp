@@ -1,4 +1,5 @@
-// The A-buffer (abuffer.cpp). At one sample (the pixel centre) it is the z-buffer, bit for bit;
+// The A-buffer (abuffer.cpp). At one sample (the pixel centre) it is the z-buffer, bit for bit
+// (its entry says zbuffer-frame: tests/cross/zbuffer_frame_test.cpp);
 // at any sample count its ids and depth still are (the nearest opaque fragment at the centre).
 // Its coverage masks: the sub-pixel version of "exactly once" along a fan's interior edges
 // (the A-buffer invariant of docs/testing.md), and within half a sample of the exact area of each
@@ -37,16 +38,6 @@ RenderOptions aBuffer(int samples) {
   o.algorithm = "abuffer";
   o.samples = samples;
   return o;
-}
-
-TEST(ABuffer, OneSampleIsTheZBufferBitForBit) {
-  // The agreement scenes at one sample: ids, depth and colour at every pixel
-  const testing::Identity scenes = testing::expectBitForBitWithZBuffer("abuffer", 1);
-  EXPECT_EQ(scenes.differ, 0u) << scenes.first;
-  const testing::Identity models = testing::expectBitForBitOnRealModels("abuffer", 640, 480, 1);
-  EXPECT_EQ(models.differ, 0u) << models.first;
-  testing::printFigures("abuffer --samples 1: agreement scenes " + testing::describe(scenes) + "; real models " +
-                        testing::describe(models));
 }
 
 TEST(ABuffer, IdsAndDepthAreTheZBuffersAtEverySampleCount) {

@@ -1,6 +1,7 @@
 // The scan-line algorithm (scanline.cpp). It shares the z-buffer's coverage, fragment depth
-// and tie rule, so its frame must be the z-buffer's bit for bit (ids, depths, colours) on the
-// agreement scene set and the real models; and the notes' invariants hold: spans on a row
+// and tie rule, so its frame must be the z-buffer's bit for bit (ids, depths, colours): its
+// entry says zbuffer-frame, and tests/cross/zbuffer_frame_test.cpp holds it to that on the
+// agreement scene set, the real models and glass. Here: the notes' invariants hold: spans on a row
 // never overlap and lie inside the viewport, and the active edge list is empty after the
 // last row.
 
@@ -21,24 +22,6 @@
 
 namespace hsr {
 namespace {
-
-TEST(Scanline, EqualsTheZBufferBitForBitOnTheAgreementScenes) {
-  const testing::Identity c = testing::expectBitForBitWithZBuffer("scanline");
-  testing::printFigures("scanline, " + testing::grouped(200 * testing::countScale()) +
-                        " agreement scenes: " + testing::describe(c));
-  EXPECT_EQ(c.differ, 0u) << c.first;
-  EXPECT_GT(c.unambiguous, c.pixels / 2);
-}
-
-TEST(Scanline, EqualsTheZBufferBitForBitOnRealModels) {
-  const testing::Identity c = testing::expectBitForBitOnRealModels("scanline");
-  EXPECT_EQ(c.differ, 0u) << c.first;
-}
-
-// Glass over opaque polygons (the demo) and the outline pen: colours too are the z-buffer's.
-TEST(Scanline, BlendsTransparentPolygonsAndOutlinesAsTheZBuffer) {
-  testing::expectBlendsAndOutlinesAsTheZBuffer("scanline");
-}
 
 // Watches the pass: each row is cut into spans that follow each other from column 0 to the
 // width, rows in order; at the end no edge is left.

@@ -1,6 +1,7 @@
 // Warnock's area subdivision (warnock.cpp). It shares the z-buffer's coverage, fragment depth
-// and tie rule, so its frame must be the z-buffer's bit for bit (ids, depths, colours) on the
-// agreement scene set and the real models; and the notes' invariants hold: the recursion is
+// and tie rule, so its frame must be the z-buffer's bit for bit (ids, depths, colours): its
+// entry says zbuffer-frame, and tests/cross/zbuffer_frame_test.cpp holds it to that on the
+// agreement scene set, the real models and glass. Here: the notes' invariants hold: the recursion is
 // never deeper than ceil(log2(max(W, H))) + 1 levels, and the leaves partition the viewport
 // exactly.
 
@@ -23,24 +24,6 @@
 
 namespace hsr {
 namespace {
-
-TEST(Warnock, EqualsTheZBufferBitForBitOnTheAgreementScenes) {
-  const testing::Identity c = testing::expectBitForBitWithZBuffer("warnock");
-  testing::printFigures("warnock, " + testing::grouped(200 * testing::countScale()) +
-                        " agreement scenes: " + testing::describe(c));
-  EXPECT_EQ(c.differ, 0u) << c.first;
-  EXPECT_GT(c.unambiguous, c.pixels / 2);
-}
-
-TEST(Warnock, EqualsTheZBufferBitForBitOnRealModels) {
-  const testing::Identity c = testing::expectBitForBitOnRealModels("warnock");
-  EXPECT_EQ(c.differ, 0u) << c.first;
-}
-
-// Glass over opaque polygons (the demo) and the outline pen: colours too are the z-buffer's.
-TEST(Warnock, BlendsTransparentPolygonsAndOutlinesAsTheZBuffer) {
-  testing::expectBlendsAndOutlinesAsTheZBuffer("warnock");
-}
 
 // Counts how often each pixel lies in a leaf, and the deepest level.
 class LeafChecker : public detail::WarnockObserver {
