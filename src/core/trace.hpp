@@ -16,6 +16,7 @@
 
 #include <glm/vec2.hpp>
 
+#include "hsr/camera.hpp"
 #include "hsr/render.hpp"
 
 namespace hsr::detail {
@@ -29,6 +30,9 @@ struct TraceStep {
   std::string caption;                 // in the notes' words, with this step's figures
   const Frame* frame = nullptr;        // the buffers after the step (the trace copies them)
   std::vector<TraceOutline> outlines;  // what to outline on the pictures
+  // Or, for a step pictured on another view of the scene (the BSP build's plan from above):
+  // that camera, the scene drawn plainly from it by src/explain/ (frame null).
+  const Camera* seen_from = nullptr;
 };
 
 class Trace {

@@ -1,20 +1,21 @@
-// Turns an algorithm's trace of named steps into numbered pictures, a contact sheet and an
-// index. The algorithm runs twice: once to learn the finished frame's depth range (so every
-// picture's depth half shares one grey scale), once traced.
+// The steps of an explanation (src/explain/steps.hpp) written: each as a numbered picture
+// (caption above, the colour and depth buffers side by side, the outlines drawn), a contact
+// sheet and an index; and Doom's walk explained, in memory and written. Every explain picture
+// is drawn here or in steps.cpp, never in an algorithm.
 
 #include "hsr/explain.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <sstream>
 
-#include "core/trace.hpp"
+#include "explain/steps.hpp"
 #include "hsr/compare.hpp"
 #include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/output.hpp"
-#include "orchestrator.hpp"
 #include "doom/doom_level.hpp"
 
 namespace hsr {
@@ -90,28 +91,21 @@ Picture shrink(const Picture& src, int factor) {
   return out;
 }
 
-class Recorder : public detail::Trace {
+// Writes each step as its picture (the header, then the colour and depth buffers side by side
+// with the outlines drawn) and keeps a thumbnail of it for the contact sheet; the step's
+// buffers are then let go.
+class StepWriter {
  public:
-  Recorder(OutputDirectory& out, DepthRange range, int per_step)
-      : out_(out), range_(range), per_step_(std::max(per_step, 2)) {}
+  explicit StepWriter(OutputDirectory& out) : out_(out) {}
 
-  bool wants(std::string_view, std::uint64_t index, std::uint64_t count) override {
-    return detail::evenlySpaced(index, count, static_cast<std::uint64_t>(per_step_));
-  }
-
-  void record(const detail::TraceStep& step) override {
-    const Frame& f = *step.frame;
-    const int w = f.width, h = f.height;
+  void operator()(ExplainedStep&& s) {
+    const int w = s.width, h = s.height;
     // The header: step number and name, then the caption, wrapped to the picture's width.
     const int scale = w >= 360 ? 2 : 1;
     const int char_w = 6 * scale, line_h = 10 * scale;
     const int width = 2 * w + 3 * kGap;
     const std::size_t columns = static_cast<std::size_t>(std::max(8, (width - 2 * kGap) / char_w));
-    ExplainedStep s;
-    s.number = static_cast<int>(steps_.size()) + 1;
-    s.name = std::string(step.name);
-    s.caption = step.caption;
-    std::vector<std::string> lines = wrap(step.caption, columns);
+    std::vector<std::string> lines = wrap(s.caption, columns);
     const int header = kGap + line_h * (2 + static_cast<int>(lines.size()));
     Picture p(width, header + h + kGap);
     char title[96];
@@ -122,9 +116,9 @@ class Recorder : public detail::Trace {
                 scale);
     // The colour buffer and the depth buffer side by side, what the step works on outlined.
     const int left = kGap, right = 2 * kGap + w, top = header;
-    p.blit(picture(f, "color"), w, h, left, top);
-    p.blit(depthPicture(f, range_), w, h, right, top);
-    for (const detail::TraceOutline& o : step.outlines)
+    p.blit(s.color, w, h, left, top);
+    p.blit(s.depth, w, h, right, top);
+    for (const std::vector<glm::vec2>& o : s.outlines)
       for (std::size_t i = 0; i < o.size(); ++i)
         for (const int ox : {left, right})
           drawSegment(p, o[i], o[(i + 1) % o.size()], ox, top, w, h);
@@ -138,6 +132,8 @@ class Recorder : public detail::Trace {
       std::copy_n(p.at(left, top + y), 3 * (2 * w + kGap), panels.at(0, y));
     const int factor = std::max(1, (2 * w + kGap + 419) / 420);  // thumbnails about 420 px wide
     thumbs_.push_back(shrink(panels, factor));
+    s.color = {};
+    s.depth = {};
     steps_.push_back(std::move(s));
   }
 
@@ -146,8 +142,6 @@ class Recorder : public detail::Trace {
 
  private:
   OutputDirectory& out_;
-  DepthRange range_;
-  int per_step_;
   std::vector<ExplainedStep> steps_;
   std::vector<Picture> thumbs_;
 };
@@ -173,11 +167,11 @@ Picture contactSheet(const std::vector<Picture>& thumbs, const std::vector<Expla
 
 namespace {
 
-// The contact sheet and steps.md of a finished trace, then the directory put in place.
-void finish(OutputDirectory& files, Recorder& recorder, Explanation& out, const std::string& title,
+// The contact sheet and steps.md of the written steps, then the directory put in place.
+void finish(OutputDirectory& files, StepWriter& writer, Explanation& out, const std::string& title,
             const std::string& source) {
-  out.steps = std::move(recorder.steps());
-  const Picture sheet = contactSheet(recorder.thumbs(), out.steps);
+  out.steps = std::move(writer.steps());
+  const Picture sheet = contactSheet(writer.thumbs(), out.steps);
   out.sheet = files.path() / "sheet.png";
   files.write("sheet.png", {encodePng(sheet.width, sheet.height, 3, sheet.rgb.data())});
   // The index: every step's caption, linked to its picture.
@@ -194,21 +188,40 @@ void finish(OutputDirectory& files, Recorder& recorder, Explanation& out, const 
   files.commit();
 }
 
+constexpr const char* kDoomTitle = " seen as Doom's renderer sees it, the 2D BSP walked front to back";
+constexpr const char* kDoomSource =
+    "the notes' BSP trees and \"the first FPS\"; Doom's R_RenderBSPNode (id Software, 1993)";
+
+// Doom's walk traced, each step handed on; the finished view.
+Frame forEachDoomStep(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
+                      const Camera& camera, const StepSink& each, const ExplainOptions& explain_options) {
+  Frame frame = doom::renderView(map, nodes, level, camera);
+  detail::StepMaker maker(each, drawnDepthRange(frame), explain_options.pictures_per_step);
+  (void)detail::renderDoomViewTraced(map, nodes, level, camera, &maker);
+  return frame;
+}
+
 }  // namespace
 
 Explanation explain(const Scene& scene, const Camera& camera, const RenderOptions& options,
                     const std::filesystem::path& dir, const ExplainOptions& explain_options) {
   const AlgorithmInfo& info = findAlgorithm(options.algorithm);
-  if (!info.has(kExplain))
-    throw Error("algorithm '" + std::string(info.name) + "' cannot explain its steps yet");
   OutputDirectory files(dir);
+  StepWriter writer(files);
   Explanation out;
-  // First run: the finished frame, whose depth range every picture's depth half uses.
-  render(scene, camera, options, out.frame);
-  Recorder recorder(files, drawnDepthRange(out.frame), explain_options.pictures_per_step);
-  Frame traced;
-  detail::renderInto(scene, camera, options, traced, detail::DrawMode::kClear, &recorder);
-  finish(files, recorder, out, std::string(info.name) + ": " + std::string(info.summary), std::string(info.source));
+  out.frame = forEachExplainedStep(scene, camera, options, std::ref(writer), explain_options);
+  finish(files, writer, out, std::string(info.name) + ": " + std::string(info.summary),
+         std::string(info.source));
+  return out;
+}
+
+Explanation explainDoomViewSteps(const doom::Map& map, const doom::Nodes& nodes,
+                                 const doom::Level& level, const Camera& camera,
+                                 const ExplainOptions& explain_options) {
+  Explanation out;
+  out.frame = forEachDoomStep(
+      map, nodes, level, camera, [&](ExplainedStep&& s) { out.steps.push_back(std::move(s)); },
+      explain_options);
   return out;
 }
 
@@ -216,13 +229,10 @@ Explanation explainDoomView(const doom::Map& map, const doom::Nodes& nodes, cons
                             const Camera& camera, const std::filesystem::path& dir,
                             const ExplainOptions& explain_options) {
   OutputDirectory files(dir);
+  StepWriter writer(files);
   Explanation out;
-  out.frame = doom::renderView(map, nodes, level, camera);
-  Recorder recorder(files, drawnDepthRange(out.frame), explain_options.pictures_per_step);
-  (void)detail::renderDoomViewTraced(map, nodes, level, camera, &recorder);
-  finish(files, recorder, out,
-         "bsp2d: " + map.name + " seen as Doom's renderer sees it, the 2D BSP walked front to back",
-         "the notes' BSP trees and \"the first FPS\"; Doom's R_RenderBSPNode (id Software, 1993)");
+  out.frame = forEachDoomStep(map, nodes, level, camera, std::ref(writer), explain_options);
+  finish(files, writer, out, "bsp2d: " + map.name + kDoomTitle, kDoomSource);
   return out;
 }
 

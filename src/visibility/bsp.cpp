@@ -172,21 +172,20 @@ void drawBsp(const AlgorithmInput& in, Frame& frame) {
   detail::Stopwatch t0;
   BspTree built;
   if (!in.given) {
+    // Explained: each node's step is noted as the tree is built and recorded once the build
+    // has said how many nodes there are (a few evenly spaced are kept). The steps are seen on
+    // the plan from above, which src/explain/ draws.
+    struct NodeStep {
+      std::uint32_t node;
+      std::string caption;
+      std::vector<TraceOutline> outlines;
+    };
+    std::vector<NodeStep> node_steps;
     std::function<void(const BspNodeReport&)> report;
-    std::uint64_t nodes = 0;
-    Frame plan;
-    Camera top;
-    glm::dmat4 plan_from_world(1.0);
+    const Camera top = in.trace ? birdsEye(in.scene, in.camera) : Camera{};
+    const glm::dmat4 plan_from_world = in.trace ? deviceFromWorld(top) : glm::dmat4(1.0);
     if (in.trace) {
-      nodes = buildBspTree(in.scene, in.options.bsp).stats.nodes;  // how many steps there will be
-      top = birdsEye(in.scene, in.camera);
-      RenderOptions o;
-      o.threads = 1;
-      o.clear_color = in.options.clear_color;
-      plan = render(in.scene, top, o);
-      plan_from_world = deviceFromWorld(top);
       report = [&](const BspNodeReport& r) {
-        if (!in.trace->wants(kStepSplitter, r.node, nodes)) return;
         std::vector<TraceOutline> outlines{projectOutline(r.splitter_vertices, plan_from_world)};
         for (const std::vector<glm::dvec3>& v : r.split) outlines.push_back(projectOutline(v, plan_from_world));
         // The eye: a small square, and a line to what it looks at.
@@ -203,19 +202,22 @@ void drawBsp(const AlgorithmInput& in, Frame& frame) {
         }
         outlines.push_back({ep + glm::vec2(-3, -3), ep + glm::vec2(3, -3), ep + glm::vec2(3, 3), ep + glm::vec2(-3, 3)});
         outlines.push_back({ep, tp});
-        in.trace->record(
-            {kStepSplitter,
+        node_steps.push_back(
+            {r.node,
              "Node " + std::to_string(r.node) + " (depth " + std::to_string(r.depth) + "): polygon " +
                  std::to_string(r.splitter) + " is chosen from a list of " + std::to_string(r.list) +
                  "; its plane sorts the others: " + std::to_string(r.front) + " in front, " +
                  std::to_string(r.behind) + " behind (pieces included), " + std::to_string(r.split.size()) +
                  " split in two (outlined), " + std::to_string(r.on - 1) +
                  " more in its plane stay at the node. Seen from above: the eye is the small square, looking along the line.",
-             &plan, std::move(outlines)});
+             std::move(outlines)});
       };
     }
     built = buildBspTree(in.scene, in.options.bsp, {}, report);
     frame.stats.addStage("bsp build", t0.ms());
+    for (NodeStep& step : node_steps)
+      if (in.trace->wants(kStepSplitter, step.node, built.stats.nodes))
+        in.trace->record({kStepSplitter, std::move(step.caption), nullptr, std::move(step.outlines), &top});
   }
   const BspTree& tree = in.given ? *static_cast<const BspTree*>(in.given) : built;
   t0.restart();

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 
 #include "hsr/algorithms.hpp"
 #include "hsr/compare.hpp"
+#include "hsr/error.hpp"
 #include "hsr/explain.hpp"
 #include "hsr/io.hpp"
 #include "test_util.hpp"
@@ -250,6 +252,79 @@ TEST(Explain, OctreeShowsItsSubdivisionOnTheTeachingScenes) {
     EXPECT_EQ(e.frame.ids, f.ids);
     EXPECT_EQ(e.frame.color, f.color);
   }
+}
+
+// In memory: the same steps as the written explanation, each with its two buffers; the BSP
+// build's steps are pictured on the plan from above, not on the frame.
+TEST(Explain, InMemoryStepsAreTheWrittenOnes) {
+  const Scene scene = loadScene("demo");
+  const Camera cam = frameScene(scene, 160, 120);
+  const testing::ScratchDir scratch("hsr_explain_memory");
+  for (const char* alg : {"zbuffer-textbook", "bsp", "warnock", "abuffer"}) {
+    SCOPED_TRACE(alg);
+    RenderOptions o;
+    o.algorithm = alg;
+    const Explanation mem = explainSteps(scene, cam, o, {.pictures_per_step = 5});
+    const Explanation disk = explain(scene, cam, o, scratch / alg, {.pictures_per_step = 5});
+    ASSERT_EQ(mem.steps.size(), disk.steps.size());
+    ASSERT_GE(mem.steps.size(), 3u);
+    EXPECT_TRUE(mem.sheet.empty());
+    EXPECT_EQ(mem.frame.ids, disk.frame.ids);
+    for (std::size_t i = 0; i < mem.steps.size(); ++i) {
+      const ExplainedStep &m = mem.steps[i], &d = disk.steps[i];
+      EXPECT_EQ(m.number, d.number);
+      EXPECT_EQ(m.name, d.name);
+      EXPECT_EQ(m.caption, d.caption);
+      EXPECT_EQ(m.outlines, d.outlines);
+      EXPECT_TRUE(m.picture.empty());
+      EXPECT_FALSE(d.picture.empty());
+      EXPECT_TRUE(d.color.empty()) << "a written step lets its buffers go";
+      ASSERT_GT(m.width, 0);
+      ASSERT_GT(m.height, 0);
+      const std::size_t bytes = static_cast<std::size_t>(m.width) * static_cast<std::size_t>(m.height) * 3;
+      EXPECT_EQ(m.color.size(), bytes);
+      EXPECT_EQ(m.depth.size(), bytes);
+      // The written picture holds both buffers side by side.
+      const testing::DecodedPng png = testing::decodePng(d.picture);
+      ASSERT_TRUE(png.ok()) << png.error;
+      EXPECT_GE(png.width, 2 * m.width);
+      EXPECT_GE(png.height, m.height);
+    }
+    // The buffers tell a story: the last step is not blank, and not every step looks alike
+    // (a first step may well be the cleared window).
+    const auto& last = mem.steps.back().color;
+    EXPECT_NE(std::count(last.begin(), last.end(), last[0]), static_cast<std::ptrdiff_t>(last.size()));
+    EXPECT_NE(mem.steps.front().color, last);
+    if (std::string(alg) == "bsp") {
+      // The build's steps are seen from above: a picture that is not the frame's.
+      const auto split = std::find_if(mem.steps.begin(), mem.steps.end(),
+                                      [](const ExplainedStep& s) { return s.name == "choose splitter"; });
+      ASSERT_NE(split, mem.steps.end());
+      EXPECT_NE(split->color, mem.steps.back().color);
+      EXPECT_GE(split->outlines.size(), 3u) << "the splitter, and the eye's square and line";
+    }
+  }
+  // What cannot explain itself says so.
+  RenderOptions o;
+  o.algorithm = "painter-naive";
+  EXPECT_THROW(explainSteps(scene, cam, o), Error);
+}
+
+// One step at a time: the sink sees every step, in order, before the frame comes back.
+TEST(Explain, StepsCanBeTakenOneAtATime) {
+  const Scene scene = loadScene("demo");
+  const Camera cam = frameScene(scene, 120, 90);
+  RenderOptions o;
+  o.algorithm = "painter";
+  std::vector<std::string> names;
+  const Frame f = forEachExplainedStep(scene, cam, o, [&](ExplainedStep&& s) {
+    EXPECT_EQ(s.number, static_cast<int>(names.size()) + 1);
+    names.push_back(s.name);
+  });
+  const Explanation whole = explainSteps(scene, cam, o);
+  ASSERT_EQ(names.size(), whole.steps.size());
+  for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(names[i], whole.steps[i].name);
+  EXPECT_EQ(f.ids, render(scene, cam, o).ids);
 }
 
 }  // namespace

@@ -24,7 +24,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/trace.hpp"
 #include "hsr/algorithms.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
@@ -32,7 +31,6 @@
 #include "hsr/io.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
-#include "orchestrator.hpp"
 
 #ifdef __EMSCRIPTEN__
 #include <emscripten/emscripten.h>
@@ -149,30 +147,6 @@ json requestOf(const char* text) {
 void requireScene() {
   if (!state().loaded) throw hsr::Error("no scene loaded");
 }
-
-// Keeps every step `hsr explain` would draw, in memory: its caption, the colour and depth
-// buffers at that moment, and the outlines of what it works on.
-class StepRecorder : public hsr::detail::Trace {
- public:
-  StepRecorder(std::vector<Step>& steps, hsr::DepthRange range) : steps_(steps), range_(range) {}
-  bool wants(std::string_view, std::uint64_t index, std::uint64_t count) override {
-    return hsr::detail::evenlySpaced(
-        index, count, static_cast<std::uint64_t>(hsr::ExplainOptions{}.pictures_per_step));
-  }
-  void record(const hsr::detail::TraceStep& step) override {
-    Step s;
-    s.name = std::string(step.name);
-    s.caption = step.caption;
-    s.outlines = step.outlines;
-    s.color = rgba(hsr::picture(*step.frame, "color"));
-    s.depth = rgba(hsr::depthPicture(*step.frame, range_));
-    steps_.push_back(std::move(s));
-  }
-
- private:
-  std::vector<Step>& steps_;
-  hsr::DepthRange range_;
-};
 
 const char* answer(const json& j) {
   state().text = j.dump(-1, ' ', false, json::error_handler_t::replace);
@@ -306,20 +280,14 @@ HSR_WEB_EXPORT int hsr_web_explain(const char* request) {
     requireScene();
     const json r = requestOf(request);
     const hsr::RenderOptions options = optionsOf(r);
-    const hsr::AlgorithmInfo& info = hsr::findAlgorithm(options.algorithm);
-    if (!info.has(hsr::kExplain))
-      throw hsr::Error("algorithm '" + std::string(info.name) + "' cannot explain its steps yet");
     const hsr::Camera camera = cameraOf(r, state().scene);
-    const std::string why = hsr::unsupported(info, camera, options);
-    if (!why.empty()) throw hsr::Error(why);
     State& s = state();
-    // First the finished frame, whose depth range every step's depth picture uses
-    hsr::render(s.scene, camera, options, s.frame);
+    hsr::Explanation e = hsr::explainSteps(s.scene, camera, options);
+    s.frame = std::move(e.frame);
     s.steps.clear();
-    StepRecorder recorder(s.steps, hsr::drawnDepthRange(s.frame));
-    hsr::Frame traced;
-    hsr::detail::renderInto(s.scene, camera, options, traced, hsr::detail::DrawMode::kClear,
-                            &recorder);
+    for (hsr::ExplainedStep& step : e.steps)
+      s.steps.push_back({std::move(step.name), std::move(step.caption), std::move(step.outlines),
+                         rgba(step.color), rgba(step.depth)});
     return static_cast<int>(s.steps.size());
   });
 }
