@@ -1,7 +1,8 @@
 // Every algorithm of the registry, frames/s and triangles/s at 1920x1080, against Mesa's
 // llvmpipe (through OSMesa) in the same process: spheres:N and soup:N (small random triangles)
 // for N = 10000/100000/1000000, a real model (2CylinderEngine) and a fill-rate scene of ten
-// full-screen quads drawn back to front (every fragment passes). One benchmark
+// full-screen quads drawn back to front (every fragment passes); the scenes are bench_scenes.hpp's,
+// shared with the ray and line races. One benchmark
 // per algorithm and scene, BM_<algorithm>/<scene>/<n>, with the frame's stats as counters;
 // BM_llvmpipe/<scene>/<n> is the peer. An algorithm joins by its registry line alone; one
 // with a size limit (AlgorithmInfo::max_pixels) below 1920x1080 is listed as not run. Scenes,
@@ -27,6 +28,7 @@
 
 #include "agreement/mesa_oracle.hpp"
 #include "median_collector.hpp"
+#include "bench_scenes.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/io.hpp"
 #include "hsr/bsp.hpp"
@@ -103,21 +105,14 @@ hsr::Camera fillRateCamera() {
 std::vector<BenchScene>& benchScenes() {
   static std::vector<BenchScene> scenes = [] {
     std::vector<BenchScene> v;
-    for (const char* kind : {"spheres", "soup"})
-      for (const char* n : {"10000", "100000", "1000000"}) {
-        BenchScene b;
-        b.label = std::string(kind) + "/" + n;
-        const std::string spec = std::string(kind) + ":" + n;
-        b.make = [spec] { return hsr::makeBuiltinScene(spec); };
-        v.push_back(std::move(b));
-      }
-    // A real model (a CAD assembly of 121,496 triangles, from Debian's assimp-testmodels).
-    BenchScene model;
-    model.label = "model/2CylinderEngine";
-    model.make = [] {
-      return hsr::loadScene("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb");
-    };
-    v.push_back(std::move(model));
+    for (const char* label : {"spheres/10000", "spheres/100000", "spheres/1000000", "soup/10000", "soup/100000",
+                              "soup/1000000", "2CylinderEngine"}) {
+      BenchScene b;
+      b.label = label;
+      const hsr::bench::BenchSceneSpec& spec = hsr::bench::benchScene(label);
+      b.make = [&spec] { return hsr::bench::loadBenchScene(spec); };
+      v.push_back(std::move(b));
+    }
     BenchScene f;
     f.label = "fillrate/10";
     f.make = fillRateScene;

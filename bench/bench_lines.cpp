@@ -6,7 +6,7 @@
 //     parts;
 //   - silhouettes only: OCCT's mesh as one face (its outline alone), hsr's outlines alone
 //     (`--lines outline`); both with the hidden parts.
-// Scenes: spheres:1000/10000/100000 and Wuson, Spider_binary from assimp-testmodels; hsr also
+// Scenes (bench_scenes.hpp): spheres:1000/10000/100000, Wuson and Spider_binary; hsr also
 // at spheres:1000000, where OCCT's full drawing is not run (its time grows as n^1.9 from 10k to
 // 100k: 20 s at 100k) and its silhouettes run once (3 minutes).
 //
@@ -37,6 +37,7 @@
 
 #include "agreement/occt_peer.hpp"
 #include "cross/near_lines.hpp"
+#include "bench_scenes.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/io.hpp"
 #include "hsr/line_drawing.hpp"
@@ -101,19 +102,12 @@ struct Race {
 std::vector<std::unique_ptr<Race>>& races() {
   static std::vector<std::unique_ptr<Race>> v = [] {
     std::vector<std::unique_ptr<Race>> r;
-    for (const char* n : {"1000", "10000", "100000", "1000000"}) {
+    for (const char* label : {"spheres/1000", "spheres/10000", "spheres/100000", "spheres/1000000", "Wuson", "Spider_binary"}) {
       auto race = std::make_unique<Race>();
-      race->label = std::string("spheres/") + n;
-      const std::string spec = std::string("spheres:") + n;
-      race->make = [spec] { return hsr::makeBuiltinScene(spec); };
-      race->huge = std::string(n) == "1000000";
-      r.push_back(std::move(race));
-    }
-    for (const char* model : {"PLY/Wuson.ply", "STL/Spider_binary.stl"}) {
-      auto race = std::make_unique<Race>();
-      race->label = std::filesystem::path(model).stem().string();
-      const std::string path = (std::filesystem::path("/usr/share/assimp/models") / model).string();
-      race->make = [path] { return hsr::loadScene(path); };
+      race->label = label;
+      const hsr::bench::BenchSceneSpec& spec = hsr::bench::benchScene(label);
+      race->make = [&spec] { return hsr::bench::loadBenchScene(spec); };
+      race->huge = race->label == "spheres/1000000";
       r.push_back(std::move(race));
     }
     return r;

@@ -4,7 +4,7 @@
 // (rtcIntersect8) and rtcIntersect1M streams,
 // for 1920x1080 primary rays (the camera framing the scene) and 10^6 incoherent rays (random
 // origins inside the bounds, random directions); then the whole ray-cast frame against the
-// z-buffer's. Scenes: spheres:10000/100000/1000000, 2CylinderEngine and Wuson.
+// z-buffer's. Scenes (bench_scenes.hpp): spheres:10000/100000/1000000, 2CylinderEngine and Wuson.
 //
 // Threads: HSR_BENCH_THREADS (default 2): hsr's batch runs in a oneTBB arena of that many
 // threads; Embree's device gets threads=N, and its per-ray calls are spread over the same
@@ -29,6 +29,7 @@
 
 #include "agreement/embree_peer.hpp"
 #include "core/random.hpp"
+#include "bench_scenes.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/io.hpp"
 #include "hsr/ray_scene.hpp"
@@ -81,18 +82,11 @@ struct Race {
 std::vector<std::unique_ptr<Race>>& races() {
   static std::vector<std::unique_ptr<Race>> v = [] {
     std::vector<std::unique_ptr<Race>> r;
-    for (const char* n : {"10000", "100000", "1000000"}) {
+    for (const char* label : {"spheres/10000", "spheres/100000", "spheres/1000000", "2CylinderEngine", "Wuson"}) {
       auto race = std::make_unique<Race>();
-      race->label = std::string("spheres/") + n;
-      const std::string spec = std::string("spheres:") + n;
-      race->make = [spec] { return hsr::makeBuiltinScene(spec); };
-      r.push_back(std::move(race));
-    }
-    for (const char* model : {"glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "PLY/Wuson.ply"}) {
-      auto race = std::make_unique<Race>();
-      race->label = std::filesystem::path(model).stem().string();
-      const std::string path = (std::filesystem::path("/usr/share/assimp/models") / model).string();
-      race->make = [path] { return hsr::loadScene(path); };
+      race->label = label;
+      const hsr::bench::BenchSceneSpec& spec = hsr::bench::benchScene(label);
+      race->make = [&spec] { return hsr::bench::loadBenchScene(spec); };
       r.push_back(std::move(race));
     }
     return r;
