@@ -9,6 +9,7 @@
 // Step names are the algorithm file's own step comments, so code and pictures share one
 // vocabulary. Algorithms never draw pictures; src/explain/ does.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -25,6 +26,20 @@ namespace hsr::detail {
 // the polygon being drawn, or a Warnock quadrant.
 using TraceOutline = std::vector<glm::vec2>;
 
+// One pixel seen close up (the A-buffer's magnified pixel): what each of its samples resolves
+// to, and the true edges through it. src/explain/ pictures it over the whole view.
+struct TracePixel {
+  struct Sample {
+    glm::dvec2 at;        // from the pixel's centre, in pixels: each coordinate in [-0.5, 0.5]
+    std::uint32_t colour;  // RGBA8, as Frame::color
+    float depth;           // of the nearest opaque fragment (NaN: none, the background)
+    PolygonId id;          // kNoPolygon where none
+  };
+  int x = 0, y = 0;  // the pixel, window coordinates
+  std::vector<Sample> samples;
+  std::vector<std::array<glm::dvec2, 2>> edges;  // in window coordinates (pixel centres at integers)
+};
+
 struct TraceStep {
   std::string_view name;               // "draw polygon"
   std::string caption;                 // in the notes' words, with this step's figures
@@ -33,6 +48,9 @@ struct TraceStep {
   // Or, for a step pictured on another view of the scene (the BSP build's plan from above):
   // that camera, the scene drawn plainly from it by src/explain/ (frame null).
   const Camera* seen_from = nullptr;
+  // Or a pixel magnified to fill a view of the frame's size (frame then gives only the size;
+  // src/explain/ adds the pixel's square, its samples and the edges to the outlines).
+  const TracePixel* magnified = nullptr;
 };
 
 class Trace {

@@ -562,88 +562,33 @@ struct KeptPixel {
   std::vector<Fragment> fragments;
 };
 
-// The part of segment ab inside the square of half-width r around c (Liang and Barsky's
-// clipping), or false when none is.
-bool clipToSquare(glm::dvec2& a, glm::dvec2& b, glm::dvec2 c, double r) {
-  double t0 = 0, t1 = 1;
-  const glm::dvec2 d = b - a;
-  for (int axis = 0; axis < 2; ++axis)
-    for (const double side : {-1.0, 1.0}) {
-      // Inside: side * (a + t d - c) <= r along this axis
-      const double p = side * d[axis], q = r - side * (a[axis] - c[axis]);
-      if (p == 0) {
-        if (q < 0) return false;
-      } else if (p > 0) {
-        t1 = std::min(t1, q / p);
-      } else {
-        t0 = std::max(t0, q / p);
-      }
-    }
-  if (t0 > t1) return false;
-  const glm::dvec2 a0 = a;
-  a = a0 + t0 * d;
-  b = a0 + t1 * d;
-  return true;
-}
-
-// The kept pixel magnified to fill the middle of a frame of z's size: each point shows what the
-// sample nearest it resolves to (colour, and depth of the nearest opaque fragment), the
-// samples are small squares, and the true edges of the triangles of every polygon listed there
-// are drawn through it. Returns the pixel's colour, the mean of its samples.
-std::uint32_t magnifyPixel(const FrameJob& job, const KeptPixel& k, Frame& z, std::vector<TraceOutline>& outlines) {
+// The kept pixel close up, for the magnified view (src/explain/ draws it): what each sample
+// resolves to, and the true edges of the triangles of every polygon listed there. Returns the
+// pixel's colour, the mean of its samples.
+std::uint32_t closeUp(const FrameJob& job, const KeptPixel& k, TracePixel& out) {
   const SamplePattern& p = job.pattern;
   std::vector<const Fragment*> list;
   for (const Fragment& f : k.fragments) list.push_back(&f);
-  std::vector<SampleResult> samples;
+  out = {k.x, k.y, {}, {}};
   std::uint32_t sum[3] = {0, 0, 0};
   for (int s = 0; s < p.count; ++s) {
-    samples.push_back(resolveSample(job, list, k.x, k.y, s, k.background));
-    for (int ch = 0; ch < 3; ++ch) sum[ch] += (samples.back().colour >> (8 * ch)) & 0xFFu;
+    const SampleResult r = resolveSample(job, list, k.x, k.y, s, k.background);
+    out.samples.push_back({{p.x[s] / static_cast<double>(kSubpixelOne), p.y[s] / static_cast<double>(kSubpixelOne)},
+                           r.colour,
+                           r.depth,
+                           r.id});
+    for (int ch = 0; ch < 3; ++ch) sum[ch] += (r.colour >> (8 * ch)) & 0xFFu;
   }
-  const std::uint32_t mean = meanOfSamples(sum, p.count);
-
-  // The pixel square: side `size` from (left, top) of z
-  const int size = std::max(1, std::min(z.width, z.height) - 8);
-  const int left = (z.width - size) / 2, top = (z.height - size) / 2;
-  std::fill(z.color.begin(), z.color.end(), 0xFF303030u);
-  auto sampleAt = [&](int s) {  // a sample's place in z, as pixel-centre coordinates
-    return glm::dvec2(left - 0.5 + (0.5 + p.x[s] / static_cast<double>(kSubpixelOne)) * size,
-                      top - 0.5 + (0.5 + p.y[s] / static_cast<double>(kSubpixelOne)) * size);
-  };
-  for (int v = top; v < top + size; ++v)
-    for (int u = left; u < left + size; ++u) {
-      int nearest = 0;
-      double best = INFINITY;
-      for (int s = 0; s < p.count; ++s) {
-        const glm::dvec2 d = sampleAt(s) - glm::dvec2(u, v);
-        if (glm::dot(d, d) < best) best = glm::dot(d, d), nearest = s;
-      }
-      const std::size_t i = static_cast<std::size_t>(v) * z.width + u;
-      z.color[i] = samples[nearest].colour;
-      z.depth[i] = std::isnan(samples[nearest].depth) ? 1.0f : samples[nearest].depth;
-      z.ids[i] = samples[nearest].id;
-    }
-  outlines.push_back(pixelBoxOutline(PixelBox{left, top, left + size - 1, top + size - 1}));
-  for (int s = 0; s < p.count; ++s) {
-    const glm::vec2 c(sampleAt(s));
-    outlines.push_back({c + glm::vec2(-2, -2), c + glm::vec2(2, -2), c + glm::vec2(2, 2), c + glm::vec2(-2, 2)});
-  }
-  // The edges: in window coordinates (pixel centres at integers), clipped to the pixel square
-  const glm::dvec2 centre(k.x, k.y);
-  auto toZ = [&](glm::dvec2 w) {
-    return glm::vec2(left - 0.5 + (w.x - centre.x + 0.5) * size, top - 0.5 + (w.y - centre.y + 0.5) * size);
+  const auto window = [](std::int32_t x, std::int32_t y) {
+    return glm::dvec2(x / static_cast<double>(kSubpixelOne), y / static_cast<double>(kSubpixelOne));
   };
   for (const Fragment& f : k.fragments)
     for (std::uint32_t i = f.polygon; i < job.tris.size() && job.polygon_of[i] == f.polygon; ++i) {
       const ScreenTriangle& t = job.tris[i];
-      for (int e = 0; e < 3; ++e) {
-        glm::dvec2 a(t.x[e] / static_cast<double>(kSubpixelOne), t.y[e] / static_cast<double>(kSubpixelOne));
-        glm::dvec2 b(t.x[(e + 1) % 3] / static_cast<double>(kSubpixelOne),
-                     t.y[(e + 1) % 3] / static_cast<double>(kSubpixelOne));
-        if (clipToSquare(a, b, centre, 0.5)) outlines.push_back({toZ(a), toZ(b)});
-      }
+      for (int e = 0; e < 3; ++e)
+        out.edges.push_back({window(t.x[e], t.y[e]), window(t.x[(e + 1) % 3], t.y[(e + 1) % 3])});
     }
-  return mean;
+  return meanOfSamples(sum, p.count);
 }
 
 void resolveTile(const FrameJob& job, const PixelBox& box, const TileLists& l) {
@@ -750,15 +695,8 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
     if (longest_n > 0 && in.trace->wants(kStepPixel, 0, 1))
       in.trace->record({kStepPixel, longest, &frame, {pixelBoxOutline(PixelBox{px - 3, py - 3, px + 3, py + 3})}});
     if (longest_n > 0 && in.trace->wants(kStepMagnified, 0, 1)) {
-      Frame zoom;
-      zoom.width = frame.width;
-      zoom.height = frame.height;
-      zoom.color.assign(frame.color.size(), 0);
-      zoom.depth.assign(frame.depth.size(), 1.0f);
-      zoom.ids.assign(frame.ids.size(), kNoPolygon);
-      zoom.overdraw.assign(frame.overdraw.size(), 0);
-      std::vector<TraceOutline> outlines;
-      const std::uint32_t mean = magnifyPixel(job, kept, zoom, outlines);
+      TracePixel close;
+      const std::uint32_t mean = closeUp(job, kept, close);
       char hex[8];
       std::snprintf(hex, sizeof hex, "#%02x%02x%02x", mean & 0xFFu, (mean >> 8) & 0xFFu, (mean >> 16) & 0xFFu);
       in.trace->record({kStepMagnified,
@@ -770,8 +708,10 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
                             "opaque fragment covering it, see-through ones laid over it) and that fragment's "
                             "depth. The pixel's colour is the mean of its samples: " +
                             hex + ".",
-                        &zoom,
-                        outlines});
+                        &frame,
+                        {},
+                        nullptr,
+                        &close});
     }
     if (in.trace->wants(kStepDone, 0, 1))
       in.trace->record({kStepDone,
