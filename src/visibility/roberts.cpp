@@ -33,6 +33,12 @@
 // scaled to the same size (zs grid units for the whole depth range) so that lengths along
 // every axis compare. See-through polygons hide nothing: they are blended afterwards with the
 // depth test, as the z-buffer draws them.
+// Guarantee: every visible segment lies on an edge (or junction line) of the Weiler-Atherton
+// visible set and every such edge on a segment, within 1e-6 of the view's size where no faces
+// cross and within two grid units along crossing lines; each pixel shows what the z-buffer
+// shows with back faces culled, except within a grid unit of a junction line, where the depth
+// test settles it as the z-buffer does.
+// The steps are RobertsRun's member functions, called in this order by RobertsRun::run().
 // Cost: for each face, the volumes whose screen boxes overlap it and that come nearer than it,
 // found through a grid of screen cells; each test is O(v) for a volume of v vertices and
 // edges, and each face's region one Boolean operation per section.
@@ -426,306 +432,431 @@ constexpr std::string_view kStepBackFaces = "back faces";
 constexpr std::string_view kStepFace = "face";
 constexpr std::string_view kStepDone = "done";
 
-}  // namespace
-
-RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPolygon>& polygons,
-                                int width, int height, Frame* frame, Trace* trace,
-                                bool hidden_parts, const Deadline* deadline) {
-  RobertsDrawing out;
-  out.width = width, out.height = height;
-  Scaled sc;
-  sc.zs = kGrid * std::max(width, height);
-  // ---- 1. Solids: which objects are convex polyhedra, and whole in the view.
-  std::vector<std::vector<const WindowPolygon*>> by_object(scene.objects.size());
-  for (const WindowPolygon& w : polygons)
-    if (!w.transparent) by_object[scene.object(w.id)].push_back(&w);
-  const double xmin = -0.5, ymin = -0.5, xmax = width - 0.5, ymax = height - 0.5;
-  std::vector<int> solid_of(scene.objects.size(), -1), outward_of(scene.objects.size(), 0);
-  for (std::uint32_t o = 0; o < scene.objects.size(); ++o) {
-    if (by_object[o].empty()) continue;
-    int outward = 0, closed = 0;
-    std::string why = notConvexReason(scene, scene.objects[o], &outward, &closed);
-    // Whole in the view: every face present once and untouched by the clipper. (A face that
-    // is missing is culled, edge-on, or wholly outside the view: its neighbours would show the
-    // cut. The solid's shadow in the view is that of the front faces there.)
-    bool cut = false;
-    std::vector<std::uint8_t> seen(scene.objects[o].polygon_count, 0);
-    for (const WindowPolygon* w : by_object[o]) {
-      cut = cut || seen[w->id - scene.objects[o].first_polygon]++ || w->piece != 0;
-      for (const dvec3& q : w->vertices)
-        cut = cut || !(q.x > xmin && q.x < xmax && q.y > ymin && q.y < ymax && q.z > 0 && q.z < 1);
-    }
-    if (why.empty() && cut) why = "cut by the view volume";
-    RobertsObject& ro = out.objects.emplace_back();
-    ro.object = o;
-    ro.solid = why.empty();
-    ro.reason = why;
-    if (ro.solid) {
-      solid_of[o] = static_cast<int>(out.solids++);
-      outward_of[o] = outward;
-    } else if (closed != 0 && !cut) {
-      // A closed object the view does not cut is seen from outside (an eye inside it would
-      // have it cut by the view volume all round): its back faces are hidden by its own front
-      // faces, convex or not, and go as a solid's do; the rest is taken face by face.
-      outward_of[o] = closed;
-    }
+// One run of Roberts' algorithm over the pipeline's window polygons: what its steps share, and
+// the steps as member functions in the notes' order (run() reads as the list at the top of
+// this file).
+class RobertsRun {
+ public:
+  RobertsRun(const Scene& scene, const std::vector<WindowPolygon>& polygons, int width, int height,
+             Frame* frame, Trace* trace, bool hidden_parts, const Deadline* deadline)
+      : scene_(scene),
+        polygons_(polygons),
+        frame_(frame),
+        trace_(trace && frame ? trace : nullptr),
+        hidden_parts_(hidden_parts),
+        deadline_(deadline),
+        xmax_(width - 0.5),
+        ymax_(height - 0.5) {
+    out_.width = width, out_.height = height;
+    sc_.zs = kGrid * std::max(width, height);
   }
-  // ---- 2. Back faces, and the faces and volumes the tests use.
-  std::vector<Face> faces;
-  std::vector<Volume> volumes(out.solids);
-  std::vector<TraceOutline> back_outlines, all_outlines;
+
+  RobertsDrawing run() {
+    findSolids();            // 1.
+    removeBackFaces();       // 2., keeping the faces and volumes the tests use
+    makeVolumes();
+    traceSolidsAndBackFaces();
+    sectionFaces();          // 3. the sections of each face's plane by the volumes in front
+    listEdges();
+    findJunctionLines();     // 4.
+    // 3. (the edges) and 5., face by face in id order (the z-buffer's order among equal
+    // depths): the visible segments of the face's edges and junction lines, then what the
+    // sections leave of the face, filled through the shared routine.
+    std::vector<std::uint32_t> by_id(faces_.size());
+    for (std::uint32_t i = 0; i < faces_.size(); ++i) by_id[i] = i;
+    std::stable_sort(by_id.begin(), by_id.end(),
+                     [&](std::uint32_t l, std::uint32_t r) { return faces_[l].w->id < faces_[r].w->id; });
+    if (frame_) fb_.emplace(*frame_);
+    std::uint64_t step = 0;
+    for (std::uint32_t fi : by_id) {
+      checkDeadline(deadline_, checked_++);
+      const bool show = trace_ && trace_->wants(kStepFace, step++, faces_.size());
+      if (hidden_whole_[fi]) {
+        hideFace(fi, show);
+        continue;
+      }
+      std::vector<TraceOutline> o;
+      keepVisibleEdges(fi, show ? &o : nullptr);
+      if (fb_) fillVisiblePart(fi, show, std::move(o));
+    }
+    // The edges only back faces share: hidden whole (their solid's front faces hide them)
+    for (const auto& [key, ids] : back_edges_)
+      addHidden({key[1], key[2]}, {key[4], key[5]}, ids.first, kNoPolygon, ids.second, false);
+    if (frame_) {
+      frame_->stats.fragments_tested += fragments_.tested;
+      frame_->stats.fragments_written += fragments_.written;
+    }
+    return std::move(out_);
+  }
+
+ private:
+  using EdgeKey = std::array<double, 7>;  // object, then the ends in order
+  struct EdgeRef {
+    std::uint32_t face;
+    PolygonId other;
+    PolygonId neighbour = kNoPolygon;  // the other polygon on the edge, visible or not
+  };
   struct BackFace {  // kept for their edges when the hidden parts are asked for
     PolygonId id;
     std::uint32_t object;
     std::vector<dvec3> v;
   };
-  std::vector<BackFace> back_faces;
-  for (const WindowPolygon& w : polygons) {
-    if (w.transparent) continue;
-    const std::uint32_t o = scene.object(w.id);
-    Face f;
-    f.w = &w;
-    f.object = o;
-    f.solid = solid_of[o];
-    std::vector<dvec2> xy;
-    for (const dvec3& q : w.vertices) {
-      const GridPoint g{std::llrint(q.x * kGrid), std::llrint(q.y * kGrid)};
-      if (!f.ring.empty() && (f.ring.back() == g)) continue;
-      f.ring.push_back(g);
-      f.v.emplace_back(static_cast<double>(g.x), static_cast<double>(g.y), q.z * sc.zs);
-      xy.emplace_back(static_cast<double>(g.x), static_cast<double>(g.y));
+  struct Junction {
+    dvec2 a, b;
+    std::uint32_t g;
+  };
+
+  // ---- 1. Solids: which objects are convex polyhedra, and whole in the view.
+  void findSolids() {
+    const std::size_t n = scene_.objects.size();
+    std::vector<std::vector<const WindowPolygon*>> by_object(n);
+    for (const WindowPolygon& w : polygons_)
+      if (!w.transparent) by_object[scene_.object(w.id)].push_back(&w);
+    solid_of_.assign(n, -1), outward_of_.assign(n, 0);
+    for (std::uint32_t o = 0; o < n; ++o) {
+      if (by_object[o].empty()) continue;
+      int outward = 0, closed = 0;
+      std::string why = notConvexReason(scene_, scene_.objects[o], &outward, &closed);
+      // Whole in the view: every face present once and untouched by the clipper. (A face that
+      // is missing is culled, edge-on, or wholly outside the view: its neighbours would show the
+      // cut. The solid's shadow in the view is that of the front faces there.)
+      bool cut = false;
+      std::vector<std::uint8_t> seen(scene_.objects[o].polygon_count, 0);
+      for (const WindowPolygon* w : by_object[o]) {
+        cut = cut || seen[w->id - scene_.objects[o].first_polygon]++ || w->piece != 0;
+        for (const dvec3& q : w->vertices)
+          cut = cut || !(q.x > kMin && q.x < xmax_ && q.y > kMin && q.y < ymax_ && q.z > 0 && q.z < 1);
+      }
+      if (why.empty() && cut) why = "cut by the view volume";
+      RobertsObject& ro = out_.objects.emplace_back();
+      ro.object = o;
+      ro.solid = why.empty();
+      ro.reason = why;
+      if (ro.solid) {
+        solid_of_[o] = static_cast<int>(out_.solids++);
+        outward_of_[o] = outward;
+      } else if (closed != 0 && !cut) {
+        // A closed object the view does not cut is seen from outside (an eye inside it would
+        // have it cut by the view volume all round): its back faces are hidden by its own front
+        // faces, convex or not, and go as a solid's do; the rest is taken face by face.
+        outward_of_[o] = closed;
+      }
     }
-    while (f.ring.size() > 1 && f.ring.front() == f.ring.back())
-      f.ring.pop_back(), f.v.pop_back(), xy.pop_back();
-    if (f.ring.size() < 3) continue;
-    if (trace) all_outlines.push_back(outlineOf(xy));
-    // The notes' test after the perspective transformation, as the pipeline's facing: the
-    // outward normal points at the eye when the snapped outline turns counter-clockwise seen
-    // from the eye (negative area with y down), for outward counter-clockwise windings.
-    std::int64_t twice_area = 0;
-    for (std::size_t i = 0; i < f.ring.size(); ++i) {
-      const GridPoint p = f.ring[i], q = f.ring[(i + 1) % f.ring.size()];
-      twice_area += p.x * q.y - q.x * p.y;
+  }
+
+  // ---- 2. Back faces: each face snapped to the grid, and dropped when its outward normal
+  // points away from the eye; the others become the faces whose edges are tested, and the
+  // volumes that test them (a solid's faces one volume, every other face a flat volume of
+  // its own per convex piece).
+  void removeBackFaces() {
+    volumes_.resize(out_.solids);
+    for (const WindowPolygon& w : polygons_) {
+      if (w.transparent) continue;
+      const std::uint32_t o = scene_.object(w.id);
+      Face f;
+      f.w = &w;
+      f.object = o;
+      f.solid = solid_of_[o];
+      std::vector<dvec2> xy;
+      for (const dvec3& q : w.vertices) {
+        const GridPoint g{std::llrint(q.x * kGrid), std::llrint(q.y * kGrid)};
+        if (!f.ring.empty() && (f.ring.back() == g)) continue;
+        f.ring.push_back(g);
+        f.v.emplace_back(static_cast<double>(g.x), static_cast<double>(g.y), q.z * sc_.zs);
+        xy.emplace_back(static_cast<double>(g.x), static_cast<double>(g.y));
+      }
+      while (f.ring.size() > 1 && f.ring.front() == f.ring.back()) f.ring.pop_back(), f.v.pop_back(), xy.pop_back();
+      if (f.ring.size() < 3) continue;
+      if (trace_) all_outlines_.push_back(outlineOf(xy));
+      // The notes' test after the perspective transformation, as the pipeline's facing: the
+      // outward normal points at the eye when the snapped outline turns counter-clockwise seen
+      // from the eye (negative area with y down), for outward counter-clockwise windings.
+      std::int64_t twice_area = 0;
+      for (std::size_t i = 0; i < f.ring.size(); ++i) {
+        const GridPoint p = f.ring[i], q = f.ring[(i + 1) % f.ring.size()];
+        twice_area += p.x * q.y - q.x * p.y;
+      }
+      if (outward_of_[o] != 0 && (twice_area < 0 ? 1 : -1) * outward_of_[o] <= 0) {
+        out_.back_faces++;  // its outward normal points away from the eye
+        if (trace_) back_outlines_.push_back(outlineOf(xy));
+        if (hidden_parts_) back_faces_.push_back({w.id, o, std::move(f.v)});
+        continue;
+      }
+      boxOf(f, f.v);
+      if (ringConvex(xy)) {
+        f.pieces.push_back(xy);
+      } else {
+        std::vector<std::array<std::uint32_t, 3>> tris;
+        triangulate2d(xy, tris);
+        for (const auto& t : tris) f.pieces.push_back({xy[t[0]], xy[t[1]], xy[t[2]]});
+      }
+      addToVolumes(f, static_cast<std::uint32_t>(faces_.size()));
+      faces_.push_back(std::move(f));
     }
-    if (outward_of[o] != 0 && (twice_area < 0 ? 1 : -1) * outward_of[o] <= 0) {
-      out.back_faces++;  // its outward normal points away from the eye
-      if (trace) back_outlines.push_back(outlineOf(xy));
-      if (hidden_parts) back_faces.push_back({w.id, o, std::move(f.v)});
-      continue;
-    }
-    boxOf(f, f.v);
-    if (ringConvex(xy)) {
-      f.pieces.push_back(xy);
-    } else {
-      std::vector<std::array<std::uint32_t, 3>> tris;
-      triangulate2d(xy, tris);
-      for (const auto& t : tris) f.pieces.push_back({xy[t[0]], xy[t[1]], xy[t[2]]});
-    }
-    const std::uint32_t fi = static_cast<std::uint32_t>(faces.size());
+  }
+
+  void addToVolumes(const Face& f, std::uint32_t fi) {
     if (f.solid >= 0) {
-      Volume& vol = volumes[f.solid];
+      Volume& vol = volumes_[f.solid];
       const std::uint32_t base = static_cast<std::uint32_t>(vol.vertices.size());
       for (std::size_t i = 0; i < f.v.size(); ++i) {
         vol.vertices.push_back(f.v[i]);
         vol.edges.emplace_back(base + i, base + (i + 1) % f.v.size());
       }
       vol.faces.push_back(fi);
-      vol.object = o, vol.solid = f.solid;
-    } else {
-      for (const std::vector<dvec2>& piece : f.pieces) {
-        Volume& vol = volumes.emplace_back();
-        for (const dvec2& q : piece)
-          vol.vertices.emplace_back(q.x, q.y, sc.depth(w.depth, q.x, q.y));
-        for (std::uint32_t i = 0; i < piece.size(); ++i)
-          vol.edges.emplace_back(i, (i + 1) % piece.size());
-        vol.faces.push_back(fi);
-        vol.object = o, vol.face = static_cast<int>(fi);
-      }
+      vol.object = f.object, vol.solid = f.solid;
+      return;
     }
-    faces.push_back(std::move(f));
-  }
-  // Each piece of a flat face takes its corners' depths from the face's plane (the same plane
-  // its section tests use): a triangle of a concave face then lies exactly in it.
-  for (Volume& v : volumes) {
-    // A solid lists each corner once and each edge once (its faces share them).
-    if (v.solid >= 0) {
-      std::vector<dvec3> corners = v.vertices;
-      std::sort(corners.begin(), corners.end(), [](const dvec3& l, const dvec3& r) {
-        return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z);
-      });
-      corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-      auto index = [&](const dvec3& q) {
-        return static_cast<std::uint32_t>(std::lower_bound(corners.begin(), corners.end(), q,
-                                                           [](const dvec3& l, const dvec3& r) {
-                                                             return std::tie(l.x, l.y, l.z) <
-                                                                    std::tie(r.x, r.y, r.z);
-                                                           }) -
-                                          corners.begin());
-      };
-      for (auto& [a, b] : v.edges) {
-        std::uint32_t ia = index(v.vertices[a]), ib = index(v.vertices[b]);
-        a = std::min(ia, ib), b = std::max(ia, ib);
-      }
-      std::sort(v.edges.begin(), v.edges.end());
-      v.edges.erase(std::unique(v.edges.begin(), v.edges.end()), v.edges.end());
-      v.vertices = std::move(corners);
+    // Each piece of a flat face takes its corners' depths from the face's plane (the same
+    // plane its section tests use): a triangle of a concave face then lies exactly in it.
+    for (const std::vector<dvec2>& piece : f.pieces) {
+      Volume& vol = volumes_.emplace_back();
+      for (const dvec2& q : piece) vol.vertices.emplace_back(q.x, q.y, sc_.depth(f.w->depth, q.x, q.y));
+      for (std::uint32_t i = 0; i < piece.size(); ++i) vol.edges.emplace_back(i, (i + 1) % piece.size());
+      vol.faces.push_back(fi);
+      vol.object = f.object, vol.face = static_cast<int>(fi);
     }
-    boxOf(v, v.vertices);
-    std::vector<dvec2> xy;
-    for (const dvec3& q : v.vertices) xy.emplace_back(q.x, q.y);
-    convexHull(xy, v.outline);
   }
-  std::erase_if(volumes, [](const Volume& v) { return v.vertices.empty(); });
-  out.faces = faces.size();
-  out.volumes = volumes.size();
-  if (trace && frame && trace->wants(kStepSolids, 0, 1)) {
-    std::string caption = "Solids: " + std::to_string(out.solids) + " of the " +
-                          std::to_string(out.objects.size()) +
-                          " objects in view are convex polyhedra";
-    for (const RobertsObject& ro : out.objects)
-      if (!ro.solid)
-        caption +=
-            "; \"" + scene.objects[ro.object].name + "\" is taken face by face (" + ro.reason + ")";
-    trace->record({kStepSolids, caption + ".", frame, std::move(all_outlines)});
-  }
-  if (trace && frame && trace->wants(kStepBackFaces, 0, 1))
-    trace->record(
-        {kStepBackFaces,
-         "Remove the back faces of each solid (outlined: " + std::to_string(out.back_faces) +
-             "), whose outward normal points away from the eye: the solid's own front faces hide "
-             "them.",
-         frame, back_outlines});
 
-  // ---- 3. Sections of each face's plane by the volumes that may hide some of it.
-  Cells cells(volumes, width, height);
-  std::vector<std::vector<Section>> sections(faces.size());
-  std::vector<std::uint32_t> seen(volumes.size(), 0);
-  std::uint32_t stamp = 0;
-  std::vector<double> s;
-  // A face that one section covers with room to spare (its corners inside the section taken
-  // for the picture) is hidden whole: nothing more is asked of it.
-  std::vector<std::uint8_t> hidden_whole(faces.size(), 0);
-  auto covers = [](const std::vector<dvec2>& hull, const GridRing& ring) {
+  // The volumes finished: a solid lists each corner once and each edge once (its faces share
+  // them); each volume's box and screen outline.
+  void makeVolumes() {
+    const auto less = [](const dvec3& l, const dvec3& r) { return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z); };
+    for (Volume& v : volumes_) {
+      if (v.solid >= 0) {
+        std::vector<dvec3> corners = v.vertices;
+        std::sort(corners.begin(), corners.end(), less);
+        corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+        auto index = [&](const dvec3& q) {
+          return static_cast<std::uint32_t>(std::lower_bound(corners.begin(), corners.end(), q, less) - corners.begin());
+        };
+        for (auto& [a, b] : v.edges) {
+          std::uint32_t ia = index(v.vertices[a]), ib = index(v.vertices[b]);
+          a = std::min(ia, ib), b = std::max(ia, ib);
+        }
+        std::sort(v.edges.begin(), v.edges.end());
+        v.edges.erase(std::unique(v.edges.begin(), v.edges.end()), v.edges.end());
+        v.vertices = std::move(corners);
+      }
+      boxOf(v, v.vertices);
+      std::vector<dvec2> xy;
+      for (const dvec3& q : v.vertices) xy.emplace_back(q.x, q.y);
+      convexHull(xy, v.outline);
+    }
+    std::erase_if(volumes_, [](const Volume& v) { return v.vertices.empty(); });
+    out_.faces = faces_.size();
+    out_.volumes = volumes_.size();
+  }
+
+  void traceSolidsAndBackFaces() {
+    if (trace_ && trace_->wants(kStepSolids, 0, 1)) {
+      std::string caption = "Solids: " + std::to_string(out_.solids) + " of the " +
+                            std::to_string(out_.objects.size()) + " objects in view are convex polyhedra";
+      for (const RobertsObject& ro : out_.objects)
+        if (!ro.solid)
+          caption += "; \"" + scene_.objects[ro.object].name + "\" is taken face by face (" + ro.reason + ")";
+      trace_->record({kStepSolids, caption + ".", frame_, std::move(all_outlines_)});
+    }
+    if (trace_ && trace_->wants(kStepBackFaces, 0, 1))
+      trace_->record({kStepBackFaces,
+                      "Remove the back faces of each solid (outlined: " + std::to_string(out_.back_faces) +
+                          "), whose outward normal points away from the eye: the solid's own front faces hide "
+                          "them.",
+                      frame_, back_outlines_});
+  }
+
+  // ---- 3. Sections of each face's plane by the volumes that may hide some of it, found
+  // through a grid of screen cells; the largest first.
+  void sectionFaces() {
+    Cells cells(volumes_, out_.width, out_.height);
+    sections_.resize(faces_.size());
+    hidden_whole_.assign(faces_.size(), 0);
+    std::vector<std::uint32_t> seen(volumes_.size(), 0);
+    std::uint32_t stamp = 0;
+    std::vector<double> s;
+    for (std::uint32_t fi = 0; fi < faces_.size(); ++fi) {
+      checkDeadline(deadline_, fi);
+      const Face& f = faces_[fi];
+      ++stamp;
+      cells.forCells(f.x0, f.y0, f.x1, f.y1, [&](const std::vector<std::uint32_t>& cell) {
+        for (std::uint32_t vi : cell) {
+          if (hidden_whole_[fi]) return;
+          if (seen[vi] == stamp) continue;
+          seen[vi] = stamp;
+          const Volume& v = volumes_[vi];
+          if ((v.solid >= 0 && v.solid == f.solid) || v.face == static_cast<int>(fi)) continue;  // its own solid
+          if (v.x1 <= f.x0 || v.x0 >= f.x1 || v.y1 <= f.y0 || v.y0 >= f.y1 || v.zmin >= f.zmax) continue;
+          out_.tests++;
+          Section sec;
+          sec.volume = vi;
+          if (!section(f, v, sc_, 0.0, s, sec.hull)) continue;
+          // For the picture, what lies within a grid unit's change of depth of the plane (or
+          // its rounding) does not count as in front: the section by the plane moved that much
+          // towards the eye is never more than what the volume hides, and what it leaves (where
+          // the two are as good as equal in depth) goes to the depth test, as in the z-buffer.
+          const DepthPlane& p = f.w->depth;
+          const double lift = sc_.zs * 1e-12 + sc_.zs * (std::abs(p.dzdx) + std::abs(p.dzdy)) / kGrid;
+          section(f, v, sc_, lift, s, sec.shown);
+          // A face that one section covers with room to spare (its corners inside the section
+          // taken for the picture) is hidden whole: nothing more is asked of it.
+          if (covers(sec.shown, f.ring)) {
+            hidden_whole_[fi] = 1;
+            sections_[fi].clear();
+            return;
+          }
+          sec.area = hullArea(sec.hull);
+          sec.x0 = sec.y0 = INFINITY, sec.x1 = sec.y1 = -INFINITY;
+          for (const dvec2& q : sec.hull)
+            sec.x0 = std::min(sec.x0, q.x), sec.x1 = std::max(sec.x1, q.x), sec.y0 = std::min(sec.y0, q.y),
+            sec.y1 = std::max(sec.y1, q.y);
+          sections_[fi].push_back(std::move(sec));
+        }
+      });
+      std::stable_sort(sections_[fi].begin(), sections_[fi].end(),
+                       [](const Section& l, const Section& r) { return l.area > r.area; });
+    }
+  }
+
+  static bool covers(const std::vector<dvec2>& hull, const GridRing& ring) {
     if (hull.size() < 3) return false;
     for (const GridPoint& g : ring)
       for (std::size_t i = 0; i < hull.size(); ++i)
-        if (cross(hull[(i + 1) % hull.size()] - hull[i], dvec2(g.x, g.y) - hull[i]) <= 0)
-          return false;
+        if (cross(hull[(i + 1) % hull.size()] - hull[i], dvec2(g.x, g.y) - hull[i]) <= 0) return false;
     return true;
-  };
-  for (std::uint32_t fi = 0; fi < faces.size(); ++fi) {
-    checkDeadline(deadline, fi);
-    const Face& f = faces[fi];
-    ++stamp;
-    cells.forCells(f.x0, f.y0, f.x1, f.y1, [&](const std::vector<std::uint32_t>& cell) {
-      for (std::uint32_t vi : cell) {
-        if (hidden_whole[fi]) return;
-        if (seen[vi] == stamp) continue;
-        seen[vi] = stamp;
-        const Volume& v = volumes[vi];
-        if ((v.solid >= 0 && v.solid == f.solid) || v.face == static_cast<int>(fi))
-          continue;  // its own solid
-        if (v.x1 <= f.x0 || v.x0 >= f.x1 || v.y1 <= f.y0 || v.y0 >= f.y1 || v.zmin >= f.zmax)
-          continue;
-        out.tests++;
-        Section sec;
-        sec.volume = vi;
-        if (!section(f, v, sc, 0.0, s, sec.hull)) continue;
-        // For the picture, what lies within a grid unit's change of depth of the plane (or its
-        // rounding) does not count as in front: the section by the plane moved that much
-        // towards the eye is never more than what the volume hides, and what it leaves (where
-        // the two are as good as equal in depth) goes to the depth test, as in the z-buffer.
-        const DepthPlane& p = f.w->depth;
-        const double lift = sc.zs * 1e-12 + sc.zs * (std::abs(p.dzdx) + std::abs(p.dzdy)) / kGrid;
-        section(f, v, sc, lift, s, sec.shown);
-        if (covers(sec.shown, f.ring)) {
-          hidden_whole[fi] = 1;
-          sections[fi].clear();
-          return;
-        }
-        sec.area = hullArea(sec.hull);
-        sec.x0 = sec.y0 = INFINITY, sec.x1 = sec.y1 = -INFINITY;
-        for (const dvec2& q : sec.hull)
-          sec.x0 = std::min(sec.x0, q.x), sec.x1 = std::max(sec.x1, q.x),
-          sec.y0 = std::min(sec.y0, q.y), sec.y1 = std::max(sec.y1, q.y);
-        sections[fi].push_back(std::move(sec));
-      }
-    });
-    std::stable_sort(sections[fi].begin(), sections[fi].end(),
-                     [](const Section& l, const Section& r) { return l.area > r.area; });
   }
-  // Edges: each once (two faces of one object that share it give one segment with both ids).
-  const double bx0 = xmin * kGrid, bx1 = xmax * kGrid, by0 = ymin * kGrid, by1 = ymax * kGrid;
-  auto onBorder = [&](dvec2 a, dvec2 b) {
+
+  // The edges of polygon vertices `v` of `object`, each as its key, those along the view's
+  // border left out (the clipper's cut, not an edge).
+  template <class F>
+  void forEdges(std::uint32_t object, const std::vector<dvec3>& v, F&& f) const {
+    const double bx0 = kMin * kGrid, bx1 = xmax_ * kGrid, by0 = kMin * kGrid, by1 = ymax_ * kGrid;
     auto near = [](double u, double w) { return std::abs(u - w) <= 1.0; };
-    return (near(a.x, bx0) && near(b.x, bx0)) || (near(a.x, bx1) && near(b.x, bx1)) ||
-           (near(a.y, by0) && near(b.y, by0)) || (near(a.y, by1) && near(b.y, by1));
-  };
-  struct EdgeRef {
-    std::uint32_t face;
-    PolygonId other;
-    PolygonId neighbour = kNoPolygon;  // the other polygon on the edge, visible or not
-  };
-  std::map<std::array<double, 7>, EdgeRef> edges;  // object, then the ends in order
-  std::vector<std::pair<std::array<double, 7>, EdgeRef*>> order;
-  auto forEdges = [&](std::uint32_t object, const std::vector<dvec3>& v, auto&& f) {
+    auto onBorder = [&](dvec2 a, dvec2 b) {
+      return (near(a.x, bx0) && near(b.x, bx0)) || (near(a.x, bx1) && near(b.x, bx1)) ||
+             (near(a.y, by0) && near(b.y, by0)) || (near(a.y, by1) && near(b.y, by1));
+    };
     for (std::size_t i = 0; i < v.size(); ++i) {
       dvec3 a = v[i], b = v[(i + 1) % v.size()];
       if (onBorder({a.x, a.y}, {b.x, b.y})) continue;
       if (std::tie(b.x, b.y, b.z) < std::tie(a.x, a.y, a.z)) std::swap(a, b);
-      f(std::array<double, 7>{static_cast<double>(object), a.x, a.y, a.z, b.x, b.y, b.z});
+      f(EdgeKey{static_cast<double>(object), a.x, a.y, a.z, b.x, b.y, b.z});
     }
-  };
-  for (std::uint32_t fi = 0; fi < faces.size(); ++fi) {
-    checkDeadline(deadline, fi);
-    const Face& f = faces[fi];
-    forEdges(f.object, f.v, [&](const std::array<double, 7>& key) {
-      auto [it, inserted] = edges.try_emplace(key, EdgeRef{fi, kNoPolygon});
-      if (inserted || it->second.neighbour != kNoPolygon) return;
-      it->second.neighbour = f.w->id;
-      if (faces[it->second.face].w->id != f.w->id) it->second.other = f.w->id;
-    });
   }
-  // The back faces' edges: a silhouette's neighbour, or hidden whole (once each)
-  std::map<std::array<double, 7>, std::pair<PolygonId, PolygonId>> back_edges;
-  for (const BackFace& bf : back_faces)
-    forEdges(bf.object, bf.v, [&](const std::array<double, 7>& key) {
-      if (auto it = edges.find(key); it != edges.end()) {
-        if (it->second.neighbour == kNoPolygon) it->second.neighbour = bf.id;
-        return;
-      }
-      auto [it, inserted] = back_edges.try_emplace(key, bf.id, kNoPolygon);
-      if (!inserted && it->second.second == kNoPolygon) it->second.second = bf.id;
-    });
-  // `meets`: for a junction line, the face g it lies on too: g's own volume is not tested (the
-  // line is on its section's border, where g's plane and f's meet).
-  std::vector<std::pair<double, double>> hidden;
-  auto addHidden = [&](dvec2 a, dvec2 b, PolygonId face, PolygonId other, PolygonId neighbour,
-                       bool junction) {
-    out.hidden.push_back(
-        {a.x / kGrid, a.y / kGrid, b.x / kGrid, b.y / kGrid, face, other, junction, neighbour});
-  };
-  auto addVisible = [&](dvec2 a, dvec2 b, std::uint32_t fi, PolygonId other, PolygonId neighbour,
-                        int meets, std::vector<TraceOutline>* o) {
+
+  // The edges, each once (two faces of one object that share it give one segment with both
+  // ids), listed by the face that tests them; and the back faces' edges: a silhouette's
+  // neighbour, or hidden whole (once each).
+  void listEdges() {
+    std::map<EdgeKey, EdgeRef> edges;
+    for (std::uint32_t fi = 0; fi < faces_.size(); ++fi) {
+      checkDeadline(deadline_, fi);
+      const Face& f = faces_[fi];
+      forEdges(f.object, f.v, [&](const EdgeKey& key) {
+        auto [it, inserted] = edges.try_emplace(key, EdgeRef{fi, kNoPolygon});
+        if (inserted || it->second.neighbour != kNoPolygon) return;
+        it->second.neighbour = f.w->id;
+        if (faces_[it->second.face].w->id != f.w->id) it->second.other = f.w->id;
+      });
+    }
+    for (const BackFace& bf : back_faces_)
+      forEdges(bf.object, bf.v, [&](const EdgeKey& key) {
+        if (auto it = edges.find(key); it != edges.end()) {
+          if (it->second.neighbour == kNoPolygon) it->second.neighbour = bf.id;
+          return;
+        }
+        auto [it, inserted] = back_edges_.try_emplace(key, bf.id, kNoPolygon);
+        if (!inserted && it->second.second == kNoPolygon) it->second.second = bf.id;
+      });
+    edges_of_.resize(faces_.size());
+    for (const auto& [key, ref] : edges) edges_of_[ref.face].emplace_back(key, ref);
+  }
+
+  // ---- 4. Junction lines: face f of one object through face g of another, or through a face
+  // of its own object that it shares no corner with (neighbours in a mesh meet on an edge).
+  // Faces that cross each have a section by the other's volume (each comes in front of the
+  // other's plane), so the pairs are found among the sections; each is taken once.
+  void findJunctionLines() {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    for (std::uint32_t fi = 0; fi < faces_.size(); ++fi)
+      for (const Section& sec : sections_[fi])
+        for (std::uint32_t gi : volumes_[sec.volume].faces)
+          if (!hidden_whole_[gi] && (faces_[gi].object != faces_[fi].object || !shareCorner(faces_[fi], faces_[gi])))
+            pairs.emplace_back(std::min(fi, gi), std::max(fi, gi));
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    junctions_.resize(faces_.size());
+    for (const auto& [fi, gi] : pairs) {
+      checkDeadline(deadline_, checked_++);
+      const Face &f = faces_[fi], &g = faces_[gi];
+      // Where the planes meet: depth(f) - depth(g) = 0, a line in x, y (grid units).
+      const DepthPlane &pf = f.w->depth, &pg = g.w->depth;
+      const double A = (pf.dzdx - pg.dzdx) / kGrid, B = (pf.dzdy - pg.dzdy) / kGrid, C = pf.z0 - pg.z0;
+      const double norm = std::hypot(A, B);
+      if (!(norm > 0) || !std::isfinite(norm)) continue;  // parallel planes
+      const dvec2 p0(-A * C / (norm * norm), -B * C / (norm * norm)), d(-B / norm, A / norm);
+      for (const std::vector<dvec2>& fp : f.pieces)
+        for (const std::vector<dvec2>& gp : g.pieces) {
+          double u0 = -INFINITY, u1 = INFINITY;
+          if (!lineInConvex(p0, d, fp, &u0, &u1) || !lineInConvex(p0, d, gp, &u0, &u1)) continue;
+          if (u1 - u0 <= kTiny) continue;
+          out_.junctions++;
+          junctions_[fi].push_back({p0 + d * u0, p0 + d * u1, gi});
+        }
+    }
+  }
+
+  // ---- 3. (the edges) A face that one section hides whole: its edges and junction lines all
+  // hidden.
+  void hideFace(std::uint32_t fi, bool show) {
+    const Face& f = faces_[fi];
+    out_.edges += edges_of_[fi].size();
+    if (hidden_parts_) {
+      for (const auto& [key, ref] : edges_of_[fi])
+        addHidden({key[1], key[2]}, {key[4], key[5]}, f.w->id, ref.other, ref.neighbour, false);
+      for (const Junction& j : junctions_[fi]) addHidden(j.a, j.b, f.w->id, faces_[j.g].w->id, kNoPolygon, true);
+    }
+    if (show)
+      trace_->record({kStepFace,
+                      "Face " + std::to_string(f.w->id) +
+                          " lies wholly inside the section of a volume in front of it: hidden, edges and all.",
+                      frame_,
+                      {}});
+  }
+
+  // ---- 3. (the edges) The visible segments of a face's edges and junction lines: what no
+  // section of its plane covers (outlined into `o` when given).
+  void keepVisibleEdges(std::uint32_t fi, std::vector<TraceOutline>* o) {
+    for (const auto& [key, ref] : edges_of_[fi])
+      addVisible({key[1], key[2]}, {key[4], key[5]}, fi, ref.other, ref.neighbour, -1, o);
+    for (const Junction& j : junctions_[fi])
+      addVisible(j.a, j.b, fi, faces_[j.g].w->id, kNoPolygon, static_cast<int>(j.g), o);
+  }
+
+  void addHidden(dvec2 a, dvec2 b, PolygonId face, PolygonId other, PolygonId neighbour, bool junction) {
+    out_.hidden.push_back({a.x / kGrid, a.y / kGrid, b.x / kGrid, b.y / kGrid, face, other, junction, neighbour});
+  }
+
+  // Segment ab of face fi: the stretches the sections hide taken out, the rest kept. `meets`:
+  // for a junction line, the face g it lies on too: g's own volume is not tested (the line is
+  // on its section's border, where g's plane and f's meet).
+  void addVisible(dvec2 a, dvec2 b, std::uint32_t fi, PolygonId other, PolygonId neighbour, int meets,
+                  std::vector<TraceOutline>* o) {
     const bool junction = meets >= 0;
-    out.edges += !junction;
+    out_.edges += !junction;
+    std::vector<std::pair<double, double>>& hidden = hidden_stretches_;
     hidden.clear();
-    const PolygonId id = faces[fi].w->id;
-    const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y),
-                 y1 = std::max(a.y, b.y);
-    for (const Section& sec : sections[fi]) {  // the largest first: most often one hides it all
+    const PolygonId id = faces_[fi].w->id;
+    const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
+    for (const Section& sec : sections_[fi]) {  // the largest first: most often one hides it all
       if (sec.x1 <= x0 || sec.x0 >= x1 || sec.y1 <= y0 || sec.y0 >= y1) {
-        if (!(x0 == x1 && sec.x0 < x0 && x0 < sec.x1) && !(y0 == y1 && sec.y0 < y0 && y0 < sec.y1))
-          continue;
+        if (!(x0 == x1 && sec.x0 < x0 && x0 < sec.x1) && !(y0 == y1 && sec.y0 < y0 && y0 < sec.y1)) continue;
       }
-      const std::vector<std::uint32_t>& of = volumes[sec.volume].faces;
-      if (junction &&
-          std::find(of.begin(), of.end(), static_cast<std::uint32_t>(meets)) != of.end())
-        continue;
+      const std::vector<std::uint32_t>& of = volumes_[sec.volume].faces;
+      if (junction && std::find(of.begin(), of.end(), static_cast<std::uint32_t>(meets)) != of.end()) continue;
       double t0, t1;
       if (!insideStretch(a, b, sec.hull, &t0, &t1)) continue;
       if (t0 <= 0 && t1 >= 1) {  // hidden all along
-        if (hidden_parts) addHidden(a, b, id, other, neighbour, junction);
+        if (hidden_parts_) addHidden(a, b, id, other, neighbour, junction);
         return;
       }
       hidden.emplace_back(t0, t1);
@@ -737,8 +868,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
       if ((u1 - u0) * len <= kTiny) return;
       const dvec2 p = a + (b - a) * u0, q = a + (b - a) * u1;
       if (!shown) return addHidden(p, q, id, other, neighbour, junction);
-      out.segments.push_back(
-          {p.x / kGrid, p.y / kGrid, q.x / kGrid, q.y / kGrid, id, other, junction, neighbour});
+      out_.segments.push_back({p.x / kGrid, p.y / kGrid, q.x / kGrid, q.y / kGrid, id, other, junction, neighbour});
       if (o) o->push_back(outlineOf({p, q}));
     };
     for (const auto& [h0, h1] : hidden) {
@@ -746,7 +876,7 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
       t = std::max(t, h1);
     }
     if (t < 1) emit(t, 1, true);
-    if (!hidden_parts) return;
+    if (!hidden_parts_) return;
     double run0 = 0, run1 = -1;  // the hidden runs: the union of the stretches, within the edge
     for (const auto& [h0, h1] : hidden) {
       const double u0 = std::max(h0, 0.0), u1 = std::min(h1, 1.0);
@@ -758,88 +888,12 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
       run1 = std::max(run1, u1);
     }
     if (run1 > run0) emit(run0, run1, false);
-  };
-  // ---- 4. Junction lines: face f of one object through face g of another, or through a face
-  // of its own object that it shares no corner with (neighbours in a mesh meet on an edge).
-  // Faces that cross each have a section by the other's volume (each comes in front of the
-  // other's plane), so the pairs are found among the sections; each is taken once.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  std::uint64_t checked = 0;  // steps of the loops below, for the deadline
-  for (std::uint32_t fi = 0; fi < faces.size(); ++fi)
-    for (const Section& sec : sections[fi])
-      for (std::uint32_t gi : volumes[sec.volume].faces)
-        if (!hidden_whole[gi] &&
-            (faces[gi].object != faces[fi].object || !shareCorner(faces[fi], faces[gi])))
-          pairs.emplace_back(std::min(fi, gi), std::max(fi, gi));
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  struct Junction {
-    dvec2 a, b;
-    std::uint32_t g;
-  };
-  std::vector<std::vector<Junction>> junctions(faces.size());
-  for (const auto& [fi, gi] : pairs) {
-    checkDeadline(deadline, checked++);
-    const Face &f = faces[fi], &g = faces[gi];
-    // Where the planes meet: depth(f) - depth(g) = 0, a line in x, y (grid units).
-    const DepthPlane &pf = f.w->depth, &pg = g.w->depth;
-    const double A = (pf.dzdx - pg.dzdx) / kGrid, B = (pf.dzdy - pg.dzdy) / kGrid,
-                 C = pf.z0 - pg.z0;
-    const double norm = std::hypot(A, B);
-    if (!(norm > 0) || !std::isfinite(norm)) continue;  // parallel planes
-    const dvec2 p0(-A * C / (norm * norm), -B * C / (norm * norm)), d(-B / norm, A / norm);
-    for (const std::vector<dvec2>& fp : f.pieces)
-      for (const std::vector<dvec2>& gp : g.pieces) {
-        double u0 = -INFINITY, u1 = INFINITY;
-        if (!lineInConvex(p0, d, fp, &u0, &u1) || !lineInConvex(p0, d, gp, &u0, &u1)) continue;
-        if (u1 - u0 <= kTiny) continue;
-        out.junctions++;
-        junctions[fi].push_back({p0 + d * u0, p0 + d * u1, gi});
-      }
   }
-  // ---- 3. (the edges) and 5., face by face in id order (the z-buffer's order among equal
-  // depths): the visible segments of the face's edges and junction lines, then what the
-  // sections leave of the face, filled through the shared routine.
-  std::vector<std::vector<std::pair<std::array<double, 7>, EdgeRef>>> by_face(faces.size());
-  for (const auto& [key, ref] : edges) by_face[ref.face].emplace_back(key, ref);
-  std::vector<std::uint32_t> by_id(faces.size());
-  for (std::uint32_t i = 0; i < faces.size(); ++i) by_id[i] = i;
-  std::stable_sort(by_id.begin(), by_id.end(), [&](std::uint32_t l, std::uint32_t r) {
-    return faces[l].w->id < faces[r].w->id;
-  });
-  std::optional<FrameView> fb;
-  if (frame) fb.emplace(*frame);
-  FragmentCounts fragments;
-  std::uint64_t step = 0;
-  for (std::uint32_t fi : by_id) {
-    checkDeadline(deadline, checked++);
-    const Face& f = faces[fi];
-    const bool show = trace && frame && trace->wants(kStepFace, step++, faces.size());
-    std::vector<TraceOutline> o;
-    if (hidden_whole[fi]) {
-      out.edges += by_face[fi].size();
-      if (hidden_parts) {
-        for (const auto& [key, ref] : by_face[fi])
-          addHidden({key[1], key[2]}, {key[4], key[5]}, f.w->id, ref.other, ref.neighbour, false);
-        for (const Junction& j : junctions[fi])
-          addHidden(j.a, j.b, f.w->id, faces[j.g].w->id, kNoPolygon, true);
-      }
-      if (show)
-        trace->record({kStepFace,
-                       "Face " + std::to_string(f.w->id) +
-                           " lies wholly inside the section of a volume in front of it: hidden, "
-                           "edges and all.",
-                       frame,
-                       {}});
-      continue;
-    }
-    for (const auto& [key, ref] : by_face[fi])
-      addVisible({key[1], key[2]}, {key[4], key[5]}, fi, ref.other, ref.neighbour, -1,
-                 show ? &o : nullptr);
-    for (const Junction& j : junctions[fi])
-      addVisible(j.a, j.b, fi, faces[j.g].w->id, kNoPolygon, static_cast<int>(j.g),
-                 show ? &o : nullptr);
-    if (!fb) continue;
+
+  // ---- 5. Faces, for the picture: what the sections leave of the face, filled through the
+  // shared routine; `o` holds its visible segments for the step's picture.
+  void fillVisiblePart(std::uint32_t fi, bool show, std::vector<TraceOutline> o) {
+    const Face& f = faces_[fi];
     ExactRegion region;
     const GridRegion whole{{f.ring, {}}};
     if (invalidRegionReason(whole).empty()) {
@@ -847,11 +901,10 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
     } else {  // snapping folded it (a sliver): its fan, as the Weiler-Atherton list takes it
       for (std::size_t k = 1; k + 1 < f.ring.size(); ++k) {
         const GridRegion tri{{{f.ring[0], f.ring[k], f.ring[k + 1]}, {}}};
-        if (invalidRegionReason(tri).empty())
-          region = booleanOp(region, exactRegion(tri), BooleanOp::Union);
+        if (invalidRegionReason(tri).empty()) region = booleanOp(region, exactRegion(tri), BooleanOp::Union);
       }
     }
-    for (const Section& sec : sections[fi]) {
+    for (const Section& sec : sections_[fi]) {
       if (region.empty()) break;
       if (sec.shown.empty()) continue;
       const GridRing ring = snappedInside(sec.shown);
@@ -859,29 +912,52 @@ RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPoly
       if (ring.size() < 3 || !invalidRegionReason(covered).empty()) continue;
       region = booleanOp(region, exactRegion(covered), BooleanOp::AMinusB);
     }
-    paintExactRegion(region, f.w->depth, f.w->id, f.w->rgba, *fb, fragments, DepthFunc::Less);
-    if (show) {
-      const std::size_t kept = o.size();
-      for (const Section& sec : sections[fi]) o.push_back(outlineOf(sec.hull));
-      trace->record(
-          {kStepFace,
-           "Face " + std::to_string(f.w->id) + ": " + std::to_string(sections[fi].size()) +
-               " volumes come in front of its plane; each hides the section of its shadow by the "
-               "plane "
-               "(outlined). Its edges keep " +
-               std::to_string(kept) +
-               " visible segments (outlined), and what the sections leave of the face is filled.",
-           frame, std::move(o)});
-    }
+    paintExactRegion(region, f.w->depth, f.w->id, f.w->rgba, *fb_, fragments_, DepthFunc::Less);
+    if (!show) return;
+    const std::size_t kept = o.size();
+    for (const Section& sec : sections_[fi]) o.push_back(outlineOf(sec.hull));
+    trace_->record({kStepFace,
+                    "Face " + std::to_string(f.w->id) + ": " + std::to_string(sections_[fi].size()) +
+                        " volumes come in front of its plane; each hides the section of its shadow by the "
+                        "plane (outlined). Its edges keep " +
+                        std::to_string(kept) +
+                        " visible segments (outlined), and what the sections leave of the face is filled.",
+                    frame_, std::move(o)});
   }
-  // The edges only back faces share: hidden whole (their solid's front faces hide them)
-  for (const auto& [key, ids] : back_edges)
-    addHidden({key[1], key[2]}, {key[4], key[5]}, ids.first, kNoPolygon, ids.second, false);
-  if (frame) {
-    frame->stats.fragments_tested += fragments.tested;
-    frame->stats.fragments_written += fragments.written;
-  }
-  return out;
+
+  static constexpr double kMin = -0.5;  // the view's left and top border (pixel-centre coordinates)
+
+  const Scene& scene_;
+  const std::vector<WindowPolygon>& polygons_;
+  Frame* frame_;
+  Trace* trace_;  // null unless explained with a frame
+  const bool hidden_parts_;
+  const Deadline* deadline_;
+  const double xmax_, ymax_;  // the view's right and bottom border
+  RobertsDrawing out_;
+  Scaled sc_;
+  std::vector<int> solid_of_, outward_of_;  // per object
+  std::vector<Face> faces_;
+  std::vector<Volume> volumes_;
+  std::vector<BackFace> back_faces_;
+  std::vector<TraceOutline> back_outlines_, all_outlines_;
+  std::vector<std::vector<Section>> sections_;  // per face
+  std::vector<std::uint8_t> hidden_whole_;      // per face
+  std::vector<std::vector<std::pair<EdgeKey, EdgeRef>>> edges_of_;  // per face
+  std::map<EdgeKey, std::pair<PolygonId, PolygonId>> back_edges_;
+  std::vector<std::vector<Junction>> junctions_;  // per face: the lines it meets others on
+  std::vector<std::pair<double, double>> hidden_stretches_;  // addVisible's scratch
+  std::uint64_t checked_ = 0;  // steps of the later loops, for the deadline
+  std::optional<FrameView> fb_;
+  FragmentCounts fragments_;
+};
+
+}  // namespace
+
+RobertsDrawing robertsDrawingOf(const Scene& scene, const std::vector<WindowPolygon>& polygons,
+                                int width, int height, Frame* frame, Trace* trace,
+                                bool hidden_parts, const Deadline* deadline) {
+  return RobertsRun(scene, polygons, width, height, frame, trace, hidden_parts, deadline).run();
 }
 
 void drawRoberts(const AlgorithmInput& in, Frame& frame) {
