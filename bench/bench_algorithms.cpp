@@ -105,8 +105,8 @@ hsr::Camera fillRateCamera() {
 std::vector<BenchScene>& benchScenes() {
   static std::vector<BenchScene> scenes = [] {
     std::vector<BenchScene> v;
-    for (const char* label : {"spheres/10000", "spheres/100000", "spheres/1000000", "soup/10000", "soup/100000",
-                              "soup/1000000", "2CylinderEngine"}) {
+    for (const char* label : {"spheres/10000", "spheres/100000", "spheres/1000000", "soup/10000",
+                              "soup/100000", "soup/1000000", "2CylinderEngine"}) {
       BenchScene b;
       b.label = label;
       const hsr::bench::BenchSceneSpec& spec = hsr::bench::benchScene(label);
@@ -152,7 +152,8 @@ void runAlgorithm(benchmark::State& state, AlgorithmRun* run) {
     benchmark::DoNotOptimize(frame.ids.data());
     benchmark::ClobberMemory();
   }
-  const std::string key = run->samples ? run->algorithm + "@" + std::to_string(run->samples) : run->algorithm;
+  const std::string key =
+      run->samples ? run->algorithm + "@" + std::to_string(run->samples) : run->algorithm;
   b->state_bytes[key] = frame.stats.state_bytes;
   b->stats[key] = frame.stats;
   setCounters(state, *b);
@@ -180,7 +181,8 @@ void runLlvmpipe(benchmark::State& state, BenchScene* b) {
 void runLlvmpipeMsaa(benchmark::State& state, BenchScene* b) {
   ensureScene(*b);
   if (!b->mesa_msaa) {
-    b->mesa_msaa = std::make_unique<hsr::testing::MesaScene>(*b->scene, b->camera, hsr::RenderOptions{}, 4);
+    b->mesa_msaa =
+        std::make_unique<hsr::testing::MesaScene>(*b->scene, b->camera, hsr::RenderOptions{}, 4);
     b->mesa_msaa->renderFrameMs();  // warm
   }
   for (auto _ : state) {
@@ -193,9 +195,11 @@ void runLlvmpipeMsaa(benchmark::State& state, BenchScene* b) {
 // ratio, the resolved pictures' mean absolute difference (both flat colour on white), depth
 // complexity (fragments per pixel) and memory; then time and memory against the sample count.
 void printABufferTable(const MedianCollector& reporter) {
-  std::printf("\nA-buffer (4 samples) vs llvmpipe 4x MSAA, threads=%d\n%-16s %10s %12s %7s %12s %10s %9s %10s\n",
-              g_threads, "scene", "abuffer ms", "msaa4 ms", "ratio", "no-AA ms", "frags/px", "state B/px",
-              "picture MAD");
+  std::printf(
+      "\nA-buffer (4 samples) vs llvmpipe 4x MSAA, threads=%d\n%-16s %10s %12s %7s %12s %10s %9s "
+      "%10s\n",
+      g_threads, "scene", "abuffer ms", "msaa4 ms", "ratio", "no-AA ms", "frags/px", "state B/px",
+      "picture MAD");
   for (BenchScene& b : benchScenes()) {
     const double ours = reporter.time("BM_abuffer/" + b.label);
     const double msaa = reporter.time("BM_llvmpipe_msaa4/" + b.label);
@@ -213,19 +217,25 @@ void printABufferTable(const MedianCollector& reporter) {
     double diff = 0;
     for (std::size_t k = 0; k < mesa.size(); ++k)
       for (int c = 0; c < 3; ++c)
-        diff += std::abs(static_cast<int>((f.color[k] >> (8 * c)) & 0xFF) - static_cast<int>((mesa[k] >> (8 * c)) & 0xFF));
+        diff += std::abs(static_cast<int>((f.color[k] >> (8 * c)) & 0xFF) -
+                         static_cast<int>((mesa[k] >> (8 * c)) & 0xFF));
     const double px = double(kWidth) * kHeight;
-    std::printf("%-16s %10.2f %12.2f %7.2f %12.2f %10.2f %9.1f %10.3f\n", b.label.c_str(), ours, msaa, msaa / ours,
-                reporter.time("BM_llvmpipe/" + b.label), static_cast<double>(st->second.fragments_written) / px,
+    std::printf("%-16s %10.2f %12.2f %7.2f %12.2f %10.2f %9.1f %10.3f\n", b.label.c_str(), ours,
+                msaa, msaa / ours, reporter.time("BM_llvmpipe/" + b.label),
+                static_cast<double>(st->second.fragments_written) / px,
                 static_cast<double>(st->second.state_bytes) / px, diff / (3.0 * px));
   }
-  std::printf("(ratio = llvmpipe 4x MSAA time / A-buffer time: >= 1 means as fast; MAD: mean |difference| per "
-              "channel, 0-255)\n");
+  std::printf(
+      "(ratio = llvmpipe 4x MSAA time / A-buffer time: >= 1 means as fast; MAD: mean |difference| "
+      "per "
+      "channel, 0-255)\n");
   // Time and memory against depth complexity: see-through layers, none hiding another, so every
   // pixel lists them all
-  std::printf("A-buffer (4 samples) against depth complexity: full-screen see-through layers, %dx%d, threads=%d\n"
-              "%8s %10s %12s %10s %10s\n",
-              kWidth, kHeight, g_threads, "layers", "ms", "frags/px", "MiB", "B/px");
+  std::printf(
+      "A-buffer (4 samples) against depth complexity: full-screen see-through layers, %dx%d, "
+      "threads=%d\n"
+      "%8s %10s %12s %10s %10s\n",
+      kWidth, kHeight, g_threads, "layers", "ms", "frags/px", "MiB", "B/px");
   for (const int layers : {1, 2, 4, 8, 16, 32}) {
     const hsr::Scene scene = glassLayersScene(layers);
     hsr::RenderOptions o;
@@ -237,25 +247,32 @@ void printABufferTable(const MedianCollector& reporter) {
     for (int r = 0; r < 5; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
       hsr::render(scene, fillRateCamera(), o, f);
-      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     std::sort(ms.begin(), ms.end());
     const double px = double(kWidth) * kHeight;
     std::printf("%8d %10.2f %12.2f %10.1f %10.1f\n", layers, ms[ms.size() / 2],
-                static_cast<double>(f.stats.fragments_written) / px, static_cast<double>(f.stats.state_bytes) / 1048576.0,
+                static_cast<double>(f.stats.fragments_written) / px,
+                static_cast<double>(f.stats.state_bytes) / 1048576.0,
                 static_cast<double>(f.stats.state_bytes) / px);
   }
-  std::printf("(median of 5 frames; state: frame buffers, fragment lists and the scene's screen triangles)\n");
+  std::printf(
+      "(median of 5 frames; state: frame buffers, fragment lists and the scene's screen "
+      "triangles)\n");
   for (BenchScene& b : benchScenes()) {
     bool any = false;
     for (const int n : {1, 4, 8, 16, 32, 64}) {
-      const std::string name = n == 4 ? "BM_abuffer/" + b.label : "BM_abuffer@" + std::to_string(n) + "/" + b.label;
+      const std::string name =
+          n == 4 ? "BM_abuffer/" + b.label : "BM_abuffer@" + std::to_string(n) + "/" + b.label;
       const double t = reporter.time(name);
-      const auto st = b.stats.find(n == 4 ? std::string("abuffer") : "abuffer@" + std::to_string(n));
+      const auto st =
+          b.stats.find(n == 4 ? std::string("abuffer") : "abuffer@" + std::to_string(n));
       if (t <= 0 || st == b.stats.end()) continue;
       if (!any) std::printf("A-buffer on %s against the sample count:\n", b.label.c_str());
       any = true;
-      std::printf("  %2d samples %10.2f ms %9.1f MiB\n", n, t, static_cast<double>(st->second.state_bytes) / 1048576.0);
+      std::printf("  %2d samples %10.2f ms %9.1f MiB\n", n, t,
+                  static_cast<double>(st->second.state_bytes) / 1048576.0);
     }
   }
 }
@@ -295,7 +312,8 @@ void runBspRender(benchmark::State& state, BspRun* run) {
   setCounters(state, *run->scene);
 }
 
-std::map<std::string, double> g_build_ms;  // per scene: the octree's build, from the fresh frame's stats
+// per scene: the octree's build, from the fresh frame's stats
+std::map<std::string, double> g_build_ms;
 
 // A frame into a new Frame each time: for the octree, the tree is built for it (in the
 // registry's loop the frame, and with it the tree, is kept from view to view).
@@ -319,8 +337,9 @@ void runFreshFrame(benchmark::State& state, AlgorithmRun* run) {
 // as a multiple of the z-buffer's, pair tests per polygon and splits (the algorithm's own
 // counters), and the growth exponent of the time from 10k to 1M polygons (t ~ n^k).
 void printObjectOrderTable(const MedianCollector& reporter) {
-  std::printf("\nobject order vs zbuffer, threads=%d\n%-14s %-16s %10s %10s %9s %12s %10s %8s\n", g_threads,
-              "algorithm", "scene", "ms", "zbuffer ms", "x zbuffer", "tests/poly", "splits", "n^k");
+  std::printf("\nobject order vs zbuffer, threads=%d\n%-14s %-16s %10s %10s %9s %12s %10s %8s\n",
+              g_threads, "algorithm", "scene", "ms", "zbuffer ms", "x zbuffer", "tests/poly",
+              "splits", "n^k");
   for (const hsr::AlgorithmInfo& a : hsr::algorithms()) {
     if (a.precision != hsr::Precision::kObject || a.demonstration) continue;
     const std::string prefix(a.name);
@@ -332,7 +351,8 @@ void printObjectOrderTable(const MedianCollector& reporter) {
         const double z = reporter.time("BM_zbuffer/" + b.label);
         const auto st = b.stats.find(prefix);
         if (ours <= 0 || st == b.stats.end()) continue;
-        const double polygons = static_cast<double>(std::max<std::uint64_t>(st->second.polygons_in, 1));
+        const double polygons =
+            static_cast<double>(std::max<std::uint64_t>(st->second.polygons_in, 1));
         std::uint64_t tests = 0, splits = 0;
         for (const hsr::Counter& c : st->second.counters) {
           if (c.name.ends_with(": overlap candidates")) tests += c.value;
@@ -340,16 +360,19 @@ void printObjectOrderTable(const MedianCollector& reporter) {
         }
         char growth[16] = "-";
         if (t_first > 0)
-          std::snprintf(growth, sizeof growth, "%.2f", std::log(ours / t_first) / std::log(polygons / n_first));
+          std::snprintf(growth, sizeof growth, "%.2f",
+                        std::log(ours / t_first) / std::log(polygons / n_first));
         else
           t_first = ours, n_first = polygons;
-        std::printf("%-14s %-16s %10.2f %10.2f %9.2f %12.1f %10llu %8s\n", prefix.c_str(), b.label.c_str(), ours,
-                    z, z > 0 ? ours / z : 0.0, static_cast<double>(tests) / polygons,
-                    static_cast<unsigned long long>(splits), growth);
+        std::printf("%-14s %-16s %10.2f %10.2f %9.2f %12.1f %10llu %8s\n", prefix.c_str(),
+                    b.label.c_str(), ours, z, z > 0 ? ours / z : 0.0,
+                    static_cast<double>(tests) / polygons, static_cast<unsigned long long>(splits),
+                    growth);
       }
     }
   }
-  std::printf("(x zbuffer = algorithm time / zbuffer time; n^k: growth of time from the 10k scene)\n");
+  std::printf(
+      "(x zbuffer = algorithm time / zbuffer time; n^k: growth of time from the 10k scene)\n");
 }
 
 // The image-order algorithms against the z-buffer on the same scene and thread count: speed
@@ -358,8 +381,9 @@ void printObjectOrderTable(const MedianCollector& reporter) {
 // with at most 5% of its state; Warnock on spheres/100000 within 10x its time; the octree's
 // frame (tree built) at least 0.5x its speed on spheres/1000000, skipping most hidden leaves.
 void printImageOrderTable(const MedianCollector& reporter) {
-  std::printf("\nimage order vs zbuffer, threads=%d\n%-16s %-16s %9s %10s %7s %9s %8s  %s\n", g_threads, "algorithm",
-              "scene", "ms", "zbuffer ms", "speed", "state MiB", "% state", "work");
+  std::printf("\nimage order vs zbuffer, threads=%d\n%-16s %-16s %9s %10s %7s %9s %8s  %s\n",
+              g_threads, "algorithm", "scene", "ms", "zbuffer ms", "speed", "state MiB", "% state",
+              "work");
   for (const char* name : {"zbuffer-textbook", "scanline", "warnock", "octree"}) {
     for (const BenchScene& b : benchScenes()) {
       const double ours = reporter.time("BM_" + std::string(name) + "/" + b.label);
@@ -373,7 +397,8 @@ void printImageOrderTable(const MedianCollector& reporter) {
         work = "spans " + std::to_string(s.counter("scanline: spans")) + ", several " +
                std::to_string(s.counter("scanline: spans inside several")) + " (previous row " +
                std::to_string(s.counter("scanline: previous row's order reused")) + ", ends " +
-               std::to_string(s.counter("scanline: decided at the span's ends")) + ", pixel by pixel " +
+               std::to_string(s.counter("scanline: decided at the span's ends")) +
+               ", pixel by pixel " +
                std::to_string(s.counter("scanline: compared pixel by pixel")) + ")";
       } else if (std::string(name) == "warnock") {
         std::uint64_t areas = 0;
@@ -388,13 +413,16 @@ void printImageOrderTable(const MedianCollector& reporter) {
         const std::uint64_t skipped = s.counter("octree: leaves under covered octants");
         const std::uint64_t hidden = s.counter("octree: leaves drawn, hidden");
         char share[32];
-        std::snprintf(share, sizeof share, "%.1f%%", skipped + hidden ? 100.0 * skipped / (skipped + hidden) : 0.0);
+        std::snprintf(share, sizeof share, "%.1f%%",
+                      skipped + hidden ? 100.0 * skipped / (skipped + hidden) : 0.0);
         work = "leaves " + std::to_string(s.counter("octree: leaves")) + ", hidden skipped " +
-               std::to_string(skipped) + " / drawn " + std::to_string(hidden) + " (" + share + " of hidden skipped)";
+               std::to_string(skipped) + " / drawn " + std::to_string(hidden) + " (" + share +
+               " of hidden skipped)";
       }
-      std::printf("%-16s %-16s %9.2f %10.2f %7.2f %9.2f %7.1f%%  %s\n", name, b.label.c_str(), ours, z, z / ours,
-                  static_cast<double>(s.state_bytes) / 1048576.0,
-                  100.0 * static_cast<double>(s.state_bytes) / static_cast<double>(std::max<std::uint64_t>(zst->second.state_bytes, 1)),
+      std::printf("%-16s %-16s %9.2f %10.2f %7.2f %9.2f %7.1f%%  %s\n", name, b.label.c_str(), ours,
+                  z, z / ours, static_cast<double>(s.state_bytes) / 1048576.0,
+                  100.0 * static_cast<double>(s.state_bytes) /
+                      static_cast<double>(std::max<std::uint64_t>(zst->second.state_bytes, 1)),
                   work.c_str());
     }
   }
@@ -403,19 +431,26 @@ void printImageOrderTable(const MedianCollector& reporter) {
     const double kept = reporter.time("BM_octree/" + b.label);
     const auto build = g_build_ms.find(b.label);
     if (fresh > 0 && kept > 0 && build != g_build_ms.end())
-      std::printf("octree %-16s a first frame (new buffers, tree built) %.1f ms, of it the build %.1f ms; a next view %.1f ms\n",
-                  b.label.c_str(), fresh, build->second, kept);
+      std::printf(
+          "octree %-16s a first frame (new buffers, tree built) %.1f ms, of it the build %.1f ms; "
+          "a next view %.1f ms\n",
+          b.label.c_str(), fresh, build->second, kept);
   }
-  std::printf("(speed = zbuffer time / algorithm time: >= 1 means as fast; %% state = the algorithm's state "
-              "memory as a share of the z-buffer's)\n");
+  std::printf(
+      "(speed = zbuffer time / algorithm time: >= 1 means as fast; %% state = the algorithm's "
+      "state "
+      "memory as a share of the z-buffer's)\n");
 }
 
 // The BSP tree built once and rendered from it: build time, splits, depth, memory; a frame
 // from the built tree against the z-buffer's frame; growth exponents from the 10k scene.
-void printBspTable(const MedianCollector& reporter, const std::vector<std::unique_ptr<BspRun>>& runs) {
-  std::printf("\nBSP tree built once, rendered from it, threads=%d\n%-16s %10s %10s %8s %6s %8s %10s %10s %9s %7s %7s\n",
-              g_threads, "scene", "build ms", "splits", "splits/n", "depth", "MiB", "render ms", "zbuffer ms",
-              "x zbuffer", "build k", "frame k");
+void printBspTable(const MedianCollector& reporter,
+                   const std::vector<std::unique_ptr<BspRun>>& runs) {
+  std::printf(
+      "\nBSP tree built once, rendered from it, threads=%d\n%-16s %10s %10s %8s %6s %8s %10s %10s "
+      "%9s %7s %7s\n",
+      g_threads, "scene", "build ms", "splits", "splits/n", "depth", "MiB", "render ms",
+      "zbuffer ms", "x zbuffer", "build k", "frame k");
   for (const char* kind : {"spheres", "soup"}) {
     double build_first = -1, render_first = -1, n_first = 0;
     for (const std::unique_ptr<BspRun>& r : runs) {
@@ -428,19 +463,23 @@ void printBspTable(const MedianCollector& reporter, const std::vector<std::uniqu
       const double n = static_cast<double>(std::max<std::uint64_t>(st.input_polygons, 1));
       char build_k[16] = "-", frame_k[16] = "-";
       if (build_first > 0 && build > 0 && frame > 0) {
-        std::snprintf(build_k, sizeof build_k, "%.2f", std::log(build / build_first) / std::log(n / n_first));
-        std::snprintf(frame_k, sizeof frame_k, "%.2f", std::log(frame / render_first) / std::log(n / n_first));
+        std::snprintf(build_k, sizeof build_k, "%.2f",
+                      std::log(build / build_first) / std::log(n / n_first));
+        std::snprintf(frame_k, sizeof frame_k, "%.2f",
+                      std::log(frame / render_first) / std::log(n / n_first));
       } else if (build > 0 && frame > 0) {
         build_first = build, render_first = frame, n_first = n;
       }
-      std::printf("%-16s %10.1f %10llu %8.3f %6llu %8.1f %10.2f %10.2f %9.2f %7s %7s\n", b.label.c_str(), build,
-                  static_cast<unsigned long long>(st.splits), static_cast<double>(st.splits) / n,
-                  static_cast<unsigned long long>(st.depth), static_cast<double>(st.bytes) / 1048576.0, frame, z,
+      std::printf("%-16s %10.1f %10llu %8.3f %6llu %8.1f %10.2f %10.2f %9.2f %7s %7s\n",
+                  b.label.c_str(), build, static_cast<unsigned long long>(st.splits),
+                  static_cast<double>(st.splits) / n, static_cast<unsigned long long>(st.depth),
+                  static_cast<double>(st.bytes) / 1048576.0, frame, z,
                   z > 0 && frame > 0 ? frame / z : 0.0, build_k, frame_k);
     }
   }
-  std::printf("(render ms: a frame from the built tree, the pipeline's window polygons included; k: growth "
-              "exponent from the 10k scene)\n");
+  std::printf(
+      "(render ms: a frame from the built tree, the pipeline's window polygons included; k: growth "
+      "exponent from the 10k scene)\n");
 }
 
 }  // namespace
@@ -451,10 +490,11 @@ void printBspTable(const MedianCollector& reporter, const std::vector<std::uniqu
 // machine where the repetitions above may not. HSR_BENCH_NO_PAIRS skips it.
 void printPairedZBufferTable() {
   constexpr int kPairs = 9;
-  std::printf("\nz-buffer vs llvmpipe in %d back-to-back pairs, %d thread(s) (bar: 2.0x on every scene)\n", kPairs,
-              g_threads);
-  std::printf("threads=%d  %-22s %10s %12s %8s %16s %6s\n", g_threads, "scene", "zbuffer ms", "llvmpipe ms",
-              "ratio", "ratio range", "bar");
+  std::printf(
+      "\nz-buffer vs llvmpipe in %d back-to-back pairs, %d thread(s) (bar: 2.0x on every scene)\n",
+      kPairs, g_threads);
+  std::printf("threads=%d  %-22s %10s %12s %8s %16s %6s\n", g_threads, "scene", "zbuffer ms",
+              "llvmpipe ms", "ratio", "ratio range", "bar");
   for (BenchScene& b : benchScenes()) {
     ensureScene(b);
     if (!b.mesa) {
@@ -469,7 +509,8 @@ void printPairedZBufferTable() {
     for (int k = 0; k < kPairs; ++k) {
       const auto t0 = std::chrono::steady_clock::now();
       hsr::render(*b.scene, b.camera, options, frame);
-      ours.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      ours.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       mesa.push_back(b.mesa->renderFrameMs());
       ratio.push_back(mesa.back() / ours.back());
     }
@@ -481,8 +522,8 @@ void printPairedZBufferTable() {
     char range[32];
     std::snprintf(range, sizeof range, "%.2f-%.2f", *std::min_element(ratio.begin(), ratio.end()),
                   *std::max_element(ratio.begin(), ratio.end()));
-    std::printf("threads=%d  %-22s %10.2f %12.2f %8.2f %16s %6s\n", g_threads, b.label.c_str(), median(ours),
-                median(mesa), r, range, r >= 2.0 ? "met" : "not");
+    std::printf("threads=%d  %-22s %10.2f %12.2f %8.2f %16s %6s\n", g_threads, b.label.c_str(),
+                median(ours), median(mesa), r, range, r >= 2.0 ? "met" : "not");
   }
 }
 
@@ -521,23 +562,27 @@ int main(int argc, char** argv) {
     configure(benchmark::RegisterBenchmark(("BM_llvmpipe/" + b.label).c_str(), runLlvmpipe, &b));
     // The A-buffer's peer, on the scenes its issue names; its sample counts on one scene
     if (b.label == "spheres/100000" || b.label == "spheres/1000000" || b.fill_rate)
-      configure(benchmark::RegisterBenchmark(("BM_llvmpipe_msaa4/" + b.label).c_str(), runLlvmpipeMsaa, &b));
+      configure(benchmark::RegisterBenchmark(("BM_llvmpipe_msaa4/" + b.label).c_str(),
+                                             runLlvmpipeMsaa, &b));
     if (b.label == "spheres/100000")
       for (const int n : {1, 8, 16, 32, 64}) {
         runs.push_back(std::make_unique<AlgorithmRun>(AlgorithmRun{"abuffer", &b, n}));
-        configure(benchmark::RegisterBenchmark(("BM_abuffer@" + std::to_string(n) + "/" + b.label).c_str(),
-                                               runAlgorithm, runs.back().get()));
+        configure(benchmark::RegisterBenchmark(
+            ("BM_abuffer@" + std::to_string(n) + "/" + b.label).c_str(), runAlgorithm,
+            runs.back().get()));
       }
     if (b.fill_rate) continue;
     runs.push_back(std::make_unique<AlgorithmRun>(AlgorithmRun{"octree", &b}));
-    benchmark::RegisterBenchmark(("BM_octree_fresh/" + b.label).c_str(), runFreshFrame, runs.back().get())
+    benchmark::RegisterBenchmark(("BM_octree_fresh/" + b.label).c_str(), runFreshFrame,
+                                 runs.back().get())
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         ->Iterations(1)
         ->Repetitions(3)
         ->ReportAggregatesOnly(true);
     bsp_runs.push_back(std::make_unique<BspRun>(BspRun{&b, nullptr}));
-    benchmark::RegisterBenchmark(("BM_bsp_build/" + b.label).c_str(), runBspBuild, bsp_runs.back().get())
+    benchmark::RegisterBenchmark(("BM_bsp_build/" + b.label).c_str(), runBspBuild,
+                                 bsp_runs.back().get())
         ->Unit(benchmark::kMillisecond)
         ->UseManualTime()
         ->Iterations(1)

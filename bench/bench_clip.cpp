@@ -54,7 +54,8 @@ struct Pair {
 
 CGAL::Polygon_2<K> cgalRing(const GridRing& r) {
   CGAL::Polygon_2<K> p;
-  for (const hsr::GridPoint& v : r) p.push_back(K::Point_2(static_cast<double>(v.x), static_cast<double>(v.y)));
+  for (const hsr::GridPoint& v : r)
+    p.push_back(K::Point_2(static_cast<double>(v.x), static_cast<double>(v.y)));
   if (p.orientation() != CGAL::COUNTERCLOCKWISE) p.reverse_orientation();
   return p;
 }
@@ -63,8 +64,10 @@ Pair makePair(const GridRing& a, const GridRing& b) {
   Pair p;
   p.a = {{a, {}}}, p.b = {{b, {}}};
   p.ca = CgalSet(cgalRing(a)), p.cb = CgalSet(cgalRing(b));
-  for (const hsr::GridPoint& v : a) p.ba.outer().push_back(BgPoint(static_cast<double>(v.x), static_cast<double>(v.y)));
-  for (const hsr::GridPoint& v : b) p.bb.outer().push_back(BgPoint(static_cast<double>(v.x), static_cast<double>(v.y)));
+  for (const hsr::GridPoint& v : a)
+    p.ba.outer().push_back(BgPoint(static_cast<double>(v.x), static_cast<double>(v.y)));
+  for (const hsr::GridPoint& v : b)
+    p.bb.outer().push_back(BgPoint(static_cast<double>(v.x), static_cast<double>(v.y)));
   bg::correct(p.ba), bg::correct(p.bb);
   p.pa.emplace_back(), p.pb.emplace_back();
   for (const hsr::GridPoint& v : a) p.pa[0].push_back({v.x, v.y});
@@ -100,7 +103,8 @@ std::vector<Pair> makePairs(const Shape& s, int count, std::uint64_t seed) {
         for (double& t : angles) t = 2 * std::numbers::pi * rng.uniform();
         std::sort(angles.begin(), angles.end());
         GridRing r;
-        for (double t : angles) r.push_back({std::llround(cx + 1e6 * std::cos(t)), std::llround(cy + 1e6 * std::sin(t))});
+        for (double t : angles)
+          r.push_back({std::llround(cx + 1e6 * std::cos(t)), std::llround(cy + 1e6 * std::sin(t))});
         return r;
       };
       a = ring(0, 0), b = ring(3e5, 1e5);
@@ -131,13 +135,18 @@ double microseconds(F&& f) {
 
 int main(int argc, char** argv) {
   const int count = argc > 1 ? std::max(1, std::atoi(argv[1])) : 1000;
-  const Shape shapes[] = {{"star", 4}, {"star", 16}, {"star", 64}, {"star", 256}, {"convex", 4}, {"convex", 256}};
+  const Shape shapes[] = {{"star", 4},   {"star", 16},  {"star", 64},
+                          {"star", 256}, {"convex", 4}, {"convex", 256}};
   const BooleanOp ops[] = {BooleanOp::Intersection, BooleanOp::Union, BooleanOp::AMinusB};
-  std::printf("hsr Weiler-Atherton vs CGAL %s (exact), Boost.Geometry %d.%d (double), Clipper 6 (int64): %d pairs per row,\n"
-              "median microseconds per operation (median of 3 passes); ratio = peer time / hsr time (> 1: hsr faster)\n",
-              CGAL_VERSION_STR, BOOST_VERSION / 100000, BOOST_VERSION / 100 % 1000, count);
-  std::printf("%-8s %5s %-4s %9s %9s %9s %9s %9s %9s %9s   %s\n", "shape", "n", "op", "hsr us", "CGAL us", "Boost us", "Clipper",
-              "CGAL/hsr", "Boost/hsr", "Clip/hsr", "area: max rel. diff of Boost, Clipper from hsr's exact");
+  std::printf(
+      "hsr Weiler-Atherton vs CGAL %s (exact), Boost.Geometry %d.%d (double), Clipper 6 (int64): "
+      "%d pairs per row,\n"
+      "median microseconds per operation (median of 3 passes); ratio = peer time / hsr time (> 1: "
+      "hsr faster)\n",
+      CGAL_VERSION_STR, BOOST_VERSION / 100000, BOOST_VERSION / 100 % 1000, count);
+  std::printf("%-8s %5s %-4s %9s %9s %9s %9s %9s %9s %9s   %s\n", "shape", "n", "op", "hsr us",
+              "CGAL us", "Boost us", "Clipper", "CGAL/hsr", "Boost/hsr", "Clip/hsr",
+              "area: max rel. diff of Boost, Clipper from hsr's exact");
   std::uint64_t seed = 1;
   for (const Shape& s : shapes) {
     const std::vector<Pair> pairs = makePairs(s, count, seed++);
@@ -151,15 +160,21 @@ int main(int argc, char** argv) {
           h.push_back(microseconds([&] { ours = hsr::booleanOp(p.a, p.b, op); }));
           CgalSet cs = p.ca;
           c.push_back(microseconds([&] {
-            if (op == BooleanOp::Intersection) cs.intersection(p.cb);
-            else if (op == BooleanOp::Union) cs.join(p.cb);
-            else cs.difference(p.cb);
+            if (op == BooleanOp::Intersection)
+              cs.intersection(p.cb);
+            else if (op == BooleanOp::Union)
+              cs.join(p.cb);
+            else
+              cs.difference(p.cb);
           }));
           BgMulti bm;
           b.push_back(microseconds([&] {
-            if (op == BooleanOp::Intersection) bg::intersection(p.ba, p.bb, bm);
-            else if (op == BooleanOp::Union) bg::union_(p.ba, p.bb, bm);
-            else bg::difference(p.ba, p.bb, bm);
+            if (op == BooleanOp::Intersection)
+              bg::intersection(p.ba, p.bb, bm);
+            else if (op == BooleanOp::Union)
+              bg::union_(p.ba, p.bb, bm);
+            else
+              bg::difference(p.ba, p.bb, bm);
           }));
           ClipperLib::Paths out;
           k.push_back(microseconds([&] {
@@ -179,17 +194,20 @@ int main(int argc, char** argv) {
             clipper_diff = std::max(clipper_diff, std::abs(clipper_area - exact) / scale);
             const double cgal = cgalArea(cs);
             if (std::abs(cgal - exact) > 1e-9 * scale) {
-              std::fprintf(stderr, "hsr_bench_clip: %s %d %s: hsr's area %.17g, CGAL's %.17g\n", s.name.c_str(), s.vertices,
-                           hsr::booleanOpName(op), exact, cgal);
+              std::fprintf(stderr, "hsr_bench_clip: %s %d %s: hsr's area %.17g, CGAL's %.17g\n",
+                           s.name.c_str(), s.vertices, hsr::booleanOpName(op), exact, cgal);
               return 1;
             }
           }
         }
-        t_hsr.push_back(median(h)), t_cgal.push_back(median(c)), t_boost.push_back(median(b)), t_clipper.push_back(median(k));
+        t_hsr.push_back(median(h)), t_cgal.push_back(median(c)), t_boost.push_back(median(b)),
+            t_clipper.push_back(median(k));
       }
-      const double th = median(t_hsr), tc = median(t_cgal), tb = median(t_boost), tk = median(t_clipper);
-      std::printf("%-8s %5d %-4s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f   %.1e, %.1e\n", s.name.c_str(), s.vertices,
-                  hsr::booleanOpName(op), th, tc, tb, tk, tc / th, tb / th, tk / th, boost_diff, clipper_diff);
+      const double th = median(t_hsr), tc = median(t_cgal), tb = median(t_boost),
+                   tk = median(t_clipper);
+      std::printf("%-8s %5d %-4s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f   %.1e, %.1e\n",
+                  s.name.c_str(), s.vertices, hsr::booleanOpName(op), th, tc, tb, tk, tc / th,
+                  tb / th, tk / th, boost_diff, clipper_diff);
       std::fflush(stdout);
     }
   }

@@ -102,7 +102,8 @@ struct Race {
 std::vector<std::unique_ptr<Race>>& races() {
   static std::vector<std::unique_ptr<Race>> v = [] {
     std::vector<std::unique_ptr<Race>> r;
-    for (const char* label : {"spheres/1000", "spheres/10000", "spheres/100000", "spheres/1000000", "Wuson", "Spider_binary"}) {
+    for (const char* label : {"spheres/1000", "spheres/10000", "spheres/100000", "spheres/1000000",
+                              "Wuson", "Spider_binary"}) {
       auto race = std::make_unique<Race>();
       race->label = label;
       const hsr::bench::BenchSceneSpec& spec = hsr::bench::benchScene(label);

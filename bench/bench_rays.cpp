@@ -53,7 +53,8 @@ struct Race {
   std::unique_ptr<hsr::Scene> scene;
   std::unique_ptr<hsr::RayScene> ours;
   std::unique_ptr<hsr::testing::EmbreeScene> embree;
-  std::unique_ptr<hsr::testing::EmbreeScene> embree_robust;  // RTC_SCENE_FLAG_ROBUST: watertight, as hsr is
+  // RTC_SCENE_FLAG_ROBUST: watertight, as hsr is
+  std::unique_ptr<hsr::testing::EmbreeScene> embree_robust;
   hsr::Camera camera;
   RayBatch primary, incoherent;
   double our_bvh_ms = 0;  // the hierarchy alone, of the last build
@@ -82,7 +83,8 @@ struct Race {
 std::vector<std::unique_ptr<Race>>& races() {
   static std::vector<std::unique_ptr<Race>> v = [] {
     std::vector<std::unique_ptr<Race>> r;
-    for (const char* label : {"spheres/10000", "spheres/100000", "spheres/1000000", "2CylinderEngine", "Wuson"}) {
+    for (const char* label :
+         {"spheres/10000", "spheres/100000", "spheres/1000000", "2CylinderEngine", "Wuson"}) {
       auto race = std::make_unique<Race>();
       race->label = label;
       const hsr::bench::BenchSceneSpec& spec = hsr::bench::benchScene(label);
@@ -114,24 +116,27 @@ void runRays(benchmark::State& state, Race* race, bool primary, Way way) {
   race->ensure();
   const RayBatch& b = primary ? race->primary : race->incoherent;
   std::vector<hsr::testing::EmbreeHit> out(b.org.size());
-  std::vector<hsr::RayHit> ours(way == Way::kHsr ? b.org.size() : 0);  // both answer into arrays made beforehand
+  std::vector<hsr::RayHit> ours(way == Way::kHsr ? b.org.size()
+                                                 : 0);  // both answer into arrays made beforehand
   for (auto _ : state) {
     if (way == Way::kHsr) {
       arena().execute([&] { race->ours->intersect(b.org, b.dir, ours, b.tmax, b.tmin); });
     } else {
       parallelRays(b.org.size(), [&](std::size_t begin, std::size_t end) {
         if (way == Way::kEmbree1) {
-          for (std::size_t i = begin; i < end; ++i) out[i] = race->embree->intersect1(b.org[i], b.dir[i], b.tmin, b.tmax);
+          for (std::size_t i = begin; i < end; ++i)
+            out[i] = race->embree->intersect1(b.org[i], b.dir[i], b.tmin, b.tmax);
         } else if (way == Way::kEmbree1Robust) {
           for (std::size_t i = begin; i < end; ++i)
             out[i] = race->embree_robust->intersect1(b.org[i], b.dir[i], b.tmin, b.tmax);
         } else if (way == Way::kEmbree8) {
           for (std::size_t i = begin; i < end; i += 8)
-            race->embree->intersect8(&b.org[i], &b.dir[i], static_cast<int>(std::min<std::size_t>(8, end - i)), b.tmin,
+            race->embree->intersect8(&b.org[i], &b.dir[i],
+                                     static_cast<int>(std::min<std::size_t>(8, end - i)), b.tmin,
                                      b.tmax, &out[i]);
         } else {
-          race->embree->intersect1M(&b.org[begin], &b.dir[begin], static_cast<int>(end - begin), b.tmin, b.tmax,
-                                    &out[begin]);
+          race->embree->intersect1M(&b.org[begin], &b.dir[begin], static_cast<int>(end - begin),
+                                    b.tmin, b.tmax, &out[begin]);
         }
       });
     }
@@ -156,12 +161,14 @@ void runBuild(benchmark::State& state, Race* race, int which) {
         race->our_bvh_ms = r.stats().build_ms;
       });
     } else {
-      const hsr::testing::EmbreeScene e(*race->ours, g_threads, false,
-                                        which == 1 ? hsr::testing::EmbreeQuality::kMedium : hsr::testing::EmbreeQuality::kHigh);
+      const hsr::testing::EmbreeScene e(
+          *race->ours, g_threads, false,
+          which == 1 ? hsr::testing::EmbreeQuality::kMedium : hsr::testing::EmbreeQuality::kHigh);
       state.SetIterationTime(e.buildMs() / 1000.0);
       continue;
     }
-    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
 }
 
@@ -190,14 +197,18 @@ void pairedBar() {
     auto ms = [](auto&& f) {
       const auto t0 = std::chrono::steady_clock::now();
       f();
-      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+          .count();
     };
     auto embree = [&] {
       parallelRays(b.org.size(), [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) out[i] = race.embree->intersect1(b.org[i], b.dir[i], b.tmin, b.tmax);
+        for (std::size_t i = begin; i < end; ++i)
+          out[i] = race.embree->intersect1(b.org[i], b.dir[i], b.tmin, b.tmax);
       });
     };
-    auto hsr_rays = [&] { arena().execute([&] { race.ours->intersect(b.org, b.dir, ours, b.tmax, b.tmin); }); };
+    auto hsr_rays = [&] {
+      arena().execute([&] { race.ours->intersect(b.org, b.dir, ours, b.tmax, b.tmin); });
+    };
     embree(), hsr_rays();  // warm both
     std::vector<double> ratios;
     for (int round = 0; round < 9; ++round) {
@@ -205,8 +216,10 @@ void pairedBar() {
       ratios.push_back(e / o);
     }
     std::sort(ratios.begin(), ratios.end());
-    std::printf("\npaired, threads=%d: spheres/1000000 primary rays, rtcIntersect1 time / hsr time in 9 pairs: median %.3f (range %.3f-%.3f)\n",
-                g_threads, ratios[4], ratios.front(), ratios.back());
+    std::printf(
+        "\npaired, threads=%d: spheres/1000000 primary rays, rtcIntersect1 time / hsr time in 9 "
+        "pairs: median %.3f (range %.3f-%.3f)\n",
+        g_threads, ratios[4], ratios.front(), ratios.back());
   }
 }
 
@@ -219,13 +232,18 @@ int main(int argc, char** argv) {
     const bool huge = race->label == "spheres/1000000";
     auto configure = [&](benchmark::internal::Benchmark* bm) {
       bm->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
-      if (huge) bm->Iterations(2);
-      else bm->MinTime(0.2);
+      if (huge)
+        bm->Iterations(2);
+      else
+        bm->MinTime(0.2);
       return bm;
     };
     for (const char* kind : {"build_hsr", "build_embree", "build_embree_high"}) {
-      const int which = std::string(kind) == "build_hsr" ? 0 : std::string(kind) == "build_embree" ? 1 : 2;
-      benchmark::RegisterBenchmark(("BM_" + std::string(kind) + "/" + race->label).c_str(), runBuild, race, which)
+      const int which = std::string(kind) == "build_hsr"      ? 0
+                        : std::string(kind) == "build_embree" ? 1
+                                                              : 2;
+      benchmark::RegisterBenchmark(("BM_" + std::string(kind) + "/" + race->label).c_str(),
+                                   runBuild, race, which)
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime()
           ->Iterations(1)
@@ -234,21 +252,25 @@ int main(int argc, char** argv) {
     }
     for (const bool primary : {true, false}) {
       const std::string rays = primary ? "primary" : "incoherent";
-      const std::pair<const char*, Way> ways[] = {
-          {"hsr", Way::kHsr},           {"embree1", Way::kEmbree1},   {"embree1robust", Way::kEmbree1Robust},
-          {"embree8", Way::kEmbree8}, {"embree1M", Way::kEmbree1M}};
+      const std::pair<const char*, Way> ways[] = {{"hsr", Way::kHsr},
+                                                  {"embree1", Way::kEmbree1},
+                                                  {"embree1robust", Way::kEmbree1Robust},
+                                                  {"embree8", Way::kEmbree8},
+                                                  {"embree1M", Way::kEmbree1M}};
       for (const auto& [name, way] : ways)
-        configure(benchmark::RegisterBenchmark(("BM_" + rays + "_" + name + "/" + race->label).c_str(), runRays, race,
-                                               primary, way));
+        configure(benchmark::RegisterBenchmark(
+            ("BM_" + rays + "_" + name + "/" + race->label).c_str(), runRays, race, primary, way));
     }
     for (const char* algorithm : {"raycast", "zbuffer"})
-      configure(benchmark::RegisterBenchmark(("BM_frame_" + std::string(algorithm) + "/" + race->label).c_str(),
-                                             runFrame, race, algorithm));
+      configure(benchmark::RegisterBenchmark(
+          ("BM_frame_" + std::string(algorithm) + "/" + race->label).c_str(), runFrame, race,
+          algorithm));
   }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   std::printf("hsr's rays vs Embree %s at %dx%d primary and %zu incoherent rays, %d thread(s)\n",
-              hsr::testing::EmbreeScene::version().c_str(), kWidth, kHeight, kIncoherentRays, g_threads);
+              hsr::testing::EmbreeScene::version().c_str(), kWidth, kHeight, kIncoherentRays,
+              g_threads);
   MedianCollector reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
 
@@ -256,34 +278,46 @@ int main(int argc, char** argv) {
     const double p = reporter.time(peer), o = reporter.time(ours);
     return p > 0 && o > 0 ? p / o : 0.0;
   };
-  std::printf("\nrays vs Embree, threads=%d (Embree time / hsr time: > 1 means hsr is faster)\n", g_threads);
-  std::printf("%-18s %-10s %9s %9s %9s %9s %9s %11s  %s\n", "scene", "rays", "hsr Mr/s", "x 1", "x 1 wt", "x 8",
-              "x 1M", "frame ms", "frame: raycast / zbuffer time");
+  std::printf("\nrays vs Embree, threads=%d (Embree time / hsr time: > 1 means hsr is faster)\n",
+              g_threads);
+  std::printf("%-18s %-10s %9s %9s %9s %9s %9s %11s  %s\n", "scene", "rays", "hsr Mr/s", "x 1",
+              "x 1 wt", "x 8", "x 1M", "frame ms", "frame: raycast / zbuffer time");
   for (const auto& r : races()) {
     const std::string& l = r->label;
     for (const std::string rays : {"primary", "incoherent"}) {
       const double ours = reporter.time("BM_" + rays + "_hsr/" + l);
       const std::size_t n = rays == "primary" ? std::size_t(kWidth) * kHeight : kIncoherentRays;
-      const double frame = reporter.time("BM_frame_raycast/" + l), z = reporter.time("BM_frame_zbuffer/" + l);
-      std::printf("%-18s %-10s %9.2f %9.2f %9.2f %9.2f %9.2f %11.1f  %s\n", l.c_str(), rays.c_str(),
-                  ours > 0 ? n / (ours * 1e3) : 0.0, ratio("BM_" + rays + "_embree1/" + l, "BM_" + rays + "_hsr/" + l),
-                  ratio("BM_" + rays + "_embree1robust/" + l, "BM_" + rays + "_hsr/" + l),
-                  ratio("BM_" + rays + "_embree8/" + l, "BM_" + rays + "_hsr/" + l),
-                  ratio("BM_" + rays + "_embree1M/" + l, "BM_" + rays + "_hsr/" + l), rays == "primary" ? frame : 0.0,
-                  rays == "primary" && frame > 0 && z > 0 ? (std::to_string(frame / z) + "x").c_str() : "");
+      const double frame = reporter.time("BM_frame_raycast/" + l),
+                   z = reporter.time("BM_frame_zbuffer/" + l);
+      std::printf(
+          "%-18s %-10s %9.2f %9.2f %9.2f %9.2f %9.2f %11.1f  %s\n", l.c_str(), rays.c_str(),
+          ours > 0 ? n / (ours * 1e3) : 0.0,
+          ratio("BM_" + rays + "_embree1/" + l, "BM_" + rays + "_hsr/" + l),
+          ratio("BM_" + rays + "_embree1robust/" + l, "BM_" + rays + "_hsr/" + l),
+          ratio("BM_" + rays + "_embree8/" + l, "BM_" + rays + "_hsr/" + l),
+          ratio("BM_" + rays + "_embree1M/" + l, "BM_" + rays + "_hsr/" + l),
+          rays == "primary" ? frame : 0.0,
+          rays == "primary" && frame > 0 && z > 0 ? (std::to_string(frame / z) + "x").c_str() : "");
     }
   }
-  std::printf("\nbuild, threads=%d: %-18s %10s %12s %10s %12s %10s\n", g_threads, "scene", "hsr ms", "embree ms",
-              "hsr/embree", "embree hq ms", "hsr/hq");
+  std::printf("\nbuild, threads=%d: %-18s %10s %12s %10s %12s %10s\n", g_threads, "scene", "hsr ms",
+              "embree ms", "hsr/embree", "embree hq ms", "hsr/hq");
   for (const auto& r : races()) {
     const std::string& l = r->label;
-    const double ours = reporter.time("BM_build_hsr/" + l), e = reporter.time("BM_build_embree/" + l),
+    const double ours = reporter.time("BM_build_hsr/" + l),
+                 e = reporter.time("BM_build_embree/" + l),
                  hq = reporter.time("BM_build_embree_high/" + l);
-    std::printf("build, threads=%d: %-18s %10.1f %12.1f %10.2f %12.1f %10.2f   (of hsr's: the BVH %.1f ms, the rest triangulation and copies)\n",
-                g_threads, l.c_str(), ours, e, e > 0 ? ours / e : 0.0, hq, hq > 0 ? ours / hq : 0.0, r->our_bvh_ms);
+    std::printf(
+        "build, threads=%d: %-18s %10.1f %12.1f %10.2f %12.1f %10.2f   (of hsr's: the BVH %.1f ms, "
+        "the rest triangulation and copies)\n",
+        g_threads, l.c_str(), ours, e, e > 0 ? ours / e : 0.0, hq, hq > 0 ? ours / hq : 0.0,
+        r->our_bvh_ms);
   }
-  std::printf("(bars: primary rays at least 1.0x Embree's rtcIntersect1 on spheres/1000000; build within 2x Embree's default)\n");
-  std::printf("(x 1 wt: against rtcIntersect1 in Embree's robust mode, watertight as hsr's test is)\n");
+  std::printf(
+      "(bars: primary rays at least 1.0x Embree's rtcIntersect1 on spheres/1000000; build within "
+      "2x Embree's default)\n");
+  std::printf(
+      "(x 1 wt: against rtcIntersect1 in Embree's robust mode, watertight as hsr's test is)\n");
   if (!std::getenv("HSR_BENCH_NO_PAIRS")) pairedBar();
   benchmark::Shutdown();
   return 0;

@@ -35,9 +35,10 @@ inline const std::vector<BenchSceneSpec>& benchSceneList() {
       const std::filesystem::path path = std::filesystem::path(kModels) / file;
       v.push_back({path.stem().string(), path.string()});
     };
-    model("glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb");  // a CAD assembly, 121,496 triangles
-    model("PLY/Wuson.ply");                                           // a scanned figure, one closed surface
-    model("STL/Spider_binary.stl");                                   // thin legs crossing each other
+    model("glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb");  // a CAD assembly, 121,496
+                                                                     // triangles
+    model("PLY/Wuson.ply");          // a scanned figure, one closed surface
+    model("STL/Spider_binary.stl");  // thin legs crossing each other
     return v;
   }();
   return list;
@@ -45,8 +46,10 @@ inline const std::vector<BenchSceneSpec>& benchSceneList() {
 
 inline const BenchSceneSpec& benchScene(std::string_view label) {
   const auto& list = benchSceneList();
-  const auto it = std::find_if(list.begin(), list.end(), [&](const BenchSceneSpec& s) { return s.label == label; });
-  if (it == list.end()) throw Error("bench: no scene '" + std::string(label) + "' in bench/bench_scenes.hpp");
+  const auto it = std::find_if(list.begin(), list.end(),
+                               [&](const BenchSceneSpec& s) { return s.label == label; });
+  if (it == list.end())
+    throw Error("bench: no scene '" + std::string(label) + "' in bench/bench_scenes.hpp");
   return *it;
 }
 

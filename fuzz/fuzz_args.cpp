@@ -34,8 +34,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<std::string> tokens(1, "");
   for (std::size_t i = 0; i < size && tokens.size() < 64; ++i) {
     const char c = static_cast<char>(data[i]);
-    if (c == '\0' || c == '\n') tokens.emplace_back();
-    else tokens.back() += c;
+    if (c == '\0' || c == '\n')
+      tokens.emplace_back();
+    else
+      tokens.back() += c;
   }
   std::vector<const char*> argv{"render"};
   for (const std::string& t : tokens) argv.push_back(t.c_str());

@@ -24,7 +24,8 @@ void draw(hsr::Camera c) {
   c.width = std::max(1, static_cast<int>(c.width * sx));
   c.height = std::max(1, static_cast<int>(c.height * sy));
   if (c.intrinsics.given())
-    c.intrinsics = {c.intrinsics.fx * sx, c.intrinsics.fy * sy, c.intrinsics.cx * sx, c.intrinsics.cy * sy};
+    c.intrinsics = {c.intrinsics.fx * sx, c.intrinsics.fy * sy, c.intrinsics.cx * sx,
+                    c.intrinsics.cy * sy};
   try {
     c.validate();
     hsr::RenderOptions o;

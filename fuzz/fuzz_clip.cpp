@@ -29,11 +29,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const int header = data[at++], role = header & 3, count = 3 + (header >> 2);
     hsr::GridRing ring;
     for (int i = 0; i < count && at + 1 < size; ++i, at += 2)
-      ring.push_back({static_cast<std::int8_t>(data[at]) * scale, static_cast<std::int8_t>(data[at + 1]) * scale});
+      ring.push_back({static_cast<std::int8_t>(data[at]) * scale,
+                      static_cast<std::int8_t>(data[at + 1]) * scale});
     vertices += ring.size();
     hsr::GridRegion& r = region[role >> 1];
-    if ((role & 1) && !r.empty()) r.back().holes.push_back(ring);
-    else r.push_back({ring, {}});
+    if ((role & 1) && !r.empty())
+      r.back().holes.push_back(ring);
+    else
+      r.push_back({ring, {}});
   }
   for (const hsr::GridRegion& r : region) {
     const std::string why = hsr::invalidRegionReason(r);
@@ -41,7 +44,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   mpq_class area[4];
   for (int op = 0; op < 4; ++op)
-    area[op] = mpq_class(hsr::exactArea(hsr::booleanOp(region[0], region[1], static_cast<hsr::BooleanOp>(op))));
+    area[op] = mpq_class(
+        hsr::exactArea(hsr::booleanOp(region[0], region[1], static_cast<hsr::BooleanOp>(op))));
   const mpq_class a(hsr::exactArea(region[0])), b(hsr::exactArea(region[1]));
   if (area[0] + area[2] != a || area[0] + area[3] != b || area[1] != a + b - area[0]) std::abort();
   // A result clipped again (its vertices now crossings): (A∪B)∩A is A, and (A∪B)−A is B−A

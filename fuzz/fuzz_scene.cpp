@@ -30,7 +30,8 @@ class Bytes {
   // A float: usually a small value (so that scenes are visible), sometimes a raw bit pattern
   float f32() {
     const std::uint8_t kind = u8();
-    if (kind < 192) return (static_cast<float>(kind) - 96.0f) / 16.0f + static_cast<float>(u8()) / 4096.0f;
+    if (kind < 192)
+      return (static_cast<float>(kind) - 96.0f) / 16.0f + static_cast<float>(u8()) / 4096.0f;
     const std::uint32_t bits = u32();
     float v;
     std::memcpy(&v, &bits, 4);

@@ -70,13 +70,15 @@ glm::dmat4 dmat4Of(const py::handle& h) {
 // N x 3 float32 rows, C-contiguous (converted once if given otherwise)
 using Rows = py::array_t<float, py::array::c_style | py::array::forcecast>;
 std::span<const glm::vec3> rowsOf(const Rows& a, const char* what) {
-  if (a.ndim() != 2 || a.shape(1) != 3) throw hsr::Error(std::string(what) + " must be an N x 3 array");
+  if (a.ndim() != 2 || a.shape(1) != 3)
+    throw hsr::Error(std::string(what) + " must be an N x 3 array");
   return {reinterpret_cast<const glm::vec3*>(a.data()), static_cast<std::size_t>(a.shape(0))};
 }
 
 // One mesh as an object of the scene: vertices N x 3, faces M x k vertex indices (k >= 3)
 void addMesh(hsr::Scene& scene, const Rows& vertices, const py::object& face_rows,
-             const std::string& name, const py::object& color, float alpha, const std::string& material) {
+             const std::string& name, const py::object& color, float alpha,
+             const std::string& material) {
   const std::span<const glm::vec3> v = rowsOf(vertices, "vertices");
   const py::array face_array = py::array::ensure(face_rows);  // an array, or a list of rows
   if (!face_array) throw hsr::Error("faces must be an M x k array of vertex indices");
@@ -86,10 +88,13 @@ void addMesh(hsr::Scene& scene, const Rows& vertices, const py::object& face_row
   if (kind != 'i' && kind != 'u')
     throw hsr::Error("faces must be an integer array of vertex indices (got dtype " +
                      py::str(face_array.dtype()).cast<std::string>() + ")");
-  const auto faces = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(face_array);
+  const auto faces =
+      py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(face_array);
   if (!faces) throw hsr::Error("faces must be an M x k array of vertex indices");
-  if (faces.ndim() != 2 || faces.shape(1) < 3) throw hsr::Error("faces must be an M x k array of vertex indices, k >= 3");
-  if (v.size() > 50'000'000 || faces.shape(0) > 50'000'000) throw hsr::Error("a mesh of over 50M vertices or faces");
+  if (faces.ndim() != 2 || faces.shape(1) < 3)
+    throw hsr::Error("faces must be an M x k array of vertex indices, k >= 3");
+  if (v.size() > 50'000'000 || faces.shape(0) > 50'000'000)
+    throw hsr::Error("a mesh of over 50M vertices or faces");
   hsr::Material m;
   if (!color.is_none()) m.color = vec3Of(color, "color");
   m.alpha = alpha;
@@ -107,16 +112,16 @@ void addMesh(hsr::Scene& scene, const Rows& vertices, const py::object& face_row
     for (py::ssize_t j = 0; j < faces.shape(1); ++j) {
       const std::int64_t k = f(i, j);
       if (k < 0 || static_cast<std::uint64_t>(k) >= v.size())
-        throw hsr::Error("face " + std::to_string(i) + " uses vertex " + std::to_string(k) + " of " +
-                         std::to_string(v.size()));
+        throw hsr::Error("face " + std::to_string(i) + " uses vertex " + std::to_string(k) +
+                         " of " + std::to_string(v.size()));
       local[static_cast<std::size_t>(j)] = static_cast<std::uint32_t>(k);
     }
     scene.addPolygon(local, mat);
   }
 }
 
-py::dict frameArrays(hsr::Frame&& f, const hsr::Scene& scene, const hsr::Camera& camera, hsr::DepthKind depth,
-                     hsr::NormalSpace normals, const std::string& algorithm) {
+py::dict frameArrays(hsr::Frame&& f, const hsr::Scene& scene, const hsr::Camera& camera,
+                     hsr::DepthKind depth, hsr::NormalSpace normals, const std::string& algorithm) {
   const py::ssize_t h = f.height, w = f.width;
   std::vector<std::uint32_t> objects, materials;
   std::vector<float> normal, converted;
@@ -133,21 +138,23 @@ py::dict frameArrays(hsr::Frame&& f, const hsr::Scene& scene, const hsr::Camera&
   py::array rgba = adopt<std::uint32_t, std::uint8_t>(std::move(f.color), {h, w, 4});
   d["rgba"] = rgba;
   d["color"] = rgba[py::make_tuple(py::ellipsis(), py::slice(0, 3, 1))];
-  d["depth"] = converted.empty() ? adopt(std::move(f.depth), {h, w}) : adopt(std::move(converted), {h, w});
+  d["depth"] =
+      converted.empty() ? adopt(std::move(f.depth), {h, w}) : adopt(std::move(converted), {h, w});
   d["ids"] = adopt(std::move(f.ids), {h, w});
   d["objects"] = adopt(std::move(objects), {h, w});
   d["materials"] = adopt(std::move(materials), {h, w});
   d["overdraw"] = adopt(std::move(f.overdraw), {h, w});
   d["normals"] = normal.empty() ? py::none() : py::object(adopt(std::move(normal), {h, w, 3}));
-  d["coverage"] = f.coverage.empty() ? py::none() : py::object(adopt(std::move(f.coverage), {h, w}));
+  d["coverage"] =
+      f.coverage.empty() ? py::none() : py::object(adopt(std::move(f.coverage), {h, w}));
   d["stats"] = py::module_::import("json").attr("loads")(stats);
   return d;
 }
 
-hsr::RenderOptions optionsOf(const std::string& algorithm, const std::string& cull, const std::string& front_face,
-                             const std::string& polygon_mode, const std::string& depth_func, bool depth_test,
-                             bool depth_mask, bool outline, bool shade, int threads, int samples,
-                             float point_size) {
+hsr::RenderOptions optionsOf(const std::string& algorithm, const std::string& cull,
+                             const std::string& front_face, const std::string& polygon_mode,
+                             const std::string& depth_func, bool depth_test, bool depth_mask,
+                             bool outline, bool shade, int threads, int samples, float point_size) {
   hsr::RenderOptions o;
   o.algorithm = algorithm;
   o.cull = hsr::parseCullMode(cull);
@@ -178,7 +185,8 @@ PYBIND11_MODULE(_hsr, m) {
     }
   });
 
-  py::class_<hsr::Scene>(m, "Scene", "Polygons in world space; a polygon's id is its index in load order.")
+  py::class_<hsr::Scene>(m, "Scene",
+                         "Polygons in world space; a polygon's id is its index in load order.")
       .def(py::init<>())
       .def_static(
           "load",
@@ -189,7 +197,8 @@ PYBIND11_MODULE(_hsr, m) {
             return hsr::loadScene(spec, limits);
           },
           py::arg("spec"), py::arg("allow_outside_refs") = false,
-          "A model file (OBJ, PLY, STL, OFF, glTF, ...; imported in a sandboxed child process) or a "
+          "A model file (OBJ, PLY, STL, OFF, glTF, ...; imported in a sandboxed child process) or "
+          "a "
           "built-in scene (demo, spheres:N, ...)")
       .def("add_mesh", &addMesh, py::arg("vertices"), py::arg("faces"), py::arg("name") = "",
            py::arg("color") = py::none(), py::arg("alpha") = 1.0f, py::arg("material") = "",
@@ -208,32 +217,38 @@ PYBIND11_MODULE(_hsr, m) {
                              [](const hsr::Scene& s) {
                                py::list out;
                                for (const hsr::Object& o : s.objects)
-                                 out.append(py::dict(py::arg("name") = o.name, py::arg("first_polygon") = o.first_polygon,
+                                 out.append(py::dict(py::arg("name") = o.name,
+                                                     py::arg("first_polygon") = o.first_polygon,
                                                      py::arg("polygons") = o.polygon_count));
                                return out;
                              })
-      .def_property_readonly("materials",
-                             [](const hsr::Scene& s) {
-                               py::list out;
-                               for (const hsr::Material& mt : s.materials)
-                                 out.append(py::dict(py::arg("name") = mt.name, py::arg("color") = tupleOf(mt.color),
-                                                     py::arg("alpha") = mt.alpha));
-                               return out;
-                             })
+      .def_property_readonly(
+          "materials",
+          [](const hsr::Scene& s) {
+            py::list out;
+            for (const hsr::Material& mt : s.materials)
+              out.append(py::dict(py::arg("name") = mt.name, py::arg("color") = tupleOf(mt.color),
+                                  py::arg("alpha") = mt.alpha));
+            return out;
+          })
       .def_property_readonly("camera_count", [](const hsr::Scene& s) { return s.cameras.size(); })
       .def("__repr__", [](const hsr::Scene& s) {
         return "<hsr.Scene '" + s.name + "': " + std::to_string(s.polygonCount()) + " polygons, " +
                std::to_string(s.objects.size()) + " objects>";
       });
 
-  py::class_<hsr::Camera>(m, "Camera", "gluLookAt + gluPerspective / glOrtho, or pinhole intrinsics")
+  py::class_<hsr::Camera>(m, "Camera",
+                          "gluLookAt + gluPerspective / glOrtho, or pinhole intrinsics")
       .def(py::init<>())
-      .def_property("eye", [](const hsr::Camera& c) { return tupleOf(c.eye); },
-                    [](hsr::Camera& c, const py::object& v) { c.eye = vec3Of(v, "eye"); })
-      .def_property("target", [](const hsr::Camera& c) { return tupleOf(c.target); },
-                    [](hsr::Camera& c, const py::object& v) { c.target = vec3Of(v, "target"); })
-      .def_property("up", [](const hsr::Camera& c) { return tupleOf(c.up); },
-                    [](hsr::Camera& c, const py::object& v) { c.up = vec3Of(v, "up"); })
+      .def_property(
+          "eye", [](const hsr::Camera& c) { return tupleOf(c.eye); },
+          [](hsr::Camera& c, const py::object& v) { c.eye = vec3Of(v, "eye"); })
+      .def_property(
+          "target", [](const hsr::Camera& c) { return tupleOf(c.target); },
+          [](hsr::Camera& c, const py::object& v) { c.target = vec3Of(v, "target"); })
+      .def_property(
+          "up", [](const hsr::Camera& c) { return tupleOf(c.up); },
+          [](hsr::Camera& c, const py::object& v) { c.up = vec3Of(v, "up"); })
       .def_readwrite("fov", &hsr::Camera::fov_deg, "vertical field of view in degrees")
       .def_readwrite("ortho", &hsr::Camera::ortho)
       .def_readwrite("ortho_half_height", &hsr::Camera::ortho_half_height)
@@ -260,9 +275,13 @@ PYBIND11_MODULE(_hsr, m) {
           "to project with fov again")
       .def("validate", &hsr::Camera::validate)
       .def("view_matrix", [](const hsr::Camera& c) { return matrixOf(glm::dmat4(c.view())); })
-      .def("projection_matrix", [](const hsr::Camera& c) { return matrixOf(glm::dmat4(c.projection())); })
+      .def("projection_matrix",
+           [](const hsr::Camera& c) { return matrixOf(glm::dmat4(c.projection())); })
       .def(
-          "pose", [](const hsr::Camera& c, const std::string& conv) { return matrixOf(hsr::poseOf(c, hsr::poseConventionNamed(conv))); },
+          "pose",
+          [](const hsr::Camera& c, const std::string& conv) {
+            return matrixOf(hsr::poseOf(c, hsr::poseConventionNamed(conv)));
+          },
           py::arg("convention") = "opencv", "camera to world, 4x4")
       .def(
           "set_pose",
@@ -270,26 +289,33 @@ PYBIND11_MODULE(_hsr, m) {
             hsr::setPose(c, dmat4Of(pose), hsr::poseConventionNamed(conv));
           },
           py::arg("pose"), py::arg("convention") = "opencv")
-      .def("fit_near_far", [](hsr::Camera& c, const hsr::Scene& s) { hsr::fitNearFar(c, s.bounds()); })
-      .def("orbit", &hsr::orbitView, py::arg("k"), py::arg("n"), "view k of n on a ring about the up axis")
+      .def("fit_near_far",
+           [](hsr::Camera& c, const hsr::Scene& s) { hsr::fitNearFar(c, s.bounds()); })
+      .def("orbit", &hsr::orbitView, py::arg("k"), py::arg("n"),
+           "view k of n on a ring about the up axis")
       .def("to_json", &hsr::cameraJson)
       .def_static("from_json", &hsr::cameraFromJson)
       .def_static("list_from_json", &hsr::camerasFromJson)
-      .def_static("frame", &hsr::frameScene, py::arg("scene"), py::arg("width") = 800, py::arg("height") = 600,
-                  py::arg("camera_index") = 0,
-                  "looks at the whole scene (the file's camera camera_index when it has one; -1 ignores them)")
-      .def("__repr__", [](const hsr::Camera& c) { return "<hsr.Camera " + hsr::cameraJson(c) + ">"; });
+      .def_static("frame", &hsr::frameScene, py::arg("scene"), py::arg("width") = 800,
+                  py::arg("height") = 600, py::arg("camera_index") = 0,
+                  "looks at the whole scene (the file's camera camera_index when it has one; -1 "
+                  "ignores them)")
+      .def("__repr__",
+           [](const hsr::Camera& c) { return "<hsr.Camera " + hsr::cameraJson(c) + ">"; });
 
   m.def(
       "render",
-      [](const hsr::Scene& scene, const hsr::Camera& camera, const std::string& algorithm, const std::string& depth,
-         const std::string& normals, const std::string& cull, const std::string& front_face,
-         const std::string& polygon_mode, const std::string& depth_func, bool depth_test, bool depth_mask,
-         bool outline, bool shade, int threads, int samples, float point_size) {
-        const hsr::RenderOptions o = optionsOf(algorithm, cull, front_face, polygon_mode, depth_func, depth_test,
-                                               depth_mask, outline, shade, threads, samples, point_size);
+      [](const hsr::Scene& scene, const hsr::Camera& camera, const std::string& algorithm,
+         const std::string& depth, const std::string& normals, const std::string& cull,
+         const std::string& front_face, const std::string& polygon_mode,
+         const std::string& depth_func, bool depth_test, bool depth_mask, bool outline, bool shade,
+         int threads, int samples, float point_size) {
+        const hsr::RenderOptions o =
+            optionsOf(algorithm, cull, front_face, polygon_mode, depth_func, depth_test, depth_mask,
+                      outline, shade, threads, samples, point_size);
         const hsr::DepthKind kind = hsr::depthKindNamed(depth);
-        const hsr::NormalSpace space = normals.empty() ? hsr::NormalSpace::kNone : hsr::normalSpaceNamed(normals);
+        const hsr::NormalSpace space =
+            normals.empty() ? hsr::NormalSpace::kNone : hsr::normalSpaceNamed(normals);
         hsr::Frame f;
         {
           py::gil_scoped_release release;
@@ -297,47 +323,68 @@ PYBIND11_MODULE(_hsr, m) {
         }
         return frameArrays(std::move(f), scene, camera, kind, space, algorithm);
       },
-      py::arg("scene"), py::arg("camera"), py::arg("algorithm") = "zbuffer", py::arg("depth") = "window",
-      py::arg("normals") = "", py::arg("cull") = "none", py::arg("front_face") = "ccw",
-      py::arg("polygon_mode") = "fill", py::arg("depth_func") = "less", py::arg("depth_test") = true,
-      py::arg("depth_mask") = true, py::arg("outline") = false, py::arg("shade") = true, py::arg("threads") = 0,
+      py::arg("scene"), py::arg("camera"), py::arg("algorithm") = "zbuffer",
+      py::arg("depth") = "window", py::arg("normals") = "", py::arg("cull") = "none",
+      py::arg("front_face") = "ccw", py::arg("polygon_mode") = "fill",
+      py::arg("depth_func") = "less", py::arg("depth_test") = true, py::arg("depth_mask") = true,
+      py::arg("outline") = false, py::arg("shade") = true, py::arg("threads") = 0,
       py::arg("samples") = 0, py::arg("point_size") = 1.0f);
 
   m.def(
       "render_files",
-      [](const hsr::Scene& scene, const hsr::Camera& camera, const std::string& dir, const std::string& label,
-         const std::string& algorithm, const std::string& depth, const std::string& normals, int threads,
-         bool color) {
+      [](const hsr::Scene& scene, const hsr::Camera& camera, const std::string& dir,
+         const std::string& label, const std::string& algorithm, const std::string& depth,
+         const std::string& normals, int threads, bool color) {
         hsr::RenderOptions o;
         o.algorithm = algorithm;
         o.threads = threads;
         const hsr::DepthKind kind = hsr::depthKindNamed(depth);
-        const hsr::NormalSpace space = normals.empty() ? hsr::NormalSpace::kNone : hsr::normalSpaceNamed(normals);
+        const hsr::NormalSpace space =
+            normals.empty() ? hsr::NormalSpace::kNone : hsr::normalSpaceNamed(normals);
         py::gil_scoped_release release;
         const hsr::Frame f = hsr::render(scene, camera, o);
         hsr::writeRawFrame(dir, f, label, algorithm, scene, camera, kind, space);
-        if (color) hsr::writePng(std::filesystem::path(dir) / "color.png", f.width, f.height, 3, hsr::picture(f, "color").data());
+        if (color)
+          hsr::writePng(std::filesystem::path(dir) / "color.png", f.width, f.height, 3,
+                        hsr::picture(f, "color").data());
       },
-      py::arg("scene"), py::arg("camera"), py::arg("dir"), py::arg("label"), py::arg("algorithm") = "zbuffer",
-      py::arg("depth") = "window", py::arg("normals") = "", py::arg("threads") = 0, py::arg("color") = true,
+      py::arg("scene"), py::arg("camera"), py::arg("dir"), py::arg("label"),
+      py::arg("algorithm") = "zbuffer", py::arg("depth") = "window", py::arg("normals") = "",
+      py::arg("threads") = 0, py::arg("color") = true,
       "renders and writes the raw set (as the CLI's --raw) into dir, and dir/color.png");
 
   m.def("algorithms", [] {
     py::list out;
     for (const hsr::AlgorithmInfo& i : hsr::algorithms())
-      out.append(py::dict(py::arg("name") = std::string(i.name), py::arg("summary") = std::string(i.summary),
-                          py::arg("precision") = std::string(hsr::toString(i.precision)),
-                          py::arg("reference") = i.reference, py::arg("demonstration") = i.demonstration,
-                          py::arg("capabilities") = hsr::capabilityList(i.capabilities)));
+      out.append(py::dict(
+          py::arg("name") = std::string(i.name), py::arg("summary") = std::string(i.summary),
+          py::arg("precision") = std::string(hsr::toString(i.precision)),
+          py::arg("reference") = i.reference, py::arg("demonstration") = i.demonstration,
+          py::arg("capabilities") = hsr::capabilityList(i.capabilities)));
     return out;
   });
 
   // The GL-style facade, as the notes write it
-  py::module_ gl = m.def_submodule("gl", "the OpenGL-style controls: enable, depthMask, clear, cullFace, ...");
-  py::enum_<hsr::gl::Capability>(gl, "Capability").value("DEPTH_TEST", hsr::gl::DEPTH_TEST).value("CULL_FACE", hsr::gl::CULL_FACE).export_values();
-  py::enum_<hsr::gl::Face>(gl, "Face").value("FRONT", hsr::gl::FRONT).value("BACK", hsr::gl::BACK).value("FRONT_AND_BACK", hsr::gl::FRONT_AND_BACK).export_values();
-  py::enum_<hsr::gl::Winding>(gl, "Winding").value("CW", hsr::gl::CW).value("CCW", hsr::gl::CCW).export_values();
-  py::enum_<hsr::gl::Mode>(gl, "Mode").value("POINT", hsr::gl::POINT).value("LINE", hsr::gl::LINE).value("FILL", hsr::gl::FILL).export_values();
+  py::module_ gl =
+      m.def_submodule("gl", "the OpenGL-style controls: enable, depthMask, clear, cullFace, ...");
+  py::enum_<hsr::gl::Capability>(gl, "Capability")
+      .value("DEPTH_TEST", hsr::gl::DEPTH_TEST)
+      .value("CULL_FACE", hsr::gl::CULL_FACE)
+      .export_values();
+  py::enum_<hsr::gl::Face>(gl, "Face")
+      .value("FRONT", hsr::gl::FRONT)
+      .value("BACK", hsr::gl::BACK)
+      .value("FRONT_AND_BACK", hsr::gl::FRONT_AND_BACK)
+      .export_values();
+  py::enum_<hsr::gl::Winding>(gl, "Winding")
+      .value("CW", hsr::gl::CW)
+      .value("CCW", hsr::gl::CCW)
+      .export_values();
+  py::enum_<hsr::gl::Mode>(gl, "Mode")
+      .value("POINT", hsr::gl::POINT)
+      .value("LINE", hsr::gl::LINE)
+      .value("FILL", hsr::gl::FILL)
+      .export_values();
   gl.attr("COLOR_BUFFER_BIT") = static_cast<unsigned>(hsr::gl::COLOR_BUFFER_BIT);
   gl.attr("DEPTH_BUFFER_BIT") = static_cast<unsigned>(hsr::gl::DEPTH_BUFFER_BIT);
   py::class_<hsr::gl::Context>(gl, "Context")
@@ -346,7 +393,8 @@ PYBIND11_MODULE(_hsr, m) {
       .def("disable", &hsr::gl::Context::disable)
       .def("isEnabled", &hsr::gl::Context::isEnabled)
       .def("depthMask", &hsr::gl::Context::depthMask)
-      .def("depthFunc", [](hsr::gl::Context& c, const std::string& f) { c.depthFunc(hsr::parseDepthFunc(f)); })
+      .def("depthFunc",
+           [](hsr::gl::Context& c, const std::string& f) { c.depthFunc(hsr::parseDepthFunc(f)); })
       .def("clearColor", &hsr::gl::Context::clearColor)
       .def("clearDepth", &hsr::gl::Context::clearDepth)
       .def("clear", &hsr::gl::Context::clear)
@@ -375,7 +423,8 @@ PYBIND11_MODULE(_hsr, m) {
            py::call_guard<py::gil_scoped_release>())
       .def(
           "intersect",
-          [](const hsr::RayScene& rs, const Rows& origins, const Rows& directions, float tmax, float tmin) {
+          [](const hsr::RayScene& rs, const Rows& origins, const Rows& directions, float tmax,
+             float tmin) {
             const auto o = rowsOf(origins, "origins"), d = rowsOf(directions, "directions");
             if (o.size() != d.size()) throw hsr::Error("origins and directions differ in length");
             std::vector<hsr::RayHit> hits(o.size());
@@ -384,13 +433,16 @@ PYBIND11_MODULE(_hsr, m) {
               rs.intersect(o, d, hits, tmax, tmin);
             }
             const py::ssize_t n = static_cast<py::ssize_t>(hits.size());
-            std::vector<float> t(hits.size()), u(hits.size()), v(hits.size()), normal(3 * hits.size());
+            std::vector<float> t(hits.size()), u(hits.size()), v(hits.size()),
+                normal(3 * hits.size());
             std::vector<std::uint32_t> polygon(hits.size()), object(hits.size());
             std::vector<std::uint8_t> front(hits.size());
             for (std::size_t k = 0; k < hits.size(); ++k) {
               const hsr::RayHit& h = hits[k];
-              t[k] = h.t, u[k] = h.u, v[k] = h.v, polygon[k] = h.polygon, object[k] = h.object, front[k] = h.front;
-              normal[3 * k] = h.normal.x, normal[3 * k + 1] = h.normal.y, normal[3 * k + 2] = h.normal.z;
+              t[k] = h.t, u[k] = h.u, v[k] = h.v, polygon[k] = h.polygon, object[k] = h.object,
+              front[k] = h.front;
+              normal[3 * k] = h.normal.x, normal[3 * k + 1] = h.normal.y,
+                         normal[3 * k + 2] = h.normal.z;
             }
             py::dict out;
             out["t"] = adopt(std::move(t), {n});
@@ -402,12 +454,14 @@ PYBIND11_MODULE(_hsr, m) {
             out["front"] = adopt<std::uint8_t, bool>(std::move(front), {n});
             return out;
           },
-          py::arg("origins"), py::arg("directions"), py::arg("tmax") = std::numeric_limits<float>::infinity(),
-          py::arg("tmin") = 0.0f,
-          "nearest hits of N rays: t (inf for none), polygon (4294967295 for none), object, u, v, normal, front")
+          py::arg("origins"), py::arg("directions"),
+          py::arg("tmax") = std::numeric_limits<float>::infinity(), py::arg("tmin") = 0.0f,
+          "nearest hits of N rays: t (inf for none), polygon (4294967295 for none), object, u, v, "
+          "normal, front")
       .def(
           "occluded",
-          [](const hsr::RayScene& rs, const Rows& origins, const Rows& directions, float tmax, float tmin) {
+          [](const hsr::RayScene& rs, const Rows& origins, const Rows& directions, float tmax,
+             float tmin) {
             const auto o = rowsOf(origins, "origins"), d = rowsOf(directions, "directions");
             if (o.size() != d.size()) throw hsr::Error("origins and directions differ in length");
             std::vector<std::uint8_t> hit;
@@ -418,7 +472,7 @@ PYBIND11_MODULE(_hsr, m) {
             const py::ssize_t n = static_cast<py::ssize_t>(hit.size());
             return adopt<std::uint8_t, bool>(std::move(hit), {n});
           },
-          py::arg("origins"), py::arg("directions"), py::arg("tmax") = std::numeric_limits<float>::infinity(),
-          py::arg("tmin") = 0.0f)
+          py::arg("origins"), py::arg("directions"),
+          py::arg("tmax") = std::numeric_limits<float>::infinity(), py::arg("tmin") = 0.0f)
       .def_property_readonly("triangle_count", &hsr::RayScene::triangleCount);
 }

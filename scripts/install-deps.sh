@@ -6,7 +6,8 @@
 #           compiler, CMake, Ninja, pkg-config and ten libraries
 #   python  the Python module (python/)
 #   tests   the test suites, their oracles and peers (Mesa, Embree, CGAL, Open CASCADE, ZDBSP),
-#           the sanitizer and fuzz tree (clang 14), the real models and WADs they read
+#           the sanitizer and fuzz tree (clang 14), the style check (clang-format 14), the real
+#           models and WADs they read
 #   web     the web page's build and tests (Emscripten, node, Chromium)
 #   bench   the benchmarks (Google Benchmark; they race the peers of `tests`)
 #   all     every one of them (what scripts/test.sh installs)
@@ -19,7 +20,7 @@ tests=(libgtest-dev libgmock-dev libstb-dev
        libosmesa6-dev libembree-dev libcgal-dev libpolyclipping-dev libboost-dev assimp-testmodels
        librsvg2-bin libocct-modeling-algorithms-dev libocct-modeling-data-dev
        libocct-visualization-dev
-       clang-14 libclang-rt-14-dev
+       clang-14 libclang-rt-14-dev clang-format-14
        python3-pytest python3-dask python3-distributed
        freedoom zdbsp)
 web=(emscripten nodejs chromium)

@@ -17,7 +17,8 @@ namespace hsr {
 std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& camera,
                                              const RenderOptions& options, int views) {
   if (views < 1 || views > kMaxCompareViews)
-    throw Error("views must be 1 to " + std::to_string(kMaxCompareViews) + " (got " + std::to_string(views) + ")");
+    throw Error("views must be 1 to " + std::to_string(kMaxCompareViews) + " (got " +
+                std::to_string(views) + ")");
   std::vector<ComparisonRow> rows;
   for (const AlgorithmInfo& info : algorithms()) {
     RenderOptions o = options;
@@ -54,7 +55,8 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
     std::uint64_t diff = 0;
     for (std::size_t i = 0; i < ref.size(); ++i) diff += r.frame.ids[i] != ref[i];
     r.differing_pixels = diff;
-    r.id_agreement = ref.empty() ? 1.0 : 1.0 - static_cast<double>(diff) / static_cast<double>(ref.size());
+    r.id_agreement =
+        ref.empty() ? 1.0 : 1.0 - static_cast<double>(diff) / static_cast<double>(ref.size());
   }
   if (views == 1) return rows;
 
@@ -82,13 +84,15 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
     }
     const std::vector<PolygonId>& view_ref = frames[ref_index].ids;
     for (std::size_t i = 0; i < run.size(); ++i)
-      for (std::size_t p = 0; p < view_ref.size(); ++p) run[i]->differing_pixels += frames[i].ids[p] != view_ref[p];
+      for (std::size_t p = 0; p < view_ref.size(); ++p)
+        run[i]->differing_pixels += frames[i].ids[p] != view_ref[p];
     pixels += view_ref.size();
   }
   for (ComparisonRow* r : run) {
     r->views = views;
     r->view_ms /= views - 1;
-    r->id_agreement = 1.0 - static_cast<double>(r->differing_pixels) / static_cast<double>(std::max<std::uint64_t>(pixels, 1));
+    r->id_agreement = 1.0 - static_cast<double>(r->differing_pixels) /
+                                static_cast<double>(std::max<std::uint64_t>(pixels, 1));
   }
   return rows;
 }
@@ -124,7 +128,7 @@ constexpr Glyph kFont[] = {
     {'/', {1, 1, 2, 4, 8, 16, 16}},      {'(', {2, 4, 8, 8, 8, 4, 2}},
     {')', {8, 4, 2, 2, 2, 4, 8}},        {'=', {0, 0, 31, 0, 31, 0, 0}},
     {'_', {0, 0, 0, 0, 0, 0, 31}},       {',', {0, 0, 0, 0, 12, 4, 8}},
-    {'\'', {4, 4, 8, 0, 0, 0, 0}},      {'"', {10, 10, 0, 0, 0, 0, 0}},
+    {'\'', {4, 4, 8, 0, 0, 0, 0}},       {'"', {10, 10, 0, 0, 0, 0, 0}},
     {'+', {0, 4, 4, 31, 4, 4, 0}},       {'!', {4, 4, 4, 4, 4, 0, 4}},
     {'?', {14, 17, 1, 2, 4, 0, 4}},      {'<', {2, 4, 8, 16, 8, 4, 2}},
     {'>', {8, 4, 2, 1, 2, 4, 8}},        {';', {0, 12, 12, 0, 12, 4, 8}},
@@ -224,7 +228,8 @@ std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows
     const int ox = kGap + static_cast<int>(c % l.columns) * (l.pw + kGap);
     const int cell_y = kGap + static_cast<int>(c / l.columns) * (3 * (kLabel + l.ph) + 3 * kGap);
     for (int k = 0; k < 3; ++k) {
-      const std::vector<std::uint8_t> pic = k == 2 ? overdrawPicture(r.frame, most) : picture(r.frame, kKinds[k]);
+      const std::vector<std::uint8_t> pic =
+          k == 2 ? overdrawPicture(r.frame, most) : picture(r.frame, kKinds[k]);
       const int oy = cell_y + k * (kLabel + l.ph + kGap);
       char label[128];
       if (k == 0)
@@ -232,18 +237,21 @@ std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows
       else if (k == 1)
         std::snprintf(label, sizeof label, "IDS %.3f%% = ZBUFFER", 100.0 * r.id_agreement);
       else
-        std::snprintf(label, sizeof label, "OVERDRAW MEAN %.2f MAX %u", r.mean_overdraw, r.max_overdraw);
+        std::snprintf(label, sizeof label, "OVERDRAW MEAN %.2f MAX %u", r.mean_overdraw,
+                      r.max_overdraw);
       drawLabel(sheet, *width, *height, ox, oy + 4, label, label_scale);
       for (int y = 0; y < l.ph; ++y)
         for (int x = 0; x < l.pw; ++x)
-          std::copy_n(&pic[3 * (static_cast<std::size_t>(y) * l.step * fw + static_cast<std::size_t>(x) * l.step)], 3,
-                      &sheet[3 * (static_cast<std::size_t>(oy + kLabel + y) * *width + ox + x)]);
+          std::copy_n(&pic[3 * (static_cast<std::size_t>(y) * l.step * fw +
+                                static_cast<std::size_t>(x) * l.step)],
+                      3, &sheet[3 * (static_cast<std::size_t>(oy + kLabel + y) * *width + ox + x)]);
     }
   }
   // The legend: the overdraw ramp shared by every cell, and how the ids are coloured
   const int ly = *height - kLegend + 4;
   char legend[160];
-  std::snprintf(legend, sizeof legend, "OVERDRAW, ONE SCALE FOR EVERY ALGORITHM: 1 ... %u FRAGMENTS (LOG)",
+  std::snprintf(legend, sizeof legend,
+                "OVERDRAW, ONE SCALE FOR EVERY ALGORITHM: 1 ... %u FRAGMENTS (LOG)",
                 std::max(most, 1u));
   drawLabel(sheet, *width, *height, kGap, ly, legend, 1);
   const int ramp_w = std::min(256, *width - 2 * kGap);
@@ -253,7 +261,8 @@ std::vector<std::uint8_t> comparisonSheet(const std::vector<ComparisonRow>& rows
     for (int y = ly + 12; y < ly + 22; ++y)
       std::copy_n(rgb, 3, &sheet[3 * (static_cast<std::size_t>(y) * *width + kGap + i)]);
   }
-  drawLabel(sheet, *width, *height, kGap, ly + 28, "IDS: ONE COLOUR PER POLYGON, BLACK WHERE NONE", 1);
+  drawLabel(sheet, *width, *height, kGap, ly + 28, "IDS: ONE COLOUR PER POLYGON, BLACK WHERE NONE",
+            1);
   if (l.step > 1) {
     std::snprintf(legend, sizeof legend, "SHOWN AT 1/%d SIZE", l.step);
     drawLabel(sheet, *width, *height, kGap + ramp_w + 16, ly + 12, legend, 1);

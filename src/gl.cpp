@@ -51,7 +51,7 @@ void Context::clear(unsigned bits) {
 }
 
 void Context::polygonMode(Mode m) {
-  state_.polygon_mode = m == POINT ? PolygonMode::Point
+  state_.polygon_mode = m == POINT  ? PolygonMode::Point
                         : m == LINE ? PolygonMode::Line
                                     : PolygonMode::Fill;
 }

@@ -67,13 +67,12 @@ void renderInto(const Scene& scene, const Camera& camera, const RenderOptions& o
     if (mode == DrawMode::kClear) {
       const detail::Stopwatch t0;
       clearFrame(frame, camera.width, camera.height, options);
-      stats.addStage(
-          "clear",
-          t0.ms());
+      stats.addStage("clear", t0.ms());
     }
     HSR_CHECK_EQ(frame.ids.size(), static_cast<std::size_t>(camera.width) * camera.height);
     frame.stats = Stats{};
-    entry.draw(AlgorithmInput{scene, camera, options, prepared, &cache.algorithm, trace, given}, frame);
+    entry.draw(AlgorithmInput{scene, camera, options, prepared, &cache.algorithm, trace, given},
+               frame);
     // The pipeline's counts and stage times first, then the algorithm's.
     stats.merge(frame.stats);
     frame.stats = std::move(stats);
@@ -97,9 +96,9 @@ std::string unsupported(const AlgorithmInfo& info, const Camera& camera, const R
     return "--samples must be 1, 4, 8, 16, 32 or 64 (got " + std::to_string(o.samples) + ")";
   const std::uint64_t pixels = static_cast<std::uint64_t>(camera.width) * camera.height;
   if (info.max_pixels != 0 && pixels > info.max_pixels)
-    return "algorithm '" + std::string(info.name) + "' is limited to " + std::to_string(info.max_pixels) +
-           " pixels; " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " has " +
-           std::to_string(pixels);
+    return "algorithm '" + std::string(info.name) + "' is limited to " +
+           std::to_string(info.max_pixels) + " pixels; " + std::to_string(camera.width) + "x" +
+           std::to_string(camera.height) + " has " + std::to_string(pixels);
   return {};
 }
 
@@ -121,7 +120,8 @@ Frame render(const Bsp& bsp, const Camera& camera, RenderOptions options) {
 
 void render(const Bsp& bsp, const Camera& camera, RenderOptions options, Frame& frame) {
   options.algorithm = "bsp";
-  detail::renderInto(bsp.scene(), camera, options, frame, detail::DrawMode::kClear, nullptr, &bsp.tree());
+  detail::renderInto(bsp.scene(), camera, options, frame, detail::DrawMode::kClear, nullptr,
+                     &bsp.tree());
 }
 
 }  // namespace hsr

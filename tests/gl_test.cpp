@@ -107,7 +107,8 @@ TEST(GlFacade, DepthPersistsUntilCleared) {
   ctx.draw(far_scene);
   std::size_t green_over_red = 0;
   for (std::size_t k = 0; k < first.ids.size(); ++k)
-    green_over_red += first.ids[k] != kNoPolygon && testing::channel(ctx.frame(), k, 1) > testing::channel(ctx.frame(), k, 0);
+    green_over_red += first.ids[k] != kNoPolygon &&
+                      testing::channel(ctx.frame(), k, 1) > testing::channel(ctx.frame(), k, 0);
   EXPECT_GT(green_over_red, 0u);
 }
 

@@ -184,7 +184,9 @@ inline std::vector<std::string> algorithmNamesWith(std::string_view suite, std::
   return names;
 }
 // Every algorithm a property of all of them applies to (the demonstrations left out).
-inline std::vector<std::string> algorithmNames() { return algorithmNamesWith("every algorithm", 0); }
+inline std::vector<std::string> algorithmNames() {
+  return algorithmNamesWith("every algorithm", 0);
+}
 
 // The property suites judge what is drawn at pixel centres (coverage by colour and overdraw,
 // ids, depth). An antialiasing algorithm is judged there with its one sample at the centre;
@@ -217,13 +219,14 @@ inline std::string testNameOf(const ::testing::TestParamInfo<std::string>& info)
 
 }  // namespace hsr::testing
 
-#define HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(Suite)                                      \
-  INSTANTIATE_TEST_SUITE_P(, Suite, ::testing::ValuesIn(::hsr::testing::algorithmNamesWith(#Suite, 0)), \
+#define HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(Suite)                                             \
+  INSTANTIATE_TEST_SUITE_P(, Suite,                                                            \
+                           ::testing::ValuesIn(::hsr::testing::algorithmNamesWith(#Suite, 0)), \
                            ::hsr::testing::testNameOf)
 
 // Suite instantiated for the algorithms with every capability in `caps` (hsr/algorithms.hpp).
-#define HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(Suite, caps)                                  \
-  INSTANTIATE_TEST_SUITE_P(                                                              \
-      , Suite, ::testing::ValuesIn(::hsr::testing::algorithmNamesWith(#Suite, (caps))),  \
-      ::hsr::testing::testNameOf);                                                       \
+#define HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(Suite, caps)                                \
+  INSTANTIATE_TEST_SUITE_P(                                                             \
+      , Suite, ::testing::ValuesIn(::hsr::testing::algorithmNamesWith(#Suite, (caps))), \
+      ::hsr::testing::testNameOf);                                                      \
   GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(Suite)

@@ -73,7 +73,8 @@ void checkFrameable(const Args& a, const hsr::Scene& scene) {
     // The limit holds whether the camera is framed or given (every vertex goes through the same
     // float transforms and clipping, whose squared distances overflow past 1.8e19): so say what
     // to do, with the power of ten to scale by.
-    const int down = static_cast<int>(std::ceil(std::log10(double(reach) / double(kMaxCoordinate))));
+    const int down =
+        static_cast<int>(std::ceil(std::log10(double(reach) / double(kMaxCoordinate))));
     throw hsr::Error(fmt::format(
         "{}: coordinates reach {:.3g}, beyond the +-1e18 that hsr's float camera arithmetic is "
         "held to (a camera given by hand does not lift it); scale the model by 1e-{} or less "
@@ -82,9 +83,10 @@ void checkFrameable(const Args& a, const hsr::Scene& scene) {
   }
   if (b.lo == b.hi && scene.cameras.empty() && a.camera_file.empty() && a.pose_file.empty() &&
       (a.eye.empty() || a.target.empty()))
-    throw hsr::Error(fmt::format("{}: every vertex lies at the same point ({:g}, {:g}, {:g}): "
-                                 "there is nothing with an extent to frame, or an area to draw",
-                                 a.scene, b.lo.x, b.lo.y, b.lo.z));
+    throw hsr::Error(
+        fmt::format("{}: every vertex lies at the same point ({:g}, {:g}, {:g}): "
+                    "there is nothing with an extent to frame, or an area to draw",
+                    a.scene, b.lo.x, b.lo.y, b.lo.z));
 }
 
 }  // namespace
@@ -95,17 +97,18 @@ std::string readUserFile(const std::string& path, const char* option, std::uintm
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
   if (!fs::exists(st)) {
-    if (ec && ec != std::errc::no_such_file_or_directory)  // a loop of links, a folder it may not search
+    if (ec &&
+        ec != std::errc::no_such_file_or_directory)  // a loop of links, a folder it may not search
       throw hsr::Error(fmt::format("{} {}: {}", option, path, ec.message()));
     throw hsr::Error(fmt::format("{} {}: no such file", option, path));
   }
   if (!fs::is_regular_file(st)) {
-    const char* what = fs::is_directory(st)           ? "a directory"
-                       : fs::is_character_file(st)    ? "a character device"
-                       : fs::is_block_file(st)        ? "a block device"
-                       : fs::is_fifo(st)              ? "a FIFO"
-                       : fs::is_socket(st)            ? "a socket"
-                                                      : "not a regular file";
+    const char* what = fs::is_directory(st)        ? "a directory"
+                       : fs::is_character_file(st) ? "a character device"
+                       : fs::is_block_file(st)     ? "a block device"
+                       : fs::is_fifo(st)           ? "a FIFO"
+                       : fs::is_socket(st)         ? "a socket"
+                                                   : "not a regular file";
     throw hsr::Error(fmt::format("{} {}: {}, not a file; name a file", option, path, what));
   }
   const std::uintmax_t bytes = fs::file_size(path, ec);
@@ -134,11 +137,13 @@ hsr::Intrinsics parseIntrinsics(const std::string& s) {
     v.push_back(d);
     at = comma + 1;
   }
-  if (v.size() != 4) throw hsr::Error(fmt::format("--intrinsics must be fx,fy,cx,cy in pixels (got '{}')", s));
+  if (v.size() != 4)
+    throw hsr::Error(fmt::format("--intrinsics must be fx,fy,cx,cy in pixels (got '{}')", s));
   // Every value given is used or refused: fx = fy = 0 is how a camera says "no intrinsics", so
   // zero focal lengths would otherwise be dropped for the default 45-degree camera
   if (!(v[0] > 0) || !(v[1] > 0))
-    throw hsr::Error(fmt::format("--intrinsics: the focal lengths fx and fy must be positive pixels (got '{}')", s));
+    throw hsr::Error(fmt::format(
+        "--intrinsics: the focal lengths fx and fy must be positive pixels (got '{}')", s));
   return {v[0], v[1], v[2], v[3]};
 }
 
@@ -148,8 +153,8 @@ int cameraIndex(const Args& a, const hsr::Scene& scene) {
   char* end = nullptr;
   const long n = std::strtol(a.camera_index.c_str(), &end, 10);
   if (a.camera_index.empty() || end != a.camera_index.c_str() + a.camera_index.size() || n < 0)
-    throw hsr::Error(fmt::format("--camera-index must be a camera's number from 0, or auto (got '{}')",
-                                 a.camera_index));
+    throw hsr::Error(fmt::format(
+        "--camera-index must be a camera's number from 0, or auto (got '{}')", a.camera_index));
   if (n > 0 && static_cast<std::size_t>(n) >= scene.cameras.size())
     throw hsr::Error(fmt::format("--camera-index {}: {} has {} camera{}", n, a.scene,
                                  scene.cameras.size(), scene.cameras.size() == 1 ? "" : "s"));
@@ -157,10 +162,14 @@ int cameraIndex(const Args& a, const hsr::Scene& scene) {
 }
 
 hsr::Camera cameraFromFile(const Args& a) {
-  for (const auto& [given, name] : {std::pair{!a.eye.empty(), "--eye"}, {!a.target.empty(), "--target"},
-                                    {!a.up.empty(), "--up"}, {!a.fov.empty(), "--fov"},
-                                    {a.ortho, "--ortho"}, {!a.intrinsics.empty(), "--intrinsics"},
-                                    {!a.pose_file.empty(), "--pose"}, {a.camera_index != "0", "--camera-index"}})
+  for (const auto& [given, name] : {std::pair{!a.eye.empty(), "--eye"},
+                                    {!a.target.empty(), "--target"},
+                                    {!a.up.empty(), "--up"},
+                                    {!a.fov.empty(), "--fov"},
+                                    {a.ortho, "--ortho"},
+                                    {!a.intrinsics.empty(), "--intrinsics"},
+                                    {!a.pose_file.empty(), "--pose"},
+                                    {a.camera_index != "0", "--camera-index"}})
     if (given) throw hsr::Error(fmt::format("{} and --camera both set the view: give one", name));
   hsr::Camera cam;
   const std::string text = readUserFile(a.camera_file, "--camera", 16u << 20);  // names itself
@@ -249,13 +258,17 @@ hsr::RenderOptions makeOptions(const Args& a) {
   if (!a.clear_depth.empty()) {
     o.clear_depth = parseFloat(a.clear_depth, "--clear-depth");
     if (!(o.clear_depth >= 0.0f && o.clear_depth <= 1.0f))
-      throw hsr::Error(fmt::format("--clear-depth must be in [0, 1], as glClearDepth clamps (got {})", a.clear_depth));
+      throw hsr::Error(fmt::format(
+          "--clear-depth must be in [0, 1], as glClearDepth clamps (got {})", a.clear_depth));
   }
   o.outline = a.outline;
   o.shade = !a.flat;
-  if (a.facing == "window") o.facing_test = hsr::FacingTest::WindowArea;
-  else if (a.facing == "eye") o.facing_test = hsr::FacingTest::EyePlane;
-  else throw hsr::Error(fmt::format("unknown facing test '{}' (window, eye)", a.facing));
+  if (a.facing == "window")
+    o.facing_test = hsr::FacingTest::WindowArea;
+  else if (a.facing == "eye")
+    o.facing_test = hsr::FacingTest::EyePlane;
+  else
+    throw hsr::Error(fmt::format("unknown facing test '{}' (window, eye)", a.facing));
   if (a.threads < 0) throw hsr::Error("--threads must be >= 0");
   o.threads = a.threads;
   o.samples = a.samples;
@@ -274,12 +287,15 @@ void addBspBuildOptions(CLI::App* app, Args& a) {
       ->capture_default_str();
   app->add_option("--bsp-seed", a.bsp_seed, "seed of the random and sampled splitter choices")
       ->capture_default_str();
-  app->add_option("--bsp-candidates", a.bsp_candidates, "polygons sampled per node by balanced and best-of-k")
+  app->add_option("--bsp-candidates", a.bsp_candidates,
+                  "polygons sampled per node by balanced and best-of-k")
       ->capture_default_str();
 }
 
 void addViewOptions(CLI::App* app, Args& a) {
-  app->add_option("scene", a.scene, "mesh file (OBJ, PLY, STL, OFF, glTF, ...), a Doom map (FILE.wad:MAP01) or built-in scene")
+  app->add_option(
+         "scene", a.scene,
+         "mesh file (OBJ, PLY, STL, OFF, glTF, ...), a Doom map (FILE.wad:MAP01) or built-in scene")
       ->capture_default_str();
   app->add_option("--size", a.size, "image size WxH (default 800x600, or --camera's)");
   app->add_option("--eye", a.eye, "camera position X,Y,Z (gluLookAt eye)");
@@ -303,17 +319,21 @@ void addViewOptions(CLI::App* app, Args& a) {
                   "the pose's camera axes: opencv (x right, y down, z forward) | opengl "
                   "(x right, y up, looking down -z)")
       ->capture_default_str();
-  app->add_option("--cull", a.cull, "back-face culling: none|back|front|both")->capture_default_str();
-  app->add_option("--front-face", a.front_face, "front-face winding: ccw|cw")->capture_default_str();
+  app->add_option("--cull", a.cull, "back-face culling: none|back|front|both")
+      ->capture_default_str();
+  app->add_option("--front-face", a.front_face, "front-face winding: ccw|cw")
+      ->capture_default_str();
   app->add_option("--facing", a.facing,
                   "facing test: window (OpenGL's window-space area) | eye (the notes' N.V)")
       ->capture_default_str();
   app->add_option("--polygon-mode", a.polygon_mode, "fill|line|point")->capture_default_str();
   app->add_option("--point-size", a.point_size,
-                  "--polygon-mode point: each vertex as a square of this many pixels, as glPointSize (1 to 64)")
+                  "--polygon-mode point: each vertex as a square of this many pixels, as "
+                  "glPointSize (1 to 64)")
       ->capture_default_str();
   app->add_option("--depth-func", a.depth_func,
-                  "never|less|equal|lequal|greater|notequal|gequal|always")->capture_default_str();
+                  "never|less|equal|lequal|greater|notequal|gequal|always")
+      ->capture_default_str();
   app->add_option("--clear-depth", a.clear_depth,
                   "the depth the buffer is cleared to, as glClearDepth (default 1; 0 lets "
                   "--depth-func greater draw)");
@@ -327,10 +347,12 @@ void addViewOptions(CLI::App* app, Args& a) {
                 "let a model read files it references outside its own folder (mtllib, buffers)");
   app->add_option("--threads", a.threads, "worker threads (0 = all); output is identical for any")
       ->capture_default_str();
-  app->add_option("--samples", a.samples,
-                  "sub-pixel samples per pixel for --algorithm abuffer: 1|4|8|16|32|64 (default 4)");
-  app->add_option("--fragment-memory", a.fragment_memory_mib,
-                  "most MiB the A-buffer's fragment lists may take; a frame needing more is refused")
+  app->add_option(
+      "--samples", a.samples,
+      "sub-pixel samples per pixel for --algorithm abuffer: 1|4|8|16|32|64 (default 4)");
+  app->add_option(
+         "--fragment-memory", a.fragment_memory_mib,
+         "most MiB the A-buffer's fragment lists may take; a frame needing more is refused")
       ->capture_default_str();
   addBspBuildOptions(app, a);
 }
@@ -341,12 +363,14 @@ hsr::ImportLimits importLimits(const Args& a) {
   // A long import shows how long it has run on a terminal (from its first second on)
   if (!a.quiet && ::isatty(STDERR_FILENO)) {
     const std::string name = fs::path(a.scene).filename().string();
-    limits.progress = [name, shown = false](double seconds, std::uint64_t bytes, bool done) mutable {
+    limits.progress = [name, shown = false](double seconds, std::uint64_t bytes,
+                                            bool done) mutable {
       if (seconds < 1.0 && !shown) return;
       shown = true;
-      fmt::print(stderr, "\r  importing {}: {:.1f} s{}{}", name, seconds,
-                 bytes > 0 ? fmt::format(", {:.0f} MiB received", bytes / 1048576.0) : std::string(),
-                 done ? "\n" : "");
+      fmt::print(
+          stderr, "\r  importing {}: {:.1f} s{}{}", name, seconds,
+          bytes > 0 ? fmt::format(", {:.0f} MiB received", bytes / 1048576.0) : std::string(),
+          done ? "\n" : "");
     };
   }
   return limits;

@@ -22,14 +22,14 @@ struct Args {
   std::string eye, target, up;
   std::string fov;  // empty: 45, or the scene file's camera
   bool ortho = false;
-  std::string near, far;  // empty: fitted to the scene
-  std::string camera_file;           // --camera FILE.json: the whole view, as --stats writes it
-  std::string camera_index = "0";    // the scene file's camera: N, or auto (none: auto-framed)
-  std::string intrinsics;            // fx,fy,cx,cy (OpenCV convention, pixels)
-  std::string pose_file;             // camera to world, 4x4
+  std::string near, far;           // empty: fitted to the scene
+  std::string camera_file;         // --camera FILE.json: the whole view, as --stats writes it
+  std::string camera_index = "0";  // the scene file's camera: N, or auto (none: auto-framed)
+  std::string intrinsics;          // fx,fy,cx,cy (OpenCV convention, pixels)
+  std::string pose_file;           // camera to world, 4x4
   std::string pose_convention = "opencv";
-  std::string clear_depth;
-  float point_size = 1.0f;  // --polygon-mode point: glPointSize  // empty: 1.0, OpenGL's glClearDepth default
+  std::string clear_depth;  // empty: 1.0, OpenGL's glClearDepth default
+  float point_size = 1.0f;  // --polygon-mode point: glPointSize
   std::string cull = "none", front_face = "ccw", polygon_mode = "fill", depth_func = "less";
   std::string facing = "window";
   bool no_depth_test = false, no_depth_mask = false, outline = false, flat = false;
@@ -40,9 +40,9 @@ struct Args {
   std::string depth = "window";  // what --raw's depth.npy holds: window, linear, distance
   std::string normals;           // --raw's normals.npy: world or eye; empty: none
   int threads = 0;
-  int samples = 0;                 // 0: the algorithm's default
+  int samples = 0;  // 0: the algorithm's default
   double fragment_memory_mib = 2048;
-  int views = 1;  // hsr compare --views
+  int views = 1;           // hsr compare --views
   std::string views_file;  // hsr render --views FILE.json
   int orbit = 0;           // hsr render --orbit N
   std::string bsp_splitter = "balanced";

@@ -24,16 +24,20 @@ namespace {
 
 void printStats(const hsr::Bsp& bsp) {
   const hsr::BspStats& s = bsp.stats();
-  fmt::print("  splitter choice      {} (seed {}, {} candidates)\n", bsp.options().splitter, bsp.options().seed,
-             bsp.options().candidates);
-  fmt::print("  scene polygons       {:>12}   with a plane: {}\n", bsp.scene().polygonCount(), s.input_polygons);
+  fmt::print("  splitter choice      {} (seed {}, {} candidates)\n", bsp.options().splitter,
+             bsp.options().seed, bsp.options().candidates);
+  fmt::print("  scene polygons       {:>12}   with a plane: {}\n", bsp.scene().polygonCount(),
+             s.input_polygons);
   fmt::print("  polygons in the tree {:>12}   pieces included\n", s.polygons);
   fmt::print("  splits               {:>12}   {:.3f} per polygon\n", s.splits,
              s.input_polygons ? double(s.splits) / double(s.input_polygons) : 0.0);
   fmt::print("  nodes                {:>12}\n", s.nodes);
-  fmt::print("  depth                {:>12}   mean depth of a polygon {:.1f}\n", s.depth, s.mean_depth);
-  fmt::print("  balance              {:>12.3f}   mean min/max of the two subtrees (1 = even)\n", s.balance);
-  fmt::print("  epsilon              {:>12.3g}   a vertex this near a plane is on it\n", bsp.epsilon());
+  fmt::print("  depth                {:>12}   mean depth of a polygon {:.1f}\n", s.depth,
+             s.mean_depth);
+  fmt::print("  balance              {:>12.3f}   mean min/max of the two subtrees (1 = even)\n",
+             s.balance);
+  fmt::print("  epsilon              {:>12.3g}   a vertex this near a plane is on it\n",
+             bsp.epsilon());
   fmt::print("  memory               {:>12.1f}   MiB ({:.0f} bytes per polygon in the tree)\n",
              double(s.bytes) / 1048576.0, s.polygons ? double(s.bytes) / double(s.polygons) : 0.0);
   fmt::print("  build time           {:>12.1f}   ms\n", s.build_ms);
@@ -74,10 +78,12 @@ int runRender(BspVerb& v) {
   const Args& a = v.render_args;
   for (const char* option : {"--bsp-splitter", "--bsp-seed", "--bsp-candidates"})
     if (v.render->count(option) > 0)
-      throw hsr::Error(fmt::format("{} applies when a tree is built (hsr bsp build); {} holds a built one",
-                                   option, a.scene));
+      throw hsr::Error(
+          fmt::format("{} applies when a tree is built (hsr bsp build); {} holds a built one",
+                      option, a.scene));
   if (v.render->count("--algorithm") > 0 && a.algorithm != "bsp")
-    throw hsr::Error("hsr bsp render draws with the tree (--algorithm bsp); use hsr render for " + a.algorithm);
+    throw hsr::Error("hsr bsp render draws with the tree (--algorithm bsp); use hsr render for " +
+                     a.algorithm);
   OutputPlan plan(a.scene);
   const bool orbit = v.orbit > 0;
   if (v.render->count("--orbit") > 0 && v.orbit < 1) throw hsr::Error("--orbit must be at least 1");
@@ -131,8 +137,8 @@ int runRender(BspVerb& v) {
   if (::isatty(STDERR_FILENO) && !v.quiet) fmt::print(stderr, "\n");
   dir.commit(fmt::format("{{\"views\": {}}}", v.orbit));
   if (!v.quiet)
-    fmt::print("hsr bsp render {}: {} views {}x{} from one tree, {:.1f} ms per view\n  wrote {}\n", a.scene,
-               v.orbit, camera.width, camera.height, total_ms / v.orbit, out);
+    fmt::print("hsr bsp render {}: {} views {}x{} from one tree, {:.1f} ms per view\n  wrote {}\n",
+               a.scene, v.orbit, camera.width, camera.height, total_ms / v.orbit, out);
   return 0;
 }
 
@@ -142,7 +148,8 @@ int runInfo(BspVerb& v) {
   const hsr::Bsp bsp = hsr::loadBsp(v.file);
   fmt::print("hsr bsp info {}\n", v.file);
   printStats(bsp);
-  fmt::print("tree (front subtree first; counts are polygons below):\n{}", hsr::bspOutline(bsp, v.nodes));
+  fmt::print("tree (front subtree first; counts are polygons below):\n{}",
+             hsr::bspOutline(bsp, v.nodes));
   if (v.info->count("--dot") > 0) {
     hsr::writeFileAtomically(v.dot_file, {hsr::bspDot(bsp)});
     fmt::print("  wrote {}\n", v.dot_file);
@@ -155,7 +162,8 @@ int runInfo(BspVerb& v) {
 void addBspVerb(CLI::App& app, BspVerb& v) {
   v.verb = app.add_subcommand("bsp", "build a scene's BSP tree once, render it from any viewpoint");
   v.verb->require_subcommand(1, 1);
-  v.build = v.verb->add_subcommand("build", "build SCENE's BSP tree and save it: hsr bsp build SCENE -o FILE");
+  v.build = v.verb->add_subcommand(
+      "build", "build SCENE's BSP tree and save it: hsr bsp build SCENE -o FILE");
   v.build->add_option("scene", v.build_args.scene, "mesh file or built-in scene")->required();
   v.build->add_option("-o", v.output, "the tree file to write")->required();
   addBspBuildOptions(v.build, v.build_args);
@@ -164,10 +172,12 @@ void addBspVerb(CLI::App& app, BspVerb& v) {
   v.build->add_flag("-q,--quiet", v.quiet, "no summary, no progress");
 
   v.render = v.verb->add_subcommand(
-      "render", "render a saved tree with every camera flag of hsr render, or --orbit N views into -o DIR");
+      "render",
+      "render a saved tree with every camera flag of hsr render, or --orbit N views into -o DIR");
   addViewOptions(v.render, v.render_args);
   v.render->get_option("scene")->description("a tree file written by hsr bsp build")->required();
-  v.render->add_option("-o", v.output, "output PNG (default out/bsp.png), or with --orbit a directory");
+  v.render->add_option("-o", v.output,
+                       "output PNG (default out/bsp.png), or with --orbit a directory");
   v.render->add_option("--orbit", v.orbit, "render N views on a ring around the target");
   v.render->add_option("--raw", v.raw_dir, "write depth.npy, ids.npy, overdraw.npy into DIR");
   v.render->add_option("--stats", v.stats_file, "write counts and stage times as JSON");

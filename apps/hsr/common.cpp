@@ -50,7 +50,8 @@ std::size_t editDistance(std::string_view a, std::string_view b) {
 void refuseFlagsAsValues(CLI::App* app) {
   const CLI::Validator not_a_flag(
       [](std::string& v) {
-        const bool flag = v.size() > 1 && v[0] == '-' && (std::isalpha(static_cast<unsigned char>(v[1])) || v[1] == '-');
+        const bool flag = v.size() > 1 && v[0] == '-' &&
+                          (std::isalpha(static_cast<unsigned char>(v[1])) || v[1] == '-');
         return flag ? "needs a value, and " + v + " is a flag" : std::string();
       },
       "", "not a flag");
@@ -61,18 +62,20 @@ void refuseFlagsAsValues(CLI::App* app) {
 
 void lowercaseNameValues(CLI::App* app) {
   static constexpr std::string_view kNamed[] = {
-      "cull",  "front-face", "facing",          "polygon-mode", "depth-func", "algorithm", "output", "depth",
-      "normals", "pose-convention", "camera-index", "bsp-splitter", "style", "hidden", "lines", "engine",
-      "fallback"};
+      "cull",   "front-face", "facing",  "polygon-mode",    "depth-func",   "algorithm",
+      "output", "depth",      "normals", "pose-convention", "camera-index", "bsp-splitter",
+      "style",  "hidden",     "lines",   "engine",          "fallback"};
   const CLI::Validator lower(
       [](std::string& v) {
-        std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
+        std::transform(v.begin(), v.end(), v.begin(),
+                       [](unsigned char c) { return std::tolower(c); });
         return std::string();
       },
       "", "lower case");
   for (CLI::Option* o : app->get_options())
     for (const std::string& n : o->get_lnames())
-      if (std::find(std::begin(kNamed), std::end(kNamed), n) != std::end(kNamed)) o->transform(lower);
+      if (std::find(std::begin(kNamed), std::end(kNamed), n) != std::end(kNamed))
+        o->transform(lower);
   if (CLI::Option* algorithm = app->get_option_no_throw("ALGORITHM")) algorithm->transform(lower);
   for (CLI::App* sub : app->get_subcommands({})) lowercaseNameValues(sub);
 }
@@ -82,7 +85,9 @@ std::string nearMissHint(CLI::App* app, int argc, const char* const* argv) {
   allOptionNames(app, names);
   for (int i = 1; i < argc; ++i) {
     std::string_view arg = argv[i];
-    if (arg.size() < 3 || arg[0] != '-' || std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.') continue;
+    if (arg.size() < 3 || arg[0] != '-' || std::isdigit(static_cast<unsigned char>(arg[1])) ||
+        arg[1] == '.')
+      continue;
     arg = arg.substr(0, arg.find('='));
     if (std::find(names.begin(), names.end(), arg) != names.end()) continue;
     std::string best;
@@ -106,9 +111,10 @@ std::string commaHint(int argc, const char* const* argv) {
   };
   for (int i = 1; i + 2 < argc; ++i) {
     const std::string_view o = argv[i];
-    if ((o == "--eye" || o == "--target" || o == "--up") && number(argv[i + 1]) && number(argv[i + 2]))
-      return fmt::format("{} takes x,y,z joined by commas, such as {} {},{},{}", o, o, argv[i + 1], argv[i + 2],
-                         i + 3 < argc && number(argv[i + 3]) ? argv[i + 3] : "0");
+    if ((o == "--eye" || o == "--target" || o == "--up") && number(argv[i + 1]) &&
+        number(argv[i + 2]))
+      return fmt::format("{} takes x,y,z joined by commas, such as {} {},{},{}", o, o, argv[i + 1],
+                         argv[i + 2], i + 3 < argc && number(argv[i + 3]) ? argv[i + 3] : "0");
   }
   return {};
 }
@@ -119,9 +125,11 @@ std::string plainParseMessage(std::string_view what) {
   const std::size_t at = what.find(kAtMost);
   if (at != std::string_view::npos && at > 0) {
     const std::string_view count = what.substr(at + kAtMost.size());
-    if (!count.empty() && std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
-      return fmt::format("{} is given {} times; give it once (a later one does not replace an earlier)",
-                         what.substr(0, at), count);
+    if (!count.empty() &&
+        std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return fmt::format(
+          "{} is given {} times; give it once (a later one does not replace an earlier)",
+          what.substr(0, at), count);
   }
   return std::string(what);
 }
@@ -134,7 +142,8 @@ std::string verbMissHint(std::string_view first, const std::vector<std::string_v
     if (b.name.substr(0, b.name.find(':')) == base) return {};
   for (const std::string_view v : verbs)
     if (editDistance(first, v) <= 2)
-      return fmt::format("{}: no such verb, file or built-in scene; did you mean {}?", printable(first), v);
+      return fmt::format("{}: no such verb, file or built-in scene; did you mean {}?",
+                         printable(first), v);
   return {};
 }
 
@@ -171,10 +180,11 @@ void printError(std::string_view message) {
 void requireExtension(std::string_view option, const std::string& path, std::string_view extension,
                       std::string_view what) {
   std::string given = fs::path(path).extension().string();
-  std::transform(given.begin(), given.end(), given.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(given.begin(), given.end(), given.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   if (!given.empty() && given != extension)
-    throw hsr::Error(fmt::format("{} {}: hsr writes {} there; name the file {}", option, printable(path),
-                                 what, extension));
+    throw hsr::Error(fmt::format("{} {}: hsr writes {} there; name the file {}", option,
+                                 printable(path), what, extension));
 }
 
 std::string sceneLabel(const std::string& spec) {
@@ -191,10 +201,12 @@ void warnIfEyeInside(const hsr::Scene& scene, const hsr::Camera& cam) {
   for (const hsr::Object& o : scene.objects) {
     const hsr::Bounds& b = o.bounds;
     if (b.empty()) continue;
-    if (glm::all(glm::greaterThanEqual(cam.eye, b.lo)) && glm::all(glm::lessThanEqual(cam.eye, b.hi))) {
-      printError(fmt::format("warning: the eye is inside the bounds of object '{}'; what "
-                             "surrounds it is clipped at the near plane",
-                             o.name));
+    if (glm::all(glm::greaterThanEqual(cam.eye, b.lo)) &&
+        glm::all(glm::lessThanEqual(cam.eye, b.hi))) {
+      printError(
+          fmt::format("warning: the eye is inside the bounds of object '{}'; what "
+                      "surrounds it is clipped at the near plane",
+                      o.name));
       return;
     }
   }
@@ -209,10 +221,11 @@ bool depthUnresolvable(const hsr::Camera& cam) {
 
 bool warnIfDepthUnresolvable(const hsr::Camera& cam) {
   if (!depthUnresolvable(cam)) return false;
-  printError(fmt::format("warning: far/near = {:.3g} (near {:g}, far {:g}) is more than a float "
-                         "depth buffer resolves (2^24): depths round to the clear value and "
-                         "surfaces vanish or merge; raise --near",
-                         cam.far / cam.near, cam.near, cam.far));
+  printError(
+      fmt::format("warning: far/near = {:.3g} (near {:g}, far {:g}) is more than a float "
+                  "depth buffer resolves (2^24): depths round to the clear value and "
+                  "surfaces vanish or merge; raise --near",
+                  cam.far / cam.near, cam.near, cam.far));
   return true;
 }
 
@@ -250,20 +263,24 @@ void warnIfUnresolved(const hsr::Frame& f, const std::string& algorithm) {
   // Counters that say an algorithm's budget ran out, and what that means for the picture
   static constexpr std::pair<std::string_view, std::string_view> kBudgets[] = {
       {": unresolved",
-       "left {} orderings unresolved (its split budget was spent); those polygons were painted in the "
+       "left {} orderings unresolved (its split budget was spent); those polygons were painted in "
+       "the "
        "order reached and may hide nearer ones"},
       {": left to the depth test",
-       "reached its work limit; {} polygons were finished with a depth test per pixel instead of exact "
+       "reached its work limit; {} polygons were finished with a depth test per pixel instead of "
+       "exact "
        "clipping"}};
   for (const hsr::Counter& c : f.stats.counters)
     for (const auto& [suffix, what] : kBudgets)
       if (c.value > 0 && c.name.ends_with(suffix))
-        fmt::print(stderr, "hsr: warning: {} {}\n", algorithm, fmt::format(fmt::runtime(what), c.value));
+        fmt::print(stderr, "hsr: warning: {} {}\n", algorithm,
+                   fmt::format(fmt::runtime(what), c.value));
 }
 
 namespace {
 const char* depthFuncName(hsr::DepthFunc f) {
-  static constexpr const char* kNames[] = {"never", "less", "equal", "lequal", "greater", "notequal", "gequal", "always"};
+  static constexpr const char* kNames[] = {"never",   "less",     "equal",  "lequal",
+                                           "greater", "notequal", "gequal", "always"};
   return kNames[static_cast<int>(f)];
 }
 }  // namespace
@@ -277,18 +294,21 @@ void warnIfNothingDrawn(const hsr::Frame& f, const hsr::RenderOptions& o) {
     why = "the scene has no polygons";
   else if (s.culled_frustum == s.triangles_in)
     why = "every polygon lies outside the view (check --eye, --target, --near, --far)";
-  else if (s.culled_backface > 0 && s.culled_backface + s.culled_frustum + s.clipped_away >= s.triangles_in)
-    why = o.cull == hsr::CullMode::FrontAndBack
-              ? "--cull both removes every polygon, front and back faces alike (try --cull back or none)"
-              : "every polygon in the view faces away and --cull removed it (try --cull none or --front-face cw)";
+  else if (s.culled_backface > 0 &&
+           s.culled_backface + s.culled_frustum + s.clipped_away >= s.triangles_in)
+    why = o.cull == hsr::CullMode::FrontAndBack ? "--cull both removes every polygon, front and "
+                                                  "back faces alike (try --cull back or none)"
+                                                : "every polygon in the view faces away and --cull "
+                                                  "removed it (try --cull none or --front-face cw)";
   else if (s.clipped_away > 0 && s.culled_frustum + s.clipped_away >= s.triangles_in)
     why = "every polygon was clipped away by the near or far plane";
   else if (s.fragments_tested > 0 && s.fragments_written == 0)
-    why = fmt::format("no fragment passed the depth test (--depth-func {} against the clear depth {:g}{})",
-                      depthFuncName(o.depth_func), o.clear_depth,
-                      o.depth_func == hsr::DepthFunc::Greater || o.depth_func == hsr::DepthFunc::GEqual
-                          ? "; --clear-depth 0 lets it draw"
-                          : "");
+    why = fmt::format(
+        "no fragment passed the depth test (--depth-func {} against the clear depth {:g}{})",
+        depthFuncName(o.depth_func), o.clear_depth,
+        o.depth_func == hsr::DepthFunc::Greater || o.depth_func == hsr::DepthFunc::GEqual
+            ? "; --clear-depth 0 lets it draw"
+            : "");
   else if (s.triangles_rasterized == 0 || s.fragments_tested == 0)
     why = "every polygon in the view falls between pixel centres (too small for this --size)";
   else
@@ -315,7 +335,8 @@ void addLegend(const hsr::Frame& f, std::string_view kind, std::vector<std::uint
       right = fmt::format("FAR {:.5f}", r.hi);
     } else {
       // The ends in the units --depth asks for (the ramp is the picture's: window z)
-      title = depth == hsr::DepthKind::kLinear ? "DEPTH ALONG THE VIEW AXIS" : "DISTANCE FROM THE EYE";
+      title =
+          depth == hsr::DepthKind::kLinear ? "DEPTH ALONG THE VIEW AXIS" : "DISTANCE FROM THE EYE";
       const std::vector<float> d = hsr::depthAs(f, camera, depth);
       float lo = INFINITY, hi = -INFINITY;
       for (const float v : d)
@@ -325,7 +346,8 @@ void addLegend(const hsr::Frame& f, std::string_view kind, std::vector<std::uint
       right = fmt::format("FAR {:.4g}", hi);
     }
   } else {
-    const std::uint32_t max = f.overdraw.empty() ? 0 : *std::max_element(f.overdraw.begin(), f.overdraw.end());
+    const std::uint32_t max =
+        f.overdraw.empty() ? 0 : *std::max_element(f.overdraw.begin(), f.overdraw.end());
     if (max == 0) return;
     title = "OVERDRAW";
     left = "1";
@@ -342,12 +364,15 @@ void addLegend(const hsr::Frame& f, std::string_view kind, std::vector<std::uint
   hsr::drawLabel(rgb, w, h, x0 + kPad, y0 + kPad, title, 1);
   const int values_y = y0 + kPad + kText + 3;
   hsr::drawLabel(rgb, w, h, x0 + kPad, values_y, left, 1);
-  hsr::drawLabel(rgb, w, h, x0 + kPad + kBar - 6 * static_cast<int>(right.size()) + 1, values_y, right, 1);
+  hsr::drawLabel(rgb, w, h, x0 + kPad + kBar - 6 * static_cast<int>(right.size()) + 1, values_y,
+                 right, 1);
   for (int i = 0; i < kBar; ++i) {
     std::uint8_t c[3];
     const float t = static_cast<float>(i) / (kBar - 1);
-    if (kind == "depth") hsr::depthRampColor(t, c);
-    else hsr::overdrawRampColor(t, c);
+    if (kind == "depth")
+      hsr::depthRampColor(t, c);
+    else
+      hsr::overdrawRampColor(t, c);
     for (int y = values_y + kText + 3; y < values_y + kText + 3 + kBarH; ++y)
       std::copy(c, c + 3, &rgb[3 * (static_cast<std::size_t>(y) * w + x0 + kPad + i)]);
   }
@@ -359,20 +384,21 @@ void printSummary(const hsr::Frame& f, const std::string& scene, const std::stri
   fmt::print("hsr {} {}  {}x{}\n", algorithm, scene, f.width, f.height);
   if (camera) {
     const hsr::Camera& c = *camera;
-    fmt::print("  camera   eye ({:g}, {:g}, {:g}) target ({:g}, {:g}, {:g}) up ({:g}, {:g}, {:g}), ",
-               c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y,
-               c.up.z);
+    fmt::print(
+        "  camera   eye ({:g}, {:g}, {:g}) target ({:g}, {:g}, {:g}) up ({:g}, {:g}, {:g}), ",
+        c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z);
     if (c.ortho) {
       fmt::print("orthographic, half height {:g}, near {:g}, far {:g}\n", c.ortho_half_height,
                  c.near, c.far);
     } else {
       const hsr::Intrinsics k = hsr::intrinsicsOf(c);
       const hsr::FieldOfView fov = hsr::fieldOfView(c);
-      const std::string angle = c.intrinsics.given()
-                                    ? fmt::format("fov {:.4g} x {:.4g} deg (from the intrinsics)", fov.x_deg, fov.y_deg)
-                                    : fmt::format("fov {:g} deg", c.fov_deg);
-      fmt::print("{}, near {:g}, far {:g}; fx {:.3f} fy {:.3f} cx {:g} cy {:g} (OpenCV)\n", angle, c.near,
-                 c.far, k.fx, k.fy, k.cx, k.cy);
+      const std::string angle =
+          c.intrinsics.given()
+              ? fmt::format("fov {:.4g} x {:.4g} deg (from the intrinsics)", fov.x_deg, fov.y_deg)
+              : fmt::format("fov {:g} deg", c.fov_deg);
+      fmt::print("{}, near {:g}, far {:g}; fx {:.3f} fy {:.3f} cx {:g} cy {:g} (OpenCV)\n", angle,
+                 c.near, c.far, k.fx, k.fy, k.cx, k.cy);
     }
   }
   // Every count of the one table, with what it counts (zero counts of rarer events omitted).

@@ -64,7 +64,8 @@ class OutputPlan {
   }
   void directory(std::string_view option, const std::string& path,
                  const std::vector<std::string>& own_names = {}) {
-    if (path.empty()) throw hsr::Error(fmt::format("{} \"\": an empty path names no directory", option));
+    if (path.empty())
+      throw hsr::Error(fmt::format("{} \"\": an empty path names no directory", option));
     add(option, path, true);
     hsr::checkOutputDirectory(path, own_names);
   }
@@ -86,13 +87,13 @@ class OutputPlan {
                                    option, path, k == input_ ? "is" : "holds"));
     for (const Planned& o : planned_) {
       if (o.key == k)
-        throw hsr::Error(fmt::format("{} {} and {} {} name the same output", o.option, o.path,
-                                     option, path));
+        throw hsr::Error(
+            fmt::format("{} {} and {} {} name the same output", o.option, o.path, option, path));
       if ((o.is_directory && inside(k, o.key)) || (is_directory && inside(o.key, k)))
-        throw hsr::Error(fmt::format(
-            "{} {} lies inside {} {}, a directory that is replaced as a whole",
-            o.is_directory ? option : o.option, o.is_directory ? path : o.path,
-            o.is_directory ? o.option : option, o.is_directory ? o.path : path));
+        throw hsr::Error(
+            fmt::format("{} {} lies inside {} {}, a directory that is replaced as a whole",
+                        o.is_directory ? option : o.option, o.is_directory ? path : o.path,
+                        o.is_directory ? o.option : option, o.is_directory ? o.path : path));
     }
     planned_.push_back({std::string(option), path, k, is_directory});
   }

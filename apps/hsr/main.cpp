@@ -39,10 +39,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using hsr::cli::addViewOptions;
 using hsr::cli::Args;
 using hsr::cli::makeCamera;
 using hsr::cli::makeOptions;
-using hsr::cli::addViewOptions;
 using hsr::cli::OutputPlan;
 using hsr::cli::printError;
 using hsr::cli::printSummary;
@@ -68,17 +68,26 @@ struct ViewPlan {
 
 ViewPlan planViews(const Args& a, const Given& given) {
   ViewPlan v;
-  if (given.views_file && given.orbit) throw hsr::Error("--views and --orbit both give the views: give one");
+  if (given.views_file && given.orbit)
+    throw hsr::Error("--views and --orbit both give the views: give one");
   if (given.views_file) {
-    for (const auto& [set, name] : {std::pair{!a.eye.empty(), "--eye"}, {!a.target.empty(), "--target"},
-                                    {!a.up.empty(), "--up"}, {!a.fov.empty(), "--fov"}, {a.ortho, "--ortho"},
-                                    {!a.camera_file.empty(), "--camera"}, {!a.intrinsics.empty(), "--intrinsics"},
-                                    {!a.pose_file.empty(), "--pose"}, {!a.near.empty(), "--near"},
+    for (const auto& [set, name] : {std::pair{!a.eye.empty(), "--eye"},
+                                    {!a.target.empty(), "--target"},
+                                    {!a.up.empty(), "--up"},
+                                    {!a.fov.empty(), "--fov"},
+                                    {a.ortho, "--ortho"},
+                                    {!a.camera_file.empty(), "--camera"},
+                                    {!a.intrinsics.empty(), "--intrinsics"},
+                                    {!a.pose_file.empty(), "--pose"},
+                                    {!a.near.empty(), "--near"},
                                     {!a.far.empty(), "--far"}})
-      if (set) throw hsr::Error(fmt::format("{} and --views both set the view: the file gives each view", name));
+      if (set)
+        throw hsr::Error(
+            fmt::format("{} and --views both set the view: the file gives each view", name));
     hsr::ViewDefaults defaults;  // --size: the size of every view that names none
     if (!a.size.empty()) hsr::cli::parseImageSize(a.size, &defaults.width, &defaults.height);
-    const std::string text = hsr::cli::readUserFile(a.views_file, "--views", 256u << 20);  // names itself
+    // names itself
+    const std::string text = hsr::cli::readUserFile(a.views_file, "--views", 256u << 20);
     try {
       v.listed = hsr::viewsFromJson(text, defaults);
     } catch (const hsr::Error& e) {
@@ -87,7 +96,8 @@ ViewPlan planViews(const Args& a, const Given& given) {
     v.count = static_cast<int>(v.listed.cameras.size());
     v.many = true;
   } else if (given.orbit) {
-    if (a.orbit < 1 || a.orbit > 100000) throw hsr::Error(fmt::format("--orbit must be 1 to 100000 views (got {})", a.orbit));
+    if (a.orbit < 1 || a.orbit > 100000)
+      throw hsr::Error(fmt::format("--orbit must be 1 to 100000 views (got {})", a.orbit));
     v.count = a.orbit;
     v.many = true;
   }
@@ -96,15 +106,18 @@ ViewPlan planViews(const Args& a, const Given& given) {
 
 int runRender(const Args& a, const Given& given) {
   std::vector<std::string> kinds = splitList(a.outputs);
-  if (kinds.empty()) throw hsr::Error("--output needs at least one of color,depth,ids,overdraw, or none");
+  if (kinds.empty())
+    throw hsr::Error("--output needs at least one of color,depth,ids,overdraw, or none");
   // none: no picture (the raw buffers or the stats alone, or a timing)
   const bool none = std::find(kinds.begin(), kinds.end(), "none") != kinds.end();
   if (none && kinds.size() > 1) throw hsr::Error("--output none stands alone");
-  if (none && given.output_file) throw hsr::Error("-o names a picture, and --output none writes none");
+  if (none && given.output_file)
+    throw hsr::Error("-o names a picture, and --output none writes none");
   if (none) kinds.clear();
   for (const std::string& k : kinds)
     if (k != "color" && k != "depth" && k != "ids" && k != "overdraw")
-      throw hsr::Error(fmt::format("unknown output '{}' (color, depth, ids, overdraw, or none)", k));
+      throw hsr::Error(
+          fmt::format("unknown output '{}' (color, depth, ids, overdraw, or none)", k));
   const hsr::DepthKind depth = hsr::depthKindNamed(a.depth);
   if (given.depth && !given.raw)
     throw hsr::Error("--depth says what --raw DIR/depth.npy holds: give --raw");
@@ -122,12 +135,14 @@ int runRender(const Args& a, const Given& given) {
   const fs::path base = a.output_file.empty() ? fs::path("out") / (sceneLabel(a.scene) + ".png")
                                               : fs::path(a.output_file);
   const bool stats_to_stdout = given.stats && a.stats_file == "-";
-  const bool kind_suffix = kinds.size() > 1 || (kinds.size() == 1 && kinds[0] != "color" && !given.output_file);
+  const bool kind_suffix =
+      kinds.size() > 1 || (kinds.size() == 1 && kinds[0] != "color" && !given.output_file);
   auto viewTag = [&](int k) { return views.many ? fmt::format("-{:04d}", k) : std::string(); };
   auto pngPath = [&](int k, const std::string& kind) {
     if (!views.many && !kind_suffix) return base;  // exactly as named (/dev/full included)
     fs::path p = base;
-    p.replace_filename(base.stem().string() + viewTag(k) + (kind_suffix ? "-" + kind : "") + ".png");
+    p.replace_filename(base.stem().string() + viewTag(k) + (kind_suffix ? "-" + kind : "") +
+                       ".png");
     return p;
   };
   auto rawPath = [&](int k) {
@@ -152,10 +167,12 @@ int runRender(const Args& a, const Given& given) {
   std::vector<hsr::Camera> cameras = std::move(views.listed.cameras);
   if (cameras.empty()) {
     const hsr::Camera cam = makeCamera(a, scene);
-    for (int k = 0; k < views.count; ++k) cameras.push_back(views.count > 1 ? hsr::orbitView(cam, k, views.count) : cam);
+    for (int k = 0; k < views.count; ++k)
+      cameras.push_back(views.count > 1 ? hsr::orbitView(cam, k, views.count) : cam);
   }
   for (const hsr::Camera& cam : cameras)
-    for (const std::string& kind : kinds) hsr::checkPngSize(pngPath(0, kind), cam.width, cam.height, 3);
+    for (const std::string& kind : kinds)
+      hsr::checkPngSize(pngPath(0, kind), cam.width, cam.height, 3);
   warnIfEyeInside(scene, cameras.front());
   const bool depth_unresolved = hsr::cli::depthUnresolvable(cameras.front());
   const hsr::RenderOptions opt = makeOptions(a);
@@ -217,12 +234,15 @@ int runRender(const Args& a, const Given& given) {
     return 0;
   }
   if (progress) fmt::print(stderr, "\n");
-  fmt::print("hsr render {} --algorithm {}: {} views, {} polygons\n", a.scene, opt.algorithm, views.count,
-             scene.polygonCount());
+  fmt::print("hsr render {} --algorithm {}: {} views, {} polygons\n", a.scene, opt.algorithm,
+             views.count, scene.polygonCount());
   fmt::print("  first view {:.2f} ms (with what the algorithm builds once){}\n", first_ms,
-             views.count > 1 ? fmt::format(", the other views {:.2f} ms each", rest_ms / (views.count - 1)) : "");
+             views.count > 1
+                 ? fmt::format(", the other views {:.2f} ms each", rest_ms / (views.count - 1))
+                 : "");
   if (!kinds.empty())
-    fmt::print("  wrote {} ... {}\n", pngPath(0, kinds.front()).string(), pngPath(views.count - 1, kinds.back()).string());
+    fmt::print("  wrote {} ... {}\n", pngPath(0, kinds.front()).string(),
+               pngPath(views.count - 1, kinds.back()).string());
   if (given.raw)
     fmt::print("  wrote {}/ ... {}/\n", rawPath(0).string(), rawPath(views.count - 1).string());
   for (const std::string& w : written) fmt::print("  wrote {}\n", w);
@@ -237,8 +257,8 @@ int runCompare(const Args& a, const Given& given) {
   warnIfDepthUnresolvable(cam);
   const hsr::RenderOptions opt = makeOptions(a);
   if (given.sheet) {
-    const hsr::SheetSize size = hsr::comparisonSheetSize(
-        static_cast<int>(hsr::algorithms().size()), cam.width, cam.height);
+    const hsr::SheetSize size =
+        hsr::comparisonSheetSize(static_cast<int>(hsr::algorithms().size()), cam.width, cam.height);
     hsr::checkPngSize(a.sheet_file, size.width, size.height, 3);
   }
   if (a.views < 1 || a.views > hsr::kMaxCompareViews)
@@ -249,18 +269,20 @@ int runCompare(const Args& a, const Given& given) {
   fmt::print("hsr compare {}  {}x{}  ({} polygons{})\n", a.scene, cam.width, cam.height,
              scene.polygonCount(), orbit ? fmt::format(", {} views on an orbit", a.views) : "");
   fmt::print("  {:<17} {:>10}{} {:>12} {:>10} {:>8} {:>12} {:>10}\n", "algorithm", "time ms",
-             orbit ? fmt::format(" {:>13}", "next views ms") : "", "memory MiB", "overdraw", "max", "ids = zbuf",
-             "differ px");
+             orbit ? fmt::format(" {:>13}", "next views ms") : "", "memory MiB", "overdraw", "max",
+             "ids = zbuf", "differ px");
   for (const hsr::ComparisonRow& r : rows)
     if (!r.not_run.empty())
       fmt::print("  {:<17} not run: {}\n", r.algorithm, r.not_run);
     else
-      fmt::print("  {:<17} {:>10.2f}{} {:>12.1f} {:>10.2f} {:>8} {:>11.4f}% {:>10}\n", r.algorithm, r.ms,
-                 orbit ? fmt::format(" {:>13.2f}", r.view_ms) : "", r.state_bytes / 1048576.0, r.mean_overdraw,
-                 r.max_overdraw, 100.0 * r.id_agreement, r.differing_pixels);
+      fmt::print("  {:<17} {:>10.2f}{} {:>12.1f} {:>10.2f} {:>8} {:>11.4f}% {:>10}\n", r.algorithm,
+                 r.ms, orbit ? fmt::format(" {:>13.2f}", r.view_ms) : "", r.state_bytes / 1048576.0,
+                 r.mean_overdraw, r.max_overdraw, 100.0 * r.id_agreement, r.differing_pixels);
   if (orbit)
-    fmt::print("  (time ms: the first view, with what an algorithm builds once; next views ms: the mean of\n"
-               "   the other views, drawn into the same frame; ids compared on every view)\n");
+    fmt::print(
+        "  (time ms: the first view, with what an algorithm builds once; next views ms: the mean "
+        "of\n"
+        "   the other views, drawn into the same frame; ids compared on every view)\n");
   if (given.sheet) {
     int w = 0, h = 0;
     const std::vector<std::uint8_t> sheet = hsr::comparisonSheet(rows, &w, &h);
@@ -273,7 +295,8 @@ int runCompare(const Args& a, const Given& given) {
 // `hsr explain bsp2d WAD --map MAP`: Doom's walk of the map's tree from player 1's start.
 int runExplainDoom(const Args& a, const std::string& map_name, const fs::path& dir) {
   namespace doom = hsr::doom;
-  if (map_name.empty()) throw hsr::Error("explain bsp2d draws a Doom map: give the WAD and --map MAP01");
+  if (map_name.empty())
+    throw hsr::Error("explain bsp2d draws a Doom map: give the WAD and --map MAP01");
   int width = 640, height = 400;
   if (!a.size.empty()) hsr::cli::parseImageSize(a.size, &width, &height);
   const doom::Map map = doom::readMap(doom::readWad(a.scene), map_name);
@@ -282,14 +305,18 @@ int runExplainDoom(const Args& a, const std::string& map_name, const fs::path& d
   const hsr::Camera camera = doom::viewCamera(map, nodes, doom::playerStart(map), width, height);
   const hsr::Explanation e = hsr::explainDoomView(map, nodes, level, camera, dir);
   if (!a.quiet) {
-    fmt::print("hsr explain bsp2d {} {}  {}x{}: {} steps\n", a.scene, map.name, width, height, e.steps.size());
-    for (const hsr::ExplainedStep& s : e.steps) fmt::print("  {:>2}. {:<19} {}\n", s.number, s.name, s.caption);
-    fmt::print("  wrote {} pictures, {} and {}\n", e.steps.size(), e.sheet.string(), e.index.string());
+    fmt::print("hsr explain bsp2d {} {}  {}x{}: {} steps\n", a.scene, map.name, width, height,
+               e.steps.size());
+    for (const hsr::ExplainedStep& s : e.steps)
+      fmt::print("  {:>2}. {:<19} {}\n", s.number, s.name, s.caption);
+    fmt::print("  wrote {} pictures, {} and {}\n", e.steps.size(), e.sheet.string(),
+               e.index.string());
   }
   return 0;
 }
 
-int runExplain(const Args& a, const std::string& dir_arg, const std::string& map_name, const Given& given) {
+int runExplain(const Args& a, const std::string& dir_arg, const std::string& map_name,
+               const Given& given) {
   if (given.explain_dir && dir_arg.empty())
     throw hsr::Error("-o \"\": an empty path names no directory");
   const fs::path dir =
@@ -317,7 +344,8 @@ int runExplain(const Args& a, const std::string& dir_arg, const std::string& map
 
 int runScenes() {
   fmt::print("built-in scenes (a file of the same name wins):\n");
-  for (const hsr::BuiltinScene& s : hsr::builtinScenes()) fmt::print("  {:<16} {}\n", s.name, s.summary);
+  for (const hsr::BuiltinScene& s : hsr::builtinScenes())
+    fmt::print("  {:<16} {}\n", s.name, s.summary);
   fmt::print("algorithms:\n");
   for (const hsr::AlgorithmInfo& i : hsr::algorithms())
     fmt::print("  {:<18} {} precision{}: {}\n                     input: {}; can: {}\n", i.name,
@@ -335,67 +363,78 @@ extern "C" void onTerminatingSignal(int sig) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"hsr: hidden-surface removal with every classic algorithm.\n"
-               "Examples:\n"
-               "  hsr                                  render the demo scene to out/demo.png\n"
-               "  hsr model.ply --raw out/raw          render a model (render is the default verb)\n"
-               "  hsr render spheres:100000 --size 1920x1080 --cull back -o out/s.png\n"
-               "  hsr render model.obj --output color,depth,ids,overdraw --raw out/raw\n"
-               "  hsr render demo --polygon-mode line --eye 4,3,6 --target 0,0,0\n"
-               "  hsr compare demo --sheet out/sheet.png\n"
-               "  hsr compare spheres:100000 --views 12\n"
-               "  hsr explain zbuffer-textbook demo -o out/explain\n"
-               "  hsr explain bsp2d /usr/share/games/doom/freedoom2.wad --map MAP01 -o out/explain-doom\n"
-               "  hsr bsp build spheres:100000 -o out/spheres.bsp\n"
-               "  hsr bsp render out/spheres.bsp --orbit 12 -o out/orbit\n"
-               "  hsr svg solids --hidden dashed --page A4-landscape -o out/solids.svg\n"
-               "  hsr doom build /usr/share/games/doom/freedoom2.wad -o out/freedoom2.wad\n"
-               "  hsr doom view /usr/share/games/doom/freedoom2.wad --map MAP01 -o out/map01.png\n"
-               "  hsr scenes"};
+  CLI::App app{
+      "hsr: hidden-surface removal with every classic algorithm.\n"
+      "Examples:\n"
+      "  hsr                                  render the demo scene to out/demo.png\n"
+      "  hsr model.ply --raw out/raw          render a model (render is the default verb)\n"
+      "  hsr render spheres:100000 --size 1920x1080 --cull back -o out/s.png\n"
+      "  hsr render model.obj --output color,depth,ids,overdraw --raw out/raw\n"
+      "  hsr render demo --polygon-mode line --eye 4,3,6 --target 0,0,0\n"
+      "  hsr compare demo --sheet out/sheet.png\n"
+      "  hsr compare spheres:100000 --views 12\n"
+      "  hsr explain zbuffer-textbook demo -o out/explain\n"
+      "  hsr explain bsp2d /usr/share/games/doom/freedoom2.wad --map MAP01 -o out/explain-doom\n"
+      "  hsr bsp build spheres:100000 -o out/spheres.bsp\n"
+      "  hsr bsp render out/spheres.bsp --orbit 12 -o out/orbit\n"
+      "  hsr svg solids --hidden dashed --page A4-landscape -o out/solids.svg\n"
+      "  hsr doom build /usr/share/games/doom/freedoom2.wad -o out/freedoom2.wad\n"
+      "  hsr doom view /usr/share/games/doom/freedoom2.wad --map MAP01 -o out/map01.png\n"
+      "  hsr scenes"};
   app.require_subcommand(0, 1);
   Args a;
   CLI::App* render = app.add_subcommand("render", "render SCENE with one algorithm");
   addViewOptions(render, a);
   render->add_option("--output", a.outputs, "pictures to write: color,depth,ids,overdraw, or none")
       ->capture_default_str();
-  render->add_option("-o", a.output_file, "output PNG (default out/SCENE.png; with several "
-                                          "outputs, FILE-KIND.png)");
-  render->add_option("--raw", a.raw_dir,
-                     "write depth.npy, ids.npy, objects.npy, overdraw.npy (and coverage.npy from abuffer) "
-                     "into DIR, with manifest.json");
-  render->add_option("--depth", a.depth,
-                     "what --raw's depth.npy holds: window (window z, 1 = nothing), linear (depth "
-                     "along the view axis) or distance (along the pixel's ray), in scene units, "
-                     "inf = nothing")
+  render->add_option("-o", a.output_file,
+                     "output PNG (default out/SCENE.png; with several "
+                     "outputs, FILE-KIND.png)");
+  render->add_option(
+      "--raw", a.raw_dir,
+      "write depth.npy, ids.npy, objects.npy, overdraw.npy (and coverage.npy from abuffer) "
+      "into DIR, with manifest.json");
+  render
+      ->add_option("--depth", a.depth,
+                   "what --raw's depth.npy holds: window (window z, 1 = nothing), linear (depth "
+                   "along the view axis) or distance (along the pixel's ray), in scene units, "
+                   "inf = nothing")
       ->capture_default_str();
   render->add_option("--normals", a.normals,
                      "add --raw's normals.npy: the polygon shown's unit normal, facing the eye, in "
                      "world or eye space");
-  render->add_option("--stats", a.stats_file,
-                     "write counts, stage times and the camera as JSON (- : to stdout, instead of the summary)");
+  render->add_option(
+      "--stats", a.stats_file,
+      "write counts, stage times and the camera as JSON (- : to stdout, instead of the summary)");
   render->add_option("--views", a.views_file,
                      "render every camera of a JSON list (as --stats writes them) from one import: "
                      "numbered outputs FILE-NNNN.png, DIR/NNNN/. A view needs only eye and target: "
                      "size from --size, up +y, fov 45 and near/far fitted unless it gives them");
-  render->add_option("--orbit", a.orbit,
-                     "render N views on a ring around the target from one import: numbered outputs");
+  render->add_option(
+      "--orbit", a.orbit,
+      "render N views on a ring around the target from one import: numbered outputs");
   render->add_flag("-q,--quiet", a.quiet, "no summary");
   CLI::App* compare = app.add_subcommand("compare", "run every algorithm on SCENE and compare");
   addViewOptions(compare, a);
   compare->add_option("--sheet", a.sheet_file, "write the pictures side by side, labelled");
-  compare->add_option("--views", a.views,
-                      "also draw views 2..N of an orbit around the target into the same frame "
-                      "(what an algorithm keeps, such as the octree, is reused); ids compared on every view");
+  compare->add_option(
+      "--views", a.views,
+      "also draw views 2..N of an orbit around the target into the same frame "
+      "(what an algorithm keeps, such as the octree, is reused); ids compared on every view");
   CLI::App* explain = app.add_subcommand(
       "explain", "explain ALGORITHM on SCENE step by step: numbered pictures and a contact sheet");
-  explain->add_option("ALGORITHM", a.algorithm, "an algorithm that can explain itself, or bsp2d (a WAD and --map)")->required();
+  explain
+      ->add_option("ALGORITHM", a.algorithm,
+                   "an algorithm that can explain itself, or bsp2d (a WAD and --map)")
+      ->required();
   addViewOptions(explain, a);
   std::string explain_dir;
   explain->add_option("-o", explain_dir, "output directory (default out/explain-ALGORITHM-SCENE)");
   explain->add_flag("-q,--quiet", a.quiet, "no summary");
   std::string explain_map;
-  explain->add_option("--map", explain_map,
-                      "with ALGORITHM bsp2d and a WAD for SCENE: the Doom map whose tree is walked");
+  explain->add_option(
+      "--map", explain_map,
+      "with ALGORITHM bsp2d and a WAD for SCENE: the Doom map whose tree is walked");
   CLI::App* scenes = app.add_subcommand("scenes", "list built-in scenes and algorithms");
   hsr::cli::BspVerb bsp;
   hsr::cli::addBspVerb(app, bsp);
@@ -411,7 +450,8 @@ int main(int argc, char** argv) {
   std::vector<const char*> args(argv, argv + argc);
   if (argc > 1) {
     const std::string_view first = argv[1];
-    const std::vector<std::string_view> verbs = {"render", "compare", "explain", "scenes", "bsp", "svg", "doom"};
+    const std::vector<std::string_view> verbs = {"render", "compare", "explain", "scenes",
+                                                 "bsp",    "svg",     "doom"};
     const bool verb = std::find(verbs.begin(), verbs.end(), first) != verbs.end();
     if (!verb) {
       const std::string hint = hsr::cli::verbMissHint(first, verbs);
@@ -420,7 +460,8 @@ int main(int argc, char** argv) {
         return 2;
       }
     }
-    if (!verb && first != "-h" && first != "--help" && first != "--version") args.insert(args.begin() + 1, "render");
+    if (!verb && first != "-h" && first != "--help" && first != "--version")
+      args.insert(args.begin() + 1, "render");
   }
   try {
     app.parse(static_cast<int>(args.size()), args.data());
@@ -432,7 +473,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::string hint = hsr::cli::commaHint(static_cast<int>(args.size()), args.data());
-    if (hint.empty()) hint = hsr::cli::nearMissHint(&app, static_cast<int>(args.size()), args.data());
+    if (hint.empty())
+      hint = hsr::cli::nearMissHint(&app, static_cast<int>(args.size()), args.data());
     const std::string what = hsr::cli::plainParseMessage(e.what());
     printError(hint.empty() ? what + " (see hsr --help)" : what + "; " + hint);
     return 2;

@@ -69,9 +69,7 @@ struct Point {
   int x, y;  // in 1/256 pixel from the pixel's corner, 1..255 (never on its border)
 };
 
-bool below(const Edge& e, Point p) {
-  return e.nx * p.x / kGrid + e.ny * p.y / kGrid < e.d;
-}
+bool below(const Edge& e, Point p) { return e.nx * p.x / kGrid + e.ny * p.y / kGrid < e.d; }
 
 double meanError(const std::vector<Point>& pts, const std::vector<Edge>& edges) {
   double sum = 0;
@@ -95,7 +93,8 @@ double clippedArea(const TrianglePixel& t) {
     std::vector<std::pair<double, double>> out;
     for (std::size_t i = 0; i < poly.size(); ++i) {
       const auto p = poly[i], q = poly[(i + 1) % poly.size()];
-      const double fp = t.a[k] * p.first + t.b[k] * p.second + t.c[k], fq = t.a[k] * q.first + t.b[k] * q.second + t.c[k];
+      const double fp = t.a[k] * p.first + t.b[k] * p.second + t.c[k],
+                   fq = t.a[k] * q.first + t.b[k] * q.second + t.c[k];
       if (fp >= 0) out.push_back(p);
       if ((fp >= 0) != (fq >= 0)) {
         const double s = fp / (fp - fq);
@@ -106,7 +105,8 @@ double clippedArea(const TrianglePixel& t) {
   }
   double s = 0;
   for (std::size_t i = 0; i < poly.size(); ++i)
-    s += poly[i].first * poly[(i + 1) % poly.size()].second - poly[(i + 1) % poly.size()].first * poly[i].second;
+    s += poly[i].first * poly[(i + 1) % poly.size()].second -
+         poly[(i + 1) % poly.size()].first * poly[i].second;
   return std::abs(s) / 2;
 }
 
@@ -122,13 +122,16 @@ std::vector<TrianglePixel> trianglePixels(int want, unsigned seed) {
     const double twice_area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
     if (std::abs(twice_area) < 1e-9) continue;
     if (twice_area < 0) std::swap(x[1], x[2]), std::swap(y[1], y[2]);
-    const int x0 = static_cast<int>(std::floor(std::min({x[0], x[1], x[2]}))), x1 = static_cast<int>(std::floor(std::max({x[0], x[1], x[2]})));
-    const int y0 = static_cast<int>(std::floor(std::min({y[0], y[1], y[2]}))), y1 = static_cast<int>(std::floor(std::max({y[0], y[1], y[2]})));
+    const int x0 = static_cast<int>(std::floor(std::min({x[0], x[1], x[2]}))),
+              x1 = static_cast<int>(std::floor(std::max({x[0], x[1], x[2]})));
+    const int y0 = static_cast<int>(std::floor(std::min({y[0], y[1], y[2]}))),
+              y1 = static_cast<int>(std::floor(std::max({y[0], y[1], y[2]})));
     for (int py = y0; py <= y1; ++py)
       for (int px = x0; px <= x1; ++px) {
         TrianglePixel t;
         for (int k = 0; k < 3; ++k) {  // edge k in the pixel's own coordinates, inside >= 0
-          const double ax = x[k] - px, ay = y[k] - py, bx = x[(k + 1) % 3] - px, by = y[(k + 1) % 3] - py;
+          const double ax = x[k] - px, ay = y[k] - py, bx = x[(k + 1) % 3] - px,
+                       by = y[(k + 1) % 3] - py;
           t.a[k] = -(by - ay), t.b[k] = bx - ax, t.c[k] = -(t.a[k] * ax + t.b[k] * ay);
         }
         t.area = clippedArea(t);
@@ -158,8 +161,8 @@ double meanError(const std::vector<Point>& pts, const std::vector<TrianglePixel>
 // Simulated annealing of the points against a fixed set of cases: `inside(case, point)` says
 // whether the point counts for the case, `target(case)` the share it should have.
 template <class Case, class Inside>
-void anneal(std::vector<Point>& pts, const std::vector<Case>& cases, Inside inside, int iterations, unsigned seed,
-            double temperature, int max_step) {
+void anneal(std::vector<Point>& pts, const std::vector<Case>& cases, Inside inside, int iterations,
+            unsigned seed, double temperature, int max_step) {
   const int n = static_cast<int>(pts.size());
   std::vector<int> count(cases.size());
   for (std::size_t k = 0; k < cases.size(); ++k)
@@ -182,7 +185,8 @@ void anneal(std::vector<Point>& pts, const std::vector<Case>& cases, Inside insi
       const int before = inside(cases[k], p), after = inside(cases[k], q);
       if (before == after) continue;
       const int c = count[k] - before + after;
-      delta += std::abs(static_cast<double>(c) / n - cases[k].area) - std::abs(static_cast<double>(count[k]) / n - cases[k].area);
+      delta += std::abs(static_cast<double>(c) / n - cases[k].area) -
+               std::abs(static_cast<double>(count[k]) / n - cases[k].area);
       changed.push_back({k, c});
     }
     if (delta < 0 || (t > 0 && u(g) < std::exp(-delta / t))) {
@@ -196,8 +200,9 @@ void anneal(std::vector<Point>& pts, const std::vector<Case>& cases, Inside insi
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: hsr_sample_patterns N [ITERATIONS] [EDGES] [SEED] [TEMPERATURE] "
-                         "[TRIANGLE_ITERATIONS TRIANGLE_PIXELS TRIANGLE_SEED TRIANGLE_TEMPERATURE]\n");
+    std::fprintf(stderr,
+                 "usage: hsr_sample_patterns N [ITERATIONS] [EDGES] [SEED] [TEMPERATURE] "
+                 "[TRIANGLE_ITERATIONS TRIANGLE_PIXELS TRIANGLE_SEED TRIANGLE_TEMPERATURE]\n");
     return 2;
   }
   const int n = std::atoi(argv[1]);
@@ -207,8 +212,11 @@ int main(int argc, char** argv) {
   const double temperature = argc > 5 ? std::atof(argv[5]) : 1.0;
   int bits = 0;
   while ((1 << bits) < n) ++bits;
-  if (n < 2 || n > 256 || (1 << bits) != n || iterations < 0 || edge_count < 1 || (argc > 6 && argc < 10)) {
-    std::fprintf(stderr, "hsr_sample_patterns: N must be a power of two from 2 to 256 (and the triangle stage takes 4 numbers)\n");
+  if (n < 2 || n > 256 || (1 << bits) != n || iterations < 0 || edge_count < 1 ||
+      (argc > 6 && argc < 10)) {
+    std::fprintf(stderr,
+                 "hsr_sample_patterns: N must be a power of two from 2 to 256 (and the triangle "
+                 "stage takes 4 numbers)\n");
     return 2;
   }
 
@@ -217,25 +225,32 @@ int main(int argc, char** argv) {
   for (int i = 0; i < n; ++i) {
     int r = 0;
     for (int b = 0; b < bits; ++b) r |= ((i >> b) & 1) << (bits - 1 - b);
-    pts[i] = {static_cast<int>(std::lround((i + 0.5) / n * kGrid)), static_cast<int>(std::lround((r + 0.5) / n * kGrid))};
+    pts[i] = {static_cast<int>(std::lround((i + 0.5) / n * kGrid)),
+              static_cast<int>(std::lround((r + 0.5) / n * kGrid))};
   }
-  const std::vector<Edge> train = randomEdges(edge_count, 1 + seed * 10), test = randomEdges(200000, 2);
+  const std::vector<Edge> train = randomEdges(edge_count, 1 + seed * 10),
+                          test = randomEdges(200000, 2);
   std::printf("%d samples: Hammersley %.5f", n, meanError(pts, test));
 
   anneal(pts, train, below, iterations, seed, temperature, 12);
-  std::printf(", annealed %.5f (mean |share of samples - share of area| over 200,000 random edges; "
-              "1/(2n) = %.5f)\n",
-              meanError(pts, test), 0.5 / n);
+  std::printf(
+      ", annealed %.5f (mean |share of samples - share of area| over 200,000 random edges; "
+      "1/(2n) = %.5f)\n",
+      meanError(pts, test), 0.5 / n);
   if (argc > 9) {
     // Second stage: the partly covered pixels of random triangles
     const int tri_iterations = std::atoi(argv[6]), tri_pixels = std::atoi(argv[7]);
     const unsigned tri_seed = static_cast<unsigned>(std::atoi(argv[8]));
     const double tri_temperature = std::atof(argv[9]);
-    const std::vector<TrianglePixel> tri_train = trianglePixels(tri_pixels, 100 + tri_seed), tri_test = trianglePixels(200000, 7);
+    const std::vector<TrianglePixel> tri_train = trianglePixels(tri_pixels, 100 + tri_seed),
+                                     tri_test = trianglePixels(200000, 7);
     std::printf("triangles' partly covered pixels: before %.5f", meanError(pts, tri_test));
     anneal(pts, tri_train, covers, tri_iterations, tri_seed, tri_temperature, 8);
-    std::printf(", annealed %.5f (mean |share of samples - area covered| over 200,000 fresh pixels)\n", meanError(pts, tri_test));
+    std::printf(
+        ", annealed %.5f (mean |share of samples - area covered| over 200,000 fresh pixels)\n",
+        meanError(pts, tri_test));
   }
-  for (int i = 0; i < n; ++i) std::printf("{%d, %d},%s", pts[i].x - kGrid / 2, pts[i].y - kGrid / 2, i % 8 == 7 ? "\n" : " ");
+  for (int i = 0; i < n; ++i)
+    std::printf("{%d, %d},%s", pts[i].x - kGrid / 2, pts[i].y - kGrid / 2, i % 8 == 7 ? "\n" : " ");
   return 0;
 }

@@ -30,11 +30,11 @@ struct BspStats {
   std::uint64_t polygons = 0;        // in the tree, pieces included
   std::uint64_t splits = 0;          // polygons split in two
   std::uint64_t nodes = 0;
-  std::uint64_t depth = 0;           // longest path from the root, in nodes
-  double mean_depth = 0;             // mean depth of the node a polygon is stored at
-  double balance = 0;                // mean over inner nodes of min(front, back) / max(front, back)
-  double build_ms = 0;               // as built (a loaded tree keeps the figure of its build)
-  std::uint64_t bytes = 0;           // memory the tree holds (the scene's not counted)
+  std::uint64_t depth = 0;  // longest path from the root, in nodes
+  double mean_depth = 0;    // mean depth of the node a polygon is stored at
+  double balance = 0;       // mean over inner nodes of min(front, back) / max(front, back)
+  double build_ms = 0;      // as built (a loaded tree keeps the figure of its build)
+  std::uint64_t bytes = 0;  // memory the tree holds (the scene's not counted)
 };
 
 class Bsp {
@@ -46,7 +46,8 @@ class Bsp {
   const detail::BspTree& tree() const { return *tree_; }
 
  private:
-  friend Bsp buildBsp(Scene, const BspOptions&, const std::function<void(std::uint64_t, std::uint64_t)>&);
+  friend Bsp buildBsp(Scene, const BspOptions&,
+                      const std::function<void(std::uint64_t, std::uint64_t)>&);
   friend Bsp readBsp(std::string_view, const std::string&);
   std::shared_ptr<const Scene> scene_;
   std::shared_ptr<const detail::BspTree> tree_;

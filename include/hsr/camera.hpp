@@ -24,7 +24,7 @@ struct Camera {
   glm::vec3 eye{0.0f, 0.0f, 5.0f};
   glm::vec3 target{0.0f, 0.0f, 0.0f};
   glm::vec3 up{0.0f, 1.0f, 0.0f};
-  float fov_deg = 45.0f;           // vertical, as gluPerspective
+  float fov_deg = 45.0f;  // vertical, as gluPerspective
   // Calibrated input: when given, a perspective camera projects with these pixel intrinsics
   // (glFrustum's off-centre, possibly non-square frustum at `near`) instead of fov_deg.
   Intrinsics intrinsics{};

@@ -4,12 +4,12 @@
 //
 // Input: polygons on an integer grid (|x|, |y| <= kClipCoordinateLimit; hsr's window
 // coordinates snapped to 1/256 pixel fit it with room to spare), or results of earlier
-// operations on such polygons (exact regions, which carry each edge's line: see ExactPoint). A region is a set of polygons
-// with holes whose interiors do not overlap; rings are simple and may touch one another only at
-// points, never cross or run along one another; outer rings may be given either way round, and
-// are made counter-clockwise, holes clockwise. invalidRegionReason() says what is wrong with a
-// region that is not valid; booleanOp() assumes a valid one (it never crashes or loops on an
-// invalid one, but its answer is then unspecified).
+// operations on such polygons (exact regions, which carry each edge's line: see ExactPoint). A
+// region is a set of polygons with holes whose interiors do not overlap; rings are simple and may
+// touch one another only at points, never cross or run along one another; outer rings may be given
+// either way round, and are made counter-clockwise, holes clockwise. invalidRegionReason() says
+// what is wrong with a region that is not valid; booleanOp() assumes a valid one (it never crashes
+// or loops on an invalid one, but its answer is then unspecified).
 //
 // Exactness: every decision (does a vertex lie on an edge, do two edges cross, which side of a
 // boundary a piece lies on, which way a ring turns) is an exact sign in integer arithmetic.

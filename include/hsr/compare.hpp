@@ -12,16 +12,16 @@ namespace hsr {
 
 struct ComparisonRow {
   std::string algorithm;
-  double ms = 0.0;                  // wall time of render()
-  std::uint64_t state_bytes = 0;    // memory held by the algorithm
-  double mean_overdraw = 0.0;       // fragments written per covered pixel
+  double ms = 0.0;                // wall time of render()
+  std::uint64_t state_bytes = 0;  // memory held by the algorithm
+  double mean_overdraw = 0.0;     // fragments written per covered pixel
   std::uint32_t max_overdraw = 0;
-  double id_agreement = 1.0;        // fraction of pixels whose id equals the z-buffer's
+  double id_agreement = 1.0;  // fraction of pixels whose id equals the z-buffer's
   std::uint64_t differing_pixels = 0;
-  std::string not_run;              // why it was not run (it cannot do what the options ask)
-  int views = 1;                    // views rendered: the camera's, then an orbit (orbitView)
-  double view_ms = 0.0;             // mean wall time of the views after the first
-  Frame frame;                      // the first view
+  std::string not_run;   // why it was not run (it cannot do what the options ask)
+  int views = 1;         // views rendered: the camera's, then an orbit (orbitView)
+  double view_ms = 0.0;  // mean wall time of the views after the first
+  Frame frame;           // the first view
 };
 
 // The most views compareAlgorithms takes.

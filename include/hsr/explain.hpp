@@ -72,8 +72,9 @@ Explanation explain(const Scene& scene, const Camera& camera, const RenderOption
 Explanation explainDoomViewSteps(const doom::Map& map, const doom::Nodes& nodes,
                                  const doom::Level& level, const Camera& camera,
                                  const ExplainOptions& explain_options = {});
-Explanation explainDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
-                            const Camera& camera, const std::filesystem::path& dir,
+Explanation explainDoomView(const doom::Map& map, const doom::Nodes& nodes,
+                            const doom::Level& level, const Camera& camera,
+                            const std::filesystem::path& dir,
                             const ExplainOptions& explain_options = {});
 
 }  // namespace hsr

@@ -35,8 +35,8 @@ class Context {
   void frontFace(Winding w) { state_.front_face = (w == CCW) ? FrontFace::Ccw : FrontFace::Cw; }
   void polygonMode(Mode m);
   void pointSize(float size) { state_.point_size = size; }  // glPointSize: 1 to 64, checked by draw
-  void setCamera(const Camera& camera);  // same size as the context's
-  void draw(const Scene& scene);         // draws every polygon of the scene, in id order
+  void setCamera(const Camera& camera);                     // same size as the context's
+  void draw(const Scene& scene);  // draws every polygon of the scene, in id order
 
   const Frame& frame() const { return frame_; }
   const RenderOptions& state() const { return state_; }  // the state as render() options

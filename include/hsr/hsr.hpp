@@ -4,16 +4,16 @@
 
 #include <string_view>
 
-#include "hsr/algorithms.hpp"    // the registry: every algorithm, its capabilities and limits
-#include "hsr/bsp.hpp"           // a 3D BSP tree built once, rendered from any viewpoint
-#include "hsr/camera.hpp"        // look-at + perspective or orthographic; intrinsics and poses
-#include "hsr/clipping.hpp"      // Weiler–Atherton: A∩B, A∪B, A−B, B−A of polygonal regions
-#include "hsr/compare.hpp"       // every algorithm on one scene, side by side
-#include "hsr/doom.hpp"          // Doom maps, their 2D BSP, the column view
-#include "hsr/error.hpp"         // hsr::Error, the one error type
-#include "hsr/explain.hpp"       // an algorithm's steps as pictures
-#include "hsr/gl.hpp"            // the GL-style facade (depth test, mask, cull, polygon mode)
-#include "hsr/io.hpp"            // scene sources and writers (PNG, NPY, JSON)
+#include "hsr/algorithms.hpp"  // the registry: every algorithm, its capabilities and limits
+#include "hsr/bsp.hpp"         // a 3D BSP tree built once, rendered from any viewpoint
+#include "hsr/camera.hpp"      // look-at + perspective or orthographic; intrinsics and poses
+#include "hsr/clipping.hpp"    // Weiler–Atherton: A∩B, A∪B, A−B, B−A of polygonal regions
+#include "hsr/compare.hpp"     // every algorithm on one scene, side by side
+#include "hsr/doom.hpp"        // Doom maps, their 2D BSP, the column view
+#include "hsr/error.hpp"       // hsr::Error, the one error type
+#include "hsr/explain.hpp"     // an algorithm's steps as pictures
+#include "hsr/gl.hpp"          // the GL-style facade (depth test, mask, cull, polygon mode)
+#include "hsr/io.hpp"          // scene sources and writers (PNG, NPY, JSON)
 #include "hsr/line_drawing.hpp"  // hidden-line drawings as strokes, SVG and PDF
 #include "hsr/output.hpp"        // outputs that are never half-written
 #include "hsr/ray_scene.hpp"     // ray queries: nearest hit per ray

@@ -49,7 +49,7 @@ Scene loadMeshFile(const std::filesystem::path& path, const ImportLimits& limits
 Scene parseObjText(std::string_view text, std::string name);
 
 struct BuiltinScene {
-  std::string_view name;     // e.g. "spheres:N"
+  std::string_view name;  // e.g. "spheres:N"
   std::string_view summary;
 };
 const std::vector<BuiltinScene>& builtinScenes();
@@ -66,12 +66,11 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
               const std::uint8_t* pixels);
 // The frame's pictures (kinds as picture() names them) each to its path, encoded in parallel;
 // `decorate(kind, rgb)`, when given, draws on each before it is encoded (a legend).
-void writePictures(const Frame& frame,
-                   const std::vector<std::pair<std::string, std::filesystem::path>>& pictures,
-                   const std::function<void(std::string_view, std::vector<std::uint8_t>&)>& decorate = {});
+void writePictures(
+    const Frame& frame, const std::vector<std::pair<std::string, std::filesystem::path>>& pictures,
+    const std::function<void(std::string_view, std::vector<std::uint8_t>&)>& decorate = {});
 void writeNpy(const std::filesystem::path& path, int width, int height, const float* data);
-void writeNpy(const std::filesystem::path& path, int width, int height,
-              const std::uint32_t* data);
+void writeNpy(const std::filesystem::path& path, int width, int height, const std::uint32_t* data);
 // A PNG in memory; checkPngSize refuses (hsr::Error naming `path`) a size it cannot encode,
 // before anything is computed: at most 16384x16384 RGB.
 std::string encodePng(int width, int height, int channels, const std::uint8_t* pixels);
@@ -158,7 +157,7 @@ ViewList viewsFromJson(std::string_view text, const ViewDefaults& defaults);
 glm::dmat4 poseFromText(std::string_view text);
 
 // Pictures of a frame's buffers, RGB8 top row first.
-std::vector<std::uint8_t> depthPicture(const Frame& frame);     // normalised grey, near = light
+std::vector<std::uint8_t> depthPicture(const Frame& frame);  // normalised grey, near = light
 // The depth range of the drawn pixels, and a depth picture normalised over a given range
 // (so that the pictures of a sequence share one scale).
 struct DepthRange {

@@ -50,7 +50,8 @@ struct RayHit {
   std::uint32_t object = 0xFFFFFFFFu;                // Scene::objects index of that polygon
   std::uint32_t triangle = 0xFFFFFFFFu;  // the triangle of the scene's triangulation (polygons
                                          // in id order, each as triangulatePolygon splits it)
-  float u = 0, v = 0;  // barycentrics in the hit triangle (v0, v1, v2): point = (1-u-v) v0 + u v1 + v v2
+  float u = 0,
+        v = 0;  // barycentrics in the hit triangle (v0, v1, v2): point = (1-u-v) v0 + u v1 + v v2
   glm::vec3 normal{0.0f};  // unit geometric normal by the right-hand rule of the polygon's winding
   bool front = false;      // the ray met the side the normal points to (counter-clockwise seen
                            // from the ray's origin)
@@ -86,22 +87,25 @@ class RayScene {
 
   // The nearest hit with tmin < t < tmax of each ray i = (origins[i], directions[i]). Throws
   // hsr::Error when the spans' sizes differ.
-  std::vector<RayHit> intersect(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions,
-                                float tmax = std::numeric_limits<float>::infinity(), float tmin = 0.0f,
-                                RaySides sides = RaySides::kBoth) const;
+  std::vector<RayHit> intersect(std::span<const glm::vec3> origins,
+                                std::span<const glm::vec3> directions,
+                                float tmax = std::numeric_limits<float>::infinity(),
+                                float tmin = 0.0f, RaySides sides = RaySides::kBoth) const;
   // The same into the caller's array (hits.size() == origins.size(), else hsr::Error): no
   // allocation, for callers that cast batch after batch.
-  void intersect(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions, std::span<RayHit> hits,
-                 float tmax = std::numeric_limits<float>::infinity(), float tmin = 0.0f,
-                 RaySides sides = RaySides::kBoth) const;
+  void intersect(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions,
+                 std::span<RayHit> hits, float tmax = std::numeric_limits<float>::infinity(),
+                 float tmin = 0.0f, RaySides sides = RaySides::kBoth) const;
   RayHit intersect(const glm::vec3& origin, const glm::vec3& direction,
                    float tmax = std::numeric_limits<float>::infinity(), float tmin = 0.0f,
                    RaySides sides = RaySides::kBoth) const;
 
   // Whether anything lies on each ray with tmin < t < tmax (1) or not (0): stops at the first
   // hit found, so cheaper than intersect.
-  std::vector<std::uint8_t> occluded(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions,
-                                     float tmax = std::numeric_limits<float>::infinity(), float tmin = 0.0f) const;
+  std::vector<std::uint8_t> occluded(std::span<const glm::vec3> origins,
+                                     std::span<const glm::vec3> directions,
+                                     float tmax = std::numeric_limits<float>::infinity(),
+                                     float tmin = 0.0f) const;
   bool occluded(const glm::vec3& origin, const glm::vec3& direction,
                 float tmax = std::numeric_limits<float>::infinity(), float tmin = 0.0f) const;
 

@@ -17,8 +17,8 @@
 namespace hsr {
 
 enum class CullMode { None, Back, Front, FrontAndBack };  // glCullFace (None = disabled)
-enum class FrontFace { Ccw, Cw };                        // glFrontFace
-enum class PolygonMode { Fill, Line, Point };            // glPolygonMode(FRONT_AND_BACK, ...)
+enum class FrontFace { Ccw, Cw };                         // glFrontFace
+enum class PolygonMode { Fill, Line, Point };             // glPolygonMode(FRONT_AND_BACK, ...)
 enum class DepthFunc { Never, Less, Equal, LEqual, Greater, NotEqual, GEqual, Always };
 // How the pipeline decides facing: OpenGL's sign of the window-space area (default), or the
 // notes' eye-space test N . (eye - P) > 0. They agree on every polygon that is not edge-on.
@@ -48,7 +48,8 @@ struct RenderOptions {
   bool shade = true;         // headlight Lambert; false = flat material colour
   glm::vec3 clear_color{0.94f, 0.94f, 0.92f};  // light paper, so outlines read
   float clear_depth = 1.0f;
-  float point_size = 1.0f;  // polygon mode POINT: each vertex's square, in pixels, as glPointSize (1 to 64)
+  // polygon mode POINT: each vertex's square, in pixels, as glPointSize (1 to 64)
+  float point_size = 1.0f;
   int threads = 0;  // 0 = all hardware threads (more are clamped); results are identical for any
   BspOptions bsp;   // algorithm "bsp" only
   // Algorithms that antialias ("abuffer"): sub-pixel samples per pixel, 1, 4, 8, 16, 32 or 64
@@ -75,12 +76,12 @@ class FrameScratch {
 // origin bottom-left, is element (height - 1 - y) * width + x.
 struct Frame {
   int width = 0, height = 0;
-  std::vector<std::uint32_t> color;    // RGBA8 packed, R in the low byte (bytes R,G,B,A)
-  std::vector<float> depth;            // window z in [0,1]; clear depth where nothing drawn
-  std::vector<PolygonId> ids;          // kNoPolygon where nothing drawn
-  std::vector<std::uint32_t> overdraw; // fragments written per pixel
-  std::vector<float> coverage;         // antialiasing algorithms only (else empty): the fraction
-                                       // of each pixel's samples covered by opaque polygons
+  std::vector<std::uint32_t> color;     // RGBA8 packed, R in the low byte (bytes R,G,B,A)
+  std::vector<float> depth;             // window z in [0,1]; clear depth where nothing drawn
+  std::vector<PolygonId> ids;           // kNoPolygon where nothing drawn
+  std::vector<std::uint32_t> overdraw;  // fragments written per pixel
+  std::vector<float> coverage;          // antialiasing algorithms only (else empty): the fraction
+                                        // of each pixel's samples covered by opaque polygons
   Stats stats;
   FrameScratch scratch;
 };
@@ -89,10 +90,10 @@ Frame render(const Scene& scene, const Camera& camera, const RenderOptions& opti
 
 // Why `info`'s algorithm cannot render with these options and camera (render() refuses with
 // this line), or an empty string when it can.
-std::string unsupported(const AlgorithmInfo& info, const Camera& camera, const RenderOptions& options);
+std::string unsupported(const AlgorithmInfo& info, const Camera& camera,
+                        const RenderOptions& options);
 // The same, drawing into `frame` and reusing its buffers' memory (for repeated frames).
-void render(const Scene& scene, const Camera& camera, const RenderOptions& options,
-            Frame& frame);
+void render(const Scene& scene, const Camera& camera, const RenderOptions& options, Frame& frame);
 
 // Parsing helpers shared by the CLI and the GL facade; throw hsr::Error on unknown names.
 CullMode parseCullMode(std::string_view s);

@@ -32,14 +32,15 @@ namespace hsr {
 inline constexpr int kVisibleSetGrid = 256;  // grid units per pixel
 
 struct VisiblePolygon {
-  PolygonId id = kNoPolygon;    // the scene polygon it is part of
-  ExactRegion region;           // what of it is visible (see the top of this file)
-  double dzdx = 0, dzdy = 0, z0 = 0;  // its depth plane: window depth z = z0 + dzdy y + dzdx x (pixels)
-  double area = 0;              // visible area in square pixels
-  std::uint32_t rgba = 0;       // its shaded colour, as the frame's pixels hold it
-  bool resolved = true;         // false: what was left of it when the work limit was reached
-                                // (see VisibleSet::unresolved); such regions may overlap and
-                                // hide one another: draw them with a depth test
+  PolygonId id = kNoPolygon;  // the scene polygon it is part of
+  ExactRegion region;         // what of it is visible (see the top of this file)
+  double dzdx = 0, dzdy = 0,
+         z0 = 0;           // its depth plane: window depth z = z0 + dzdy y + dzdx x (pixels)
+  double area = 0;         // visible area in square pixels
+  std::uint32_t rgba = 0;  // its shaded colour, as the frame's pixels hold it
+  bool resolved = true;    // false: what was left of it when the work limit was reached
+                           // (see VisibleSet::unresolved); such regions may overlap and
+                           // hide one another: draw them with a depth test
 };
 
 struct VisibleSet {

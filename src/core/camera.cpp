@@ -51,7 +51,8 @@ Intrinsics intrinsicsOf(const Camera& camera) {
   if (camera.intrinsics.given()) return camera.intrinsics;
   // y_ndc = f Y / Z with f = 1 / tan(fov / 2) (x_ndc the same over the aspect ratio, so square
   // pixels: fx = fy), and the window maps ndc [-1, 1] onto [-0.5, size - 0.5]
-  const double f = 1.0 / std::tan(static_cast<double>(camera.fov_deg) * 3.14159265358979323846 / 360.0);
+  const double f =
+      1.0 / std::tan(static_cast<double>(camera.fov_deg) * 3.14159265358979323846 / 360.0);
   const double focal = f * camera.height / 2.0;
   return {focal, focal, camera.width / 2.0 - 0.5, camera.height / 2.0 - 0.5};
 }
@@ -76,7 +77,8 @@ void Camera::validate() const {
     const double gib = static_cast<double>(width) * height * 19.0 / (1024.0 * 1024.0 * 1024.0);
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) +
                 " is over the limit of " + std::to_string(kMaxDimension) + " pixels per side" +
-                (gib >= 1.0 ? " (its buffers would take " + std::to_string(static_cast<long long>(gib + 0.5)) + " GiB)"
+                (gib >= 1.0 ? " (its buffers would take " +
+                                  std::to_string(static_cast<long long>(gib + 0.5)) + " GiB)"
                             : std::string()));
   }
   if (!finite(eye) || !finite(target) || !finite(up))
@@ -94,7 +96,8 @@ void Camera::validate() const {
   if (intrinsics.given()) {
     const Intrinsics& k = intrinsics;
     if (ortho) throw Error("pixel intrinsics describe a pinhole: an orthographic camera has none");
-    if (!std::isfinite(k.fx) || !std::isfinite(k.fy) || !std::isfinite(k.cx) || !std::isfinite(k.cy))
+    if (!std::isfinite(k.fx) || !std::isfinite(k.fy) || !std::isfinite(k.cx) ||
+        !std::isfinite(k.cy))
       throw Error("camera intrinsics are not finite");
     // A focal length below 1e-3 px spans more than 179.9 degrees on a 1-pixel image; beyond 1e9
     // the frustum's width underflows float at any sensible near plane
@@ -110,7 +113,9 @@ void Camera::validate() const {
     // The suggestion: the axis least along the view direction
     const glm::vec3 d = glm::abs(glm::normalize(dir));
     const char* other = d.x <= d.y && d.x <= d.z ? "1,0,0" : (d.y <= d.z ? "0,1,0" : "0,0,1");
-    throw Error("camera up vector " + str(up) + " is parallel to the view direction: give another up vector (--up), such as " + other);
+    throw Error("camera up vector " + str(up) +
+                " is parallel to the view direction: give another up vector (--up), such as " +
+                other);
   }
 }
 
@@ -132,12 +137,14 @@ Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, b
   const float tan_h = tan_v * aspect;
   // The three-quarter direction in the frame of the scene's up axis: for y up, (0.55, 0.45, 1)
   // (right, up, towards the viewer); for z up (CAD, Blender), the viewer stands at -y
-  const glm::vec3 u = glm::length(up_axis) > 0.0f ? glm::normalize(up_axis) : glm::vec3(0.0f, 1.0f, 0.0f);
+  const glm::vec3 u =
+      glm::length(up_axis) > 0.0f ? glm::normalize(up_axis) : glm::vec3(0.0f, 1.0f, 0.0f);
   glm::vec3 x_axis = glm::vec3(1.0f, 0.0f, 0.0f) - u * u.x;
   if (glm::length(x_axis) < 1e-3f) x_axis = glm::vec3(0.0f, 0.0f, -1.0f) - u * -u.z;  // up along x
   x_axis = glm::normalize(x_axis);
   const glm::vec3 toward_viewer = glm::cross(x_axis, u);
-  const glm::vec3 forward = glm::normalize(0.55f * x_axis + 0.45f * u + 1.0f * toward_viewer);  // target -> eye
+  // target -> eye
+  const glm::vec3 forward = glm::normalize(0.55f * x_axis + 0.45f * u + 1.0f * toward_viewer);
   const glm::vec3 right = glm::normalize(glm::cross(u, forward));
   const glm::vec3 up = glm::cross(forward, right);
   c.target = bounds.center();
@@ -163,11 +170,12 @@ Camera frameBounds(const Bounds& bounds, int width, int height, float fov_deg, b
   // reason, not the near and far it gives: said so
   if (!ortho && !(c.far > c.near && std::isfinite(c.far) && std::isfinite(glm::length(c.eye)))) {
     char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "a field of view of %g degrees is too narrow to frame the scene: its eye would stand "
-                  "%.3g units away, where float cannot tell the near plane from the far; widen the "
-                  "field of view, or place the camera by hand",
-                  double(fov_deg), double(dist));
+    std::snprintf(
+        buf, sizeof buf,
+        "a field of view of %g degrees is too narrow to frame the scene: its eye would stand "
+        "%.3g units away, where float cannot tell the near plane from the far; widen the "
+        "field of view, or place the camera by hand",
+        double(fov_deg), double(dist));
     throw Error(buf);
   }
   return c;
@@ -200,7 +208,8 @@ float orthoHalfHeightFor(const Camera& camera, const Bounds& bounds) {
   const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
   const glm::vec3 right = glm::normalize(glm::cross(forward, camera.up));
   const glm::vec3 up = glm::cross(right, forward);
-  const float aspect = static_cast<float>(camera.width) / static_cast<float>(std::max(camera.height, 1));
+  const float aspect =
+      static_cast<float>(camera.width) / static_cast<float>(std::max(camera.height, 1));
   float half = r * 1e-3f;
   for (int k = 0; k < 8; ++k) {
     const glm::vec3 corner((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
@@ -268,8 +277,9 @@ void setPose(Camera& camera, const glm::dmat4& m, PoseConvention convention) {
   if (std::abs(glm::length(x) - 1) > tol || std::abs(glm::length(y) - 1) > tol ||
       std::abs(glm::length(z) - 1) > tol || std::abs(glm::dot(x, y)) > tol ||
       std::abs(glm::dot(y, z)) > tol || std::abs(glm::dot(z, x)) > tol)
-    throw Error("the pose's upper 3x3 is not a rotation (its columns must be unit length and "
-                "at right angles, within 1e-4): give camera to world without scale");
+    throw Error(
+        "the pose's upper 3x3 is not a rotation (its columns must be unit length and "
+        "at right angles, within 1e-4): give camera to world without scale");
   if (glm::dot(glm::cross(x, y), z) < 0)
     throw Error("the pose's upper 3x3 is a reflection (determinant -1), not a rotation");
   // OpenGL: the camera looks down its -z with y up; OpenCV: down +z with y down

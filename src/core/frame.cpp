@@ -39,8 +39,8 @@ void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
   allocate(f.ids);
   allocate(f.overdraw);
   f.coverage.clear();  // made by the algorithms that antialias
-  const bool sized = f.color.size() == n && f.depth.size() == n && f.ids.size() == n &&
-                     f.overdraw.size() == n;
+  const bool sized =
+      f.color.size() == n && f.depth.size() == n && f.ids.size() == n && f.overdraw.size() == n;
   if (!sized) {
     // A fresh or resized frame: each buffer filled as it is sized, in one pass (resize() wrote
     // zeros first, on one thread, and the bands then wrote the clear values over them)

@@ -12,7 +12,8 @@ class Stopwatch {
 
   // Milliseconds since the start.
   double ms() const {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
+        .count();
   }
   void restart() { start_ = std::chrono::steady_clock::now(); }
   // Milliseconds since the start, and a new start: one stage after another.

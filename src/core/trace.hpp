@@ -30,14 +30,15 @@ using TraceOutline = std::vector<glm::vec2>;
 // to, and the true edges through it. src/explain/ pictures it over the whole view.
 struct TracePixel {
   struct Sample {
-    glm::dvec2 at;        // from the pixel's centre, in pixels: each coordinate in [-0.5, 0.5]
+    glm::dvec2 at;         // from the pixel's centre, in pixels: each coordinate in [-0.5, 0.5]
     std::uint32_t colour;  // RGBA8, as Frame::color
     float depth;           // of the nearest opaque fragment (NaN: none, the background)
     PolygonId id;          // kNoPolygon where none
   };
   int x = 0, y = 0;  // the pixel, window coordinates
   std::vector<Sample> samples;
-  std::vector<std::array<glm::dvec2, 2>> edges;  // in window coordinates (pixel centres at integers)
+  // in window coordinates (pixel centres at integers)
+  std::vector<std::array<glm::dvec2, 2>> edges;
 };
 
 struct TraceStep {

@@ -379,8 +379,7 @@ Nodes buildNodes(const Map& map, const BuildOptions& options, BuildStats* stats)
   BuildStats sides;
   Nodes nodes = Builder(map, options).build(sides);
   BuildStats s = nodeStats(map, nodes);  // the figures of the tree as it is
-  s.build_ms =
-      start.ms();
+  s.build_ms = start.ms();
   if (stats) *stats = s;
   return nodes;
 }

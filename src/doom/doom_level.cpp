@@ -258,8 +258,8 @@ Scene loadLevel(const std::filesystem::path& path, std::string_view map_name) {
   c.eye = view.eye, c.target = view.target, c.up = view.up;
   c.fov_deg = view.fov_deg;
   c.far = view.far;
-  c.near =
-      std::max(view.near, view.far / 999.0f);  // within the ratio fromSceneCamera keeps as it is
+  // within the ratio fromSceneCamera keeps as it is
+  c.near = std::max(view.near, view.far / 999.0f);
   level.scene.cameras.push_back(c);
   level.scene.name = path.filename().string() + ":" + map.name;
   return std::move(level.scene);

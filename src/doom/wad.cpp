@@ -116,9 +116,11 @@ std::optional<Nodes> shippedNodes(const Lump* vertexes, const Lump* segs, const 
     return std::nullopt;
   };
   if (!segs || !subsectors || !nodes) return refuse("no SEGS, SSECTORS or NODES lump");
-  if (segs->bytes.empty() || subsectors->bytes.empty()) return refuse("empty SEGS or SSECTORS lump");
+  if (segs->bytes.empty() || subsectors->bytes.empty())
+    return refuse("empty SEGS or SSECTORS lump");
   if (segs->bytes.size() % 12 || subsectors->bytes.size() % 4 || nodes->bytes.size() % 28)
-    return refuse("SEGS, SSECTORS or NODES not in the vanilla format (their sizes are not whole records)");
+    return refuse(
+        "SEGS, SSECTORS or NODES not in the vanilla format (their sizes are not whole records)");
   Nodes n;
   n.vertices = records<Vertex>(*vertexes, 4, where, [](Fields& f) {
     return Vertex{f.i16(), f.i16()};
@@ -140,9 +142,11 @@ std::optional<Nodes> shippedNodes(const Lump* vertexes, const Lump* segs, const 
   for (std::size_t i = 0; i < n.segs.size(); ++i) {
     const Seg& s = n.segs[i];
     if (s.v1 >= n.vertices.size() || s.v2 >= n.vertices.size())
-      return refuse(fmt::format("seg {} names vertex {} of {}", i, std::max(s.v1, s.v2), n.vertices.size()));
+      return refuse(
+          fmt::format("seg {} names vertex {} of {}", i, std::max(s.v1, s.v2), n.vertices.size()));
     if (s.linedef >= map.linedefs.size())
-      return refuse(fmt::format("seg {} names linedef {} of {}", i, s.linedef, map.linedefs.size()));
+      return refuse(
+          fmt::format("seg {} names linedef {} of {}", i, s.linedef, map.linedefs.size()));
     if (s.side != 0 && s.side != 1) return refuse(fmt::format("seg {} has side {}", i, s.side));
     if (map.linedefs[s.linedef].side[s.side] == kNoSide)
       return refuse(fmt::format("seg {} runs along a side linedef {} does not have", i, s.linedef));

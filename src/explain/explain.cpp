@@ -188,13 +188,15 @@ void finish(OutputDirectory& files, StepWriter& writer, Explanation& out, const 
   files.commit();
 }
 
-constexpr const char* kDoomTitle = " seen as Doom's renderer sees it, the 2D BSP walked front to back";
+constexpr const char* kDoomTitle =
+    " seen as Doom's renderer sees it, the 2D BSP walked front to back";
 constexpr const char* kDoomSource =
     "the notes' BSP trees and \"the first FPS\"; Doom's R_RenderBSPNode (id Software, 1993)";
 
 // Doom's walk traced, each step handed on; the finished view.
 Frame forEachDoomStep(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
-                      const Camera& camera, const StepSink& each, const ExplainOptions& explain_options) {
+                      const Camera& camera, const StepSink& each,
+                      const ExplainOptions& explain_options) {
   Frame frame = doom::renderView(map, nodes, level, camera);
   detail::StepMaker maker(each, drawnDepthRange(frame), explain_options.pictures_per_step);
   (void)detail::renderDoomViewTraced(map, nodes, level, camera, &maker);
@@ -225,8 +227,9 @@ Explanation explainDoomViewSteps(const doom::Map& map, const doom::Nodes& nodes,
   return out;
 }
 
-Explanation explainDoomView(const doom::Map& map, const doom::Nodes& nodes, const doom::Level& level,
-                            const Camera& camera, const std::filesystem::path& dir,
+Explanation explainDoomView(const doom::Map& map, const doom::Nodes& nodes,
+                            const doom::Level& level, const Camera& camera,
+                            const std::filesystem::path& dir,
                             const ExplainOptions& explain_options) {
   OutputDirectory files(dir);
   StepWriter writer(files);

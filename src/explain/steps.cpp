@@ -58,7 +58,8 @@ Frame magnify(const TracePixel& px, int w, int h, std::vector<TraceOutline>& out
   const int size = std::max(1, std::min(w, h) - 8);
   const int left = (w - size) / 2, top = (h - size) / 2;
   const auto toView = [&](glm::dvec2 from_centre) {  // pixel-centre coordinates of the view
-    return glm::dvec2(left - 0.5 + (0.5 + from_centre.x) * size, top - 0.5 + (0.5 + from_centre.y) * size);
+    return glm::dvec2(left - 0.5 + (0.5 + from_centre.x) * size,
+                      top - 0.5 + (0.5 + from_centre.y) * size);
   };
   for (int v = top; v < top + size; ++v)
     for (int u = left; u < left + size; ++u) {
@@ -76,17 +77,20 @@ Frame magnify(const TracePixel& px, int w, int h, std::vector<TraceOutline>& out
     }
   // The pixel's square, round its outermost pixels
   const float x0 = static_cast<float>(left) - 0.5f, y0 = static_cast<float>(top) - 0.5f;
-  const float x1 = static_cast<float>(left + size - 1) + 0.5f, y1 = static_cast<float>(top + size - 1) + 0.5f;
+  const float x1 = static_cast<float>(left + size - 1) + 0.5f,
+              y1 = static_cast<float>(top + size - 1) + 0.5f;
   outlines.push_back({{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}});
   for (const TracePixel::Sample& s : px.samples) {
     const glm::vec2 c(toView(s.at));
-    outlines.push_back({c + glm::vec2(-2, -2), c + glm::vec2(2, -2), c + glm::vec2(2, 2), c + glm::vec2(-2, 2)});
+    outlines.push_back(
+        {c + glm::vec2(-2, -2), c + glm::vec2(2, -2), c + glm::vec2(2, 2), c + glm::vec2(-2, 2)});
   }
   // The edges, clipped to the pixel
   const glm::dvec2 centre(px.x, px.y);
   for (std::array<glm::dvec2, 2> edge : px.edges)
     if (clipToSquare(edge[0], edge[1], centre, 0.5))
-      outlines.push_back({glm::vec2(toView(edge[0] - centre)), glm::vec2(toView(edge[1] - centre))});
+      outlines.push_back(
+          {glm::vec2(toView(edge[0] - centre)), glm::vec2(toView(edge[1] - centre))});
   return z;
 }
 
@@ -138,7 +142,8 @@ Frame forEachExplainedStep(const Scene& scene, const Camera& camera, const Rende
   // traced.
   Frame frame;
   render(scene, camera, options, frame);
-  detail::StepMaker maker(each, drawnDepthRange(frame), explain_options.pictures_per_step, &scene, &options);
+  detail::StepMaker maker(each, drawnDepthRange(frame), explain_options.pictures_per_step, &scene,
+                          &options);
   Frame traced;
   detail::renderInto(scene, camera, options, traced, detail::DrawMode::kClear, &maker);
   return frame;

@@ -20,7 +20,11 @@ class StepMaker : public Trace {
   // no step does (Doom's walk).
   StepMaker(const StepSink& each, DepthRange range, int per_step, const Scene* scene = nullptr,
             const RenderOptions* options = nullptr)
-      : each_(each), range_(range), per_step_(std::max(per_step, 2)), scene_(scene), options_(options) {}
+      : each_(each),
+        range_(range),
+        per_step_(std::max(per_step, 2)),
+        scene_(scene),
+        options_(options) {}
 
   bool wants(std::string_view, std::uint64_t index, std::uint64_t count) override;
   void record(const TraceStep& step) override;
@@ -39,6 +43,5 @@ class StepMaker : public Trace {
   const Camera* seen_from_ = nullptr;
   Frame view_;
 };
-
 
 }  // namespace hsr::detail

@@ -31,7 +31,7 @@ namespace {
 
 constexpr int kBins = 32;               // SAH candidates per axis (Wald 2007 uses 16 to 32)
 constexpr std::uint32_t kLeafSize = 4;  // triangles per leaf: one BvhTriangles4
-constexpr int kMedianDepth = 40;        // deeper than this, split at the median: depth stays bounded
+constexpr int kMedianDepth = 40;  // deeper than this, split at the median: depth stays bounded
 constexpr std::uint32_t kParallelTriangles = 4096;  // smaller subtrees are built by one task
 
 struct Box {
@@ -56,7 +56,7 @@ struct Box {
 // (No initialisers: the array has room for 2n nodes and the build writes each node it makes;
 // the rest is never touched, so never zero-filled or even mapped.)
 struct BinaryNode {
-  glm::vec3 lo, hi;      // its box
+  glm::vec3 lo, hi;            // its box
   std::uint32_t left, right;   // inner: children
   std::uint32_t first, count;  // leaf: the PrimRefs [first, first + count)
   bool leaf;
@@ -81,11 +81,14 @@ struct Bins {
   std::uint32_t count[3][kBins];
   explicit Bins(int n = kBins) : used(n) {
     for (int a = 0; a < 3; ++a)
-      for (int i = 0; i < used; ++i) box[a][i] = {{INFINITY, INFINITY, INFINITY, 0.0f}, {-INFINITY, -INFINITY, -INFINITY, 0.0f}}, count[a][i] = 0;
+      for (int i = 0; i < used; ++i)
+        box[a][i] = {{INFINITY, INFINITY, INFINITY, 0.0f}, {-INFINITY, -INFINITY, -INFINITY, 0.0f}},
+        count[a][i] = 0;
   }
   void add(const Bins& o) {
     for (int a = 0; a < 3; ++a)
-      for (int i = 0; i < used; ++i) box[a][i].extend(o.box[a][i].lo, o.box[a][i].hi), count[a][i] += o.count[a][i];
+      for (int i = 0; i < used; ++i)
+        box[a][i].extend(o.box[a][i].lo, o.box[a][i].hi), count[a][i] += o.count[a][i];
   }
 };
 
@@ -139,7 +142,8 @@ struct Builder {
     node.right = newNode();
     const std::uint32_t l = node.left, rr = node.right;
     if (n > kParallelTriangles) {
-      tbb::parallel_invoke([&] { build(l, left, depth + 1); }, [&] { build(rr, right, depth + 1); });
+      tbb::parallel_invoke([&] { build(l, left, depth + 1); },
+                           [&] { build(rr, right, depth + 1); });
     } else {
       build(l, left, depth + 1);
       build(rr, right, depth + 1);
@@ -151,13 +155,16 @@ struct Builder {
   void split(const Range& r, std::uint32_t depth, Range* left, Range* right) {
     const Box& cb = r.centroids;
     const glm::vec3 extent = cb.hi - cb.lo;
-    const int widest = extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2) : (extent.y >= extent.z ? 1 : 2);
-    std::uint32_t mid = r.begin + (r.end - r.begin) / 2;  // all centroids at one point: halve the range
+    const int widest =
+        extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2) : (extent.y >= extent.z ? 1 : 2);
+    // all centroids at one point: halve the range
+    std::uint32_t mid = r.begin + (r.end - r.begin) / 2;
     if (extent[widest] > 0.0f && depth < kMedianDepth) {
       // Bin the centroids along each axis (in parallel for a large node)
       const int bin_count = static_cast<int>(std::min<std::uint32_t>(kBins, r.end - r.begin));
       glm::vec3 scale;
-      for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? static_cast<float>(bin_count) * 0.999f / extent[a] : 0.0f;
+      for (int a = 0; a < 3; ++a)
+        scale[a] = extent[a] > 0.0f ? static_cast<float>(bin_count) * 0.999f / extent[a] : 0.0f;
       // The bin as a float clamped to [0, kBins - 1] before it becomes an int: a tiny extent
       // makes the scale infinite, and 0 x infinity a NaN (max(0, NaN) is 0)
       auto binOf = [&](const PrimRef& p, int a) {
@@ -214,7 +221,8 @@ struct Builder {
       } else {
         fill(r.begin, r.end, bins);
       }
-      // Sweep: the cost of splitting after bin k is area(left) * blocks(left) + area(right) * blocks(right)
+      // Sweep: the cost of splitting after bin k is area(left) * blocks(left) + area(right) *
+      // blocks(right)
       float best_cost = INFINITY;
       int best_axis = -1, best_bin = 0;
       for (int a = 0; a < 3; ++a) {
@@ -233,7 +241,8 @@ struct Builder {
           acc.extend(bins.box[a][k].box());
           count += bins.count[a][k];
           const float cost = acc.halfArea() * blocks(count) + right_cost[k + 1];
-          if (count > 0 && count < r.end - r.begin && cost < best_cost) best_cost = cost, best_axis = a, best_bin = k;
+          if (count > 0 && count < r.end - r.begin && cost < best_cost)
+            best_cost = cost, best_axis = a, best_bin = k;
         }
       }
       if (best_axis >= 0) {
@@ -259,11 +268,12 @@ struct Builder {
     }
     if (extent[widest] > 0.0f) {
       // The median along the widest axis (ties by triangle number, so the tree is deterministic)
-      std::nth_element(refs.begin() + r.begin, refs.begin() + mid, refs.begin() + r.end,
-                       [&](const PrimRef& x, const PrimRef& y) {
-                         return x.centroid(widest) < y.centroid(widest) ||
-                                (x.centroid(widest) == y.centroid(widest) && x.triangle < y.triangle);
-                       });
+      std::nth_element(
+          refs.begin() + r.begin, refs.begin() + mid, refs.begin() + r.end,
+          [&](const PrimRef& x, const PrimRef& y) {
+            return x.centroid(widest) < y.centroid(widest) ||
+                   (x.centroid(widest) == y.centroid(widest) && x.triangle < y.triangle);
+          });
     }
     *left = bounds(r.begin, mid);
     *right = bounds(mid, r.end);
@@ -298,11 +308,13 @@ struct Collapser {
     for (std::uint32_t i = 0; i < n.count; ++i) {
       const std::uint32_t tri = refs[n.first + i].triangle;
       t.triangle[i] = tri;
-      for (int ax = 0; ax < 3; ++ax) t.a[ax][i] = a[tri][ax], t.b[ax][i] = b[tri][ax], t.c[ax][i] = c[tri][ax];
+      for (int ax = 0; ax < 3; ++ax)
+        t.a[ax][i] = a[tri][ax], t.b[ax][i] = b[tri][ax], t.c[ax][i] = c[tri][ax];
     }
     // Lanes in ascending triangle number: the first hit of a tie is then the one kept
     std::uint32_t order[4] = {0, 1, 2, 3};
-    std::sort(order, order + n.count, [&](std::uint32_t x, std::uint32_t y) { return t.triangle[x] < t.triangle[y]; });
+    std::sort(order, order + n.count,
+              [&](std::uint32_t x, std::uint32_t y) { return t.triangle[x] < t.triangle[y]; });
     BvhTriangles4 sorted = t;
     for (std::uint32_t i = 0; i < n.count; ++i) {
       sorted.triangle[i] = t.triangle[order[i]];
@@ -388,12 +400,14 @@ void planCollapse(const CollapsePlan* l, const CollapsePlan* r, float area, Coll
       out->left[i - 1] = spread_left[i - 1];
       out->right[i - 1] = static_cast<std::uint8_t>(i - spread_left[i - 1]);
     } else {
-      out->cost[i - 1] = out->cost[i - 2], out->left[i - 1] = out->left[i - 2], out->right[i - 1] = out->right[i - 2];
+      out->cost[i - 1] = out->cost[i - 2], out->left[i - 1] = out->left[i - 2],
+                    out->right[i - 1] = out->right[i - 2];
     }
   }
 }
 
-Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::span<const glm::vec3> c) {
+Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b,
+             std::span<const glm::vec3> c) {
   const detail::Stopwatch t0;
   HSR_CHECK(a.size() == b.size() && b.size() == c.size());
   Bvh bvh;
@@ -405,8 +419,9 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
     box.extend(a[i]);
     box.extend(b[i]);
     box.extend(c[i]);
-    const bool finite = std::isfinite(box.lo.x) && std::isfinite(box.lo.y) && std::isfinite(box.lo.z) &&
-                        std::isfinite(box.hi.x) && std::isfinite(box.hi.y) && std::isfinite(box.hi.z);
+    const bool finite = std::isfinite(box.lo.x) && std::isfinite(box.lo.y) &&
+                        std::isfinite(box.lo.z) && std::isfinite(box.hi.x) &&
+                        std::isfinite(box.hi.y) && std::isfinite(box.hi.z);
     if (!finite) continue;
     refs.push_back({box.lo, static_cast<std::uint32_t>(i), box.hi, 0});
   }
@@ -432,7 +447,8 @@ Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::sp
   bvh.stats.depth = std::max<std::uint64_t>(collapser.depth, 1);
   const float root_area = binary[root].box().halfArea();
   bvh.stats.sah_cost = root_area > 0.0f ? collapser.sah / root_area : 0.0;
-  bvh.stats.bytes = bvh.nodes.capacity() * sizeof(BvhNode) + bvh.leaves.capacity() * sizeof(BvhTriangles4);
+  bvh.stats.bytes =
+      bvh.nodes.capacity() * sizeof(BvhNode) + bvh.leaves.capacity() * sizeof(BvhTriangles4);
   bvh.stats.build_ms = t0.ms();
   return bvh;
 }
@@ -452,8 +468,9 @@ inline float minps(float a, float b) { return a < b ? a : b; }
 }  // namespace
 
 bool rayIsValid(const glm::vec3& org, const glm::vec3& dir) {
-  return std::isfinite(org.x) && std::isfinite(org.y) && std::isfinite(org.z) && std::isfinite(dir.x) &&
-         std::isfinite(dir.y) && std::isfinite(dir.z) && (dir.x != 0.0f || dir.y != 0.0f || dir.z != 0.0f);
+  return std::isfinite(org.x) && std::isfinite(org.y) && std::isfinite(org.z) &&
+         std::isfinite(dir.x) && std::isfinite(dir.y) && std::isfinite(dir.z) &&
+         (dir.x != 0.0f || dir.y != 0.0f || dir.z != 0.0f);
 }
 
 BoxRay boxRayOf(const glm::vec3& org, const glm::vec3& dir) {
@@ -468,7 +485,8 @@ BoxRay boxRayOf(const glm::vec3& org, const glm::vec3& dir) {
 
 // The slab test (Kay & Kajiya 1986) for a node's boxes. A NaN, from a ray lying in a box's face,
 // never narrows the interval, so the test stays conservative.
-unsigned boxHitsScalar(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]) {
+unsigned boxHitsScalar(const BvhNode& node, const BoxRay& r, float tmin, float tmax,
+                       float tnear[kBvhWidth]) {
   unsigned mask = 0;
   for (int i = 0; i < kBvhWidth; ++i) {
     float t0 = tmin, t1 = INFINITY;
@@ -499,14 +517,17 @@ inline void prepareBoxRaySse(const BoxRay& r, BoxRaySse& p) {
   for (int a = 0; a < 3; ++a) {
     p.org[a] = _mm_set1_ps(r.org[a]);
     p.inv[a] = _mm_set1_ps(r.inv[a]);
-    const std::uint32_t lo = static_cast<std::uint32_t>(offsetof(BvhNode, lo) + sizeof(float[kBvhWidth]) * a);
-    const std::uint32_t hi = static_cast<std::uint32_t>(offsetof(BvhNode, hi) + sizeof(float[kBvhWidth]) * a);
+    const std::uint32_t lo =
+        static_cast<std::uint32_t>(offsetof(BvhNode, lo) + sizeof(float[kBvhWidth]) * a);
+    const std::uint32_t hi =
+        static_cast<std::uint32_t>(offsetof(BvhNode, hi) + sizeof(float[kBvhWidth]) * a);
     p.near_at[a] = r.near_is_hi[a] ? hi : lo;
     p.far_at[a] = r.near_is_hi[a] ? lo : hi;
   }
 }
 inline __m128 row(const BvhNode& node, std::uint32_t at, int quad) {
-  return _mm_load_ps(reinterpret_cast<const float*>(reinterpret_cast<const char*>(&node) + at) + 4 * quad);
+  return _mm_load_ps(reinterpret_cast<const float*>(reinterpret_cast<const char*>(&node) + at) +
+                     4 * quad);
 }
 // The scalar test's operations, in its order, four boxes at once (the quads of a node are
 // independent: the processor overlaps them).
@@ -527,14 +548,16 @@ inline unsigned boxHitsPrepared(const BvhNode& node, const BoxRaySse& r, __m128 
   return mask;
 }
 }  // namespace
-unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]) {
+unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax,
+                    float tnear[kBvhWidth]) {
   BoxRaySse p;
   prepareBoxRaySse(r, p);
   return boxHitsPrepared(node, p, _mm_set1_ps(tmin), tmax, tnear);
 }
 bool boxHitsSseAvailable() { return true; }
 #else
-unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]) {
+unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax,
+                    float tnear[kBvhWidth]) {
   return boxHitsScalar(node, r, tmin, tmax, tnear);
 }
 bool boxHitsSseAvailable() { return false; }
@@ -545,8 +568,8 @@ bool boxHitsSseAvailable() { return false; }
 // product lies between the products at the corners of the origins' and inverses' ranges, and
 // 1 / dir is monotone too, so the inverses lie between the inverses of the directions' bounds.
 // (the walk calls the body itself: inlined whatever the optimiser's budget at link time)
-[[gnu::always_inline]] inline bool boxRayGroupOfInline(const glm::vec3* org, const glm::vec3* dir, int n,
-                                                     BoxRayGroup* g) {
+[[gnu::always_inline]] inline bool boxRayGroupOfInline(const glm::vec3* org, const glm::vec3* dir,
+                                                       int n, BoxRayGroup* g) {
   if (n < 1) return false;
   glm::vec3 olo, ohi, dlo, dhi;
 #ifdef HSR_BVH_SSE
@@ -561,13 +584,15 @@ bool boxHitsSseAvailable() { return false; }
   __m128 bad = _mm_setzero_ps();
   for (int i = 0; i < n; ++i) {
     o = load(org + i, i == n - 1), d = load(dir + i, i == n - 1);
-    bad = _mm_or_ps(bad, _mm_or_ps(_mm_cmpunord_ps(_mm_sub_ps(o, o), o), _mm_cmpunord_ps(_mm_sub_ps(d, d), d)));
+    bad = _mm_or_ps(
+        bad, _mm_or_ps(_mm_cmpunord_ps(_mm_sub_ps(o, o), o), _mm_cmpunord_ps(_mm_sub_ps(d, d), d)));
     o_lo = _mm_min_ps(o_lo, o), o_hi = _mm_max_ps(o_hi, o);
     d_lo = _mm_min_ps(d_lo, d), d_hi = _mm_max_ps(d_hi, d);
   }
   if (_mm_movemask_ps(bad) & 7) return false;
   alignas(16) float b[4][4];
-  _mm_store_ps(b[0], o_lo), _mm_store_ps(b[1], o_hi), _mm_store_ps(b[2], d_lo), _mm_store_ps(b[3], d_hi);
+  _mm_store_ps(b[0], o_lo), _mm_store_ps(b[1], o_hi), _mm_store_ps(b[2], d_lo),
+      _mm_store_ps(b[3], d_hi);
   olo = {b[0][0], b[0][1], b[0][2]}, ohi = {b[1][0], b[1][1], b[1][2]};
   dlo = {b[2][0], b[2][1], b[2][2]}, dhi = {b[3][0], b[3][1], b[3][2]};
 #else
@@ -598,8 +623,8 @@ bool boxRayGroupOf(const glm::vec3* org, const glm::vec3* dir, int n, BoxRayGrou
 // earlier. No NaN arises (the inverses are finite and not 0; an empty child's faces are
 // infinities, which give it an empty interval).
 // (the walk calls the body itself: inlined whatever the optimiser's budget at link time)
-[[gnu::always_inline]] inline unsigned groupBoxHitsInline(const BvhNode& node, const BoxRayGroup& g, float tmin,
-                                                         float tmax) {
+[[gnu::always_inline]] inline unsigned groupBoxHitsInline(const BvhNode& node, const BoxRayGroup& g,
+                                                          float tmin, float tmax) {
   float t0[kBvhWidth], t1[kBvhWidth];
   for (int i = 0; i < kBvhWidth; ++i) t0[i] = tmin, t1[i] = INFINITY;
   for (int a = 0; a < 3; ++a) {
@@ -629,12 +654,13 @@ unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& g, float tmin, flo
 // is left out only where the test would reject it for its edge functions' signs: all three
 // non-zero and of mixed signs.
 // (the walk calls the body itself: inlined whatever the optimiser's budget at link time)
-[[gnu::always_inline]] inline void screenLeafInline(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used,
-                                                   LeafScreen* out) {
+[[gnu::always_inline]] inline void screenLeafInline(const BvhTriangles4& leaf, const ShearedRay& r,
+                                                    unsigned used, LeafScreen* out) {
 #ifdef HSR_BVH_SSE
-  const __m128 ox = _mm_set1_ps(r.org[r.kx]), oy = _mm_set1_ps(r.org[r.ky]), oz = _mm_set1_ps(r.org[r.kz]);
+  const __m128 ox = _mm_set1_ps(r.org[r.kx]), oy = _mm_set1_ps(r.org[r.ky]),
+               oz = _mm_set1_ps(r.org[r.kz]);
   const __m128 sx = _mm_set1_ps(r.sx), sy = _mm_set1_ps(r.sy), sz = _mm_set1_ps(r.sz);
-  auto project = [&](const float (&v)[3][4], __m128& x, __m128& y, float* z) {
+  auto project = [&](const float(&v)[3][4], __m128& x, __m128& y, float* z) {
     const __m128 vz = _mm_sub_ps(_mm_load_ps(v[r.kz]), oz);
     x = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(v[r.kx]), ox), _mm_mul_ps(sx, vz));
     y = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(v[r.ky]), oy), _mm_mul_ps(sy, vz));
@@ -651,9 +677,12 @@ unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& g, float tmin, flo
   _mm_store_ps(out->V, V);
   _mm_store_ps(out->W, W);
   const __m128 zero = _mm_setzero_ps();
-  const __m128 some_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
-  const __m128 some_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_cmpgt_ps(V, zero)), _mm_cmpgt_ps(W, zero));
-  const __m128 some_zero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(U, zero), _mm_cmpeq_ps(V, zero)), _mm_cmpeq_ps(W, zero));
+  const __m128 some_neg =
+      _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
+  const __m128 some_pos =
+      _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_cmpgt_ps(V, zero)), _mm_cmpgt_ps(W, zero));
+  const __m128 some_zero =
+      _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(U, zero), _mm_cmpeq_ps(V, zero)), _mm_cmpeq_ps(W, zero));
   const __m128 outside = _mm_andnot_ps(some_zero, _mm_and_ps(some_neg, some_pos));
   out->candidates = used & ~static_cast<unsigned>(_mm_movemask_ps(outside));
 #else
@@ -668,10 +697,11 @@ unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& g, float tmin, flo
       y[k] = (v[k][r.ky][lane] - r.org[r.ky]) - r.sy * vz;
       z[k][lane] = r.sz * vz;
     }
-    const float U = x[2] * y[1] - y[2] * x[1], V = x[0] * y[2] - y[0] * x[2], W = x[1] * y[0] - y[1] * x[0];
+    const float U = x[2] * y[1] - y[2] * x[1], V = x[0] * y[2] - y[0] * x[2],
+                W = x[1] * y[0] - y[1] * x[0];
     out->U[lane] = U, out->V[lane] = V, out->W[lane] = W;
-    const bool outside = U != 0.0f && V != 0.0f && W != 0.0f && (U < 0.0f || V < 0.0f || W < 0.0f) &&
-                         (U > 0.0f || V > 0.0f || W > 0.0f);
+    const bool outside = U != 0.0f && V != 0.0f && W != 0.0f &&
+                         (U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f);
     if ((used & (1u << lane)) && !outside) out->candidates |= 1u << lane;
   }
 #endif
@@ -681,9 +711,10 @@ void screenLeaf(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used, L
 }
 
 // (the walk calls the body itself: inlined whatever the optimiser's budget at link time)
-[[gnu::always_inline]] inline bool leafLaneHitInline(const BvhTriangles4& leaf, const LeafScreen& screen, int lane,
-                                                    const ShearedRay& r, float tmin, float tmax, HitSides sides,
-                                                    TriangleHit* hit) {
+[[gnu::always_inline]] inline bool leafLaneHitInline(const BvhTriangles4& leaf,
+                                                     const LeafScreen& screen, int lane,
+                                                     const ShearedRay& r, float tmin, float tmax,
+                                                     HitSides sides, TriangleHit* hit) {
   const float U = screen.U[lane], V = screen.V[lane], W = screen.W[lane];
   if (U == 0.0f || V == 0.0f || W == 0.0f) {  // the test's fallback to double: the test itself
     const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
@@ -691,10 +722,11 @@ void screenLeaf(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used, L
     const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
     return intersectTriangle(r, a, b, c, tmin, tmax, sides, hit);
   }
-  return finishTriangleHit(U, V, W, screen.az[lane], screen.bz[lane], screen.cz[lane], tmin, tmax, sides, hit);
+  return finishTriangleHit(U, V, W, screen.az[lane], screen.bz[lane], screen.cz[lane], tmin, tmax,
+                           sides, hit);
 }
-bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, const ShearedRay& r, float tmin,
-                 float tmax, HitSides sides, TriangleHit* hit) {
+bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, const ShearedRay& r,
+                 float tmin, float tmax, HitSides sides, TriangleHit* hit) {
   return leafLaneHitInline(leaf, screen, lane, r, tmin, tmax, sides, hit);
 }
 
@@ -721,7 +753,8 @@ struct NodeTestRay {
   }
 };
 
-constexpr int kStackSize = kBvhWidth * (kMedianDepth + 32) + 8;  // at most a node's children pushed per level
+// at most a node's children pushed per level
+constexpr int kStackSize = kBvhWidth * (kMedianDepth + 32) + 8;
 
 struct StackEntry {
   std::uint32_t ref;
@@ -729,7 +762,9 @@ struct StackEntry {
 };
 
 // Hits sorted by t, then by triangle number.
-bool before(const BvhHit& x, const BvhHit& y) { return x.t < y.t || (x.t == y.t && x.triangle < y.triangle); }
+bool before(const BvhHit& x, const BvhHit& y) {
+  return x.t < y.t || (x.t == y.t && x.triangle < y.triangle);
+}
 
 // The lanes of a leaf that hold a triangle (they are filled from lane 0).
 inline unsigned usedLanes(const BvhTriangles4& leaf) {
@@ -764,9 +799,18 @@ struct NearestSearch {
   std::uint64_t visited = 0, tested = 0;
   std::vector<std::pair<glm::vec3, glm::vec3>>* entered = nullptr;
 
-  NearestSearch(const Bvh& b, const glm::vec3& o_, const glm::vec3& d_, float t0, float t1, HitSides s,
-                BvhBandLimit l, const void* c, Out* o)
-      : bvh(b), org(o_), dir(d_), box_ray(o_, d_), tmin(t0), tmax(t1), sides(s), limit_of(l), context(c), out(o),
+  NearestSearch(const Bvh& b, const glm::vec3& o_, const glm::vec3& d_, float t0, float t1,
+                HitSides s, BvhBandLimit l, const void* c, Out* o)
+      : bvh(b),
+        org(o_),
+        dir(d_),
+        box_ray(o_, d_),
+        tmin(t0),
+        tmax(t1),
+        sides(s),
+        limit_of(l),
+        context(c),
+        out(o),
         limit(t1) {
     if constexpr (kBand) out->count = 0;
   }
@@ -785,7 +829,12 @@ struct NearestSearch {
       // Up to the limit itself once something is hit (a tie), short of tmax before
       const float upto = found ? nextUp(limit) : tmax;
       if (!leafLaneHitInline(leaf, screen, lane, sheared, tmin, upto, sides, &h)) continue;
-      const BvhHit hit{h.t, h.u, h.v, leaf.triangle[lane], h.counter_clockwise, static_cast<std::uint8_t>(lane),
+      const BvhHit hit{h.t,
+                       h.u,
+                       h.v,
+                       leaf.triangle[lane],
+                       h.counter_clockwise,
+                       static_cast<std::uint8_t>(lane),
                        ref & ~BvhNode::kLeaf};
       if constexpr (!kBand) {
         if (found && !before(hit, *out)) continue;  // as near, a higher number
@@ -794,17 +843,17 @@ struct NearestSearch {
         limit = hit.t;
         continue;
       } else {
-      // Insert in order, the farthest falling off the end
-      int i = out->count < kBvhCandidates ? out->count++ : kBvhCandidates;
-      if (i == kBvhCandidates && !before(hit, out->hit[kBvhCandidates - 1])) continue;
-      if (i == kBvhCandidates) --i;
-      for (; i > 0 && before(hit, out->hit[i - 1]); --i) out->hit[i] = out->hit[i - 1];
-      out->hit[i] = hit;
-      if (i == 0) {  // a new nearest: the limit moves in, and hits beyond it go
-        found = true;
-        limit = kBand ? limit_of(context, hit.t) : hit.t;
-        while (out->count > 1 && out->hit[out->count - 1].t > limit) --out->count;
-      }
+        // Insert in order, the farthest falling off the end
+        int i = out->count < kBvhCandidates ? out->count++ : kBvhCandidates;
+        if (i == kBvhCandidates && !before(hit, out->hit[kBvhCandidates - 1])) continue;
+        if (i == kBvhCandidates) --i;
+        for (; i > 0 && before(hit, out->hit[i - 1]); --i) out->hit[i] = out->hit[i - 1];
+        out->hit[i] = hit;
+        if (i == 0) {  // a new nearest: the limit moves in, and hits beyond it go
+          found = true;
+          limit = kBand ? limit_of(context, hit.t) : hit.t;
+          while (out->count > 1 && out->hit[out->count - 1].t > limit) --out->count;
+        }
       }
     }
   }
@@ -825,7 +874,8 @@ struct NearestSearch {
         if (entered)
           for (int i = 0; i < kBvhWidth; ++i)
             if (mask & (1u << i))
-              entered->push_back({{node.lo[0][i], node.lo[1][i], node.lo[2][i]}, {node.hi[0][i], node.hi[1][i], node.hi[2][i]}});
+              entered->push_back({{node.lo[0][i], node.lo[1][i], node.lo[2][i]},
+                                  {node.hi[0][i], node.hi[1][i], node.hi[2][i]}});
         if (mask == 0) goto pop;
         int first = std::countr_zero(mask);
         mask &= mask - 1;
@@ -840,7 +890,8 @@ struct NearestSearch {
           mask &= mask - 1;
           if (tnear[i] < tnear[first]) std::swap(i, first);
           int j = sp++;  // child i among the pushed ones, kept farthest first
-          for (; j > base && stack_tnear[j - 1] < tnear[i]; --j) stack_ref[j] = stack_ref[j - 1], stack_tnear[j] = stack_tnear[j - 1];
+          for (; j > base && stack_tnear[j - 1] < tnear[i]; --j)
+            stack_ref[j] = stack_ref[j - 1], stack_tnear[j] = stack_tnear[j - 1];
           stack_ref[j] = node.child[i], stack_tnear[j] = tnear[i];
         } while (mask != 0);
         ref = node.child[first];
@@ -864,9 +915,11 @@ struct NearestSearch {
 // One ray's search from `start` (the root, or a node its group's test showed to be the only
 // way in).
 template <bool kBand>
-void traverseNearest(const Bvh& bvh, std::uint32_t start, const glm::vec3& org, const glm::vec3& dir, float tmin,
-                     float tmax, HitSides sides, BvhBandLimit limit_of, const void* context,
-                     typename NearestSearch<kBand>::Out* out, BvhTraversalCounts* counts, bool known_valid = false) {
+void traverseNearest(const Bvh& bvh, std::uint32_t start, const glm::vec3& org,
+                     const glm::vec3& dir, float tmin, float tmax, HitSides sides,
+                     BvhBandLimit limit_of, const void* context,
+                     typename NearestSearch<kBand>::Out* out, BvhTraversalCounts* counts,
+                     bool known_valid = false) {
   if constexpr (kBand) out->count = 0;
   if (start == BvhNode::kEmpty || !(known_valid || rayIsValid(org, dir)) || !(tmin < tmax)) return;
   NearestSearch<kBand> search(bvh, org, dir, tmin, tmax, sides, limit_of, context, out);
@@ -880,9 +933,9 @@ void traverseNearest(const Bvh& bvh, std::uint32_t start, const glm::vec3& org, 
 // box the ray's own test enters, so in one the group's test enters too (groupBoxHits); where
 // that is one child of a node, every triangle any of the rays hits lies below it.
 template <bool kBand>
-void traverseGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin, float tmax,
-                   HitSides sides, BvhBandLimit limit_of, const void* context, typename NearestSearch<kBand>::Out* out,
-                   BvhTraversalCounts* counts) {
+void traverseGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
+                   float tmax, HitSides sides, BvhBandLimit limit_of, const void* context,
+                   typename NearestSearch<kBand>::Out* out, BvhTraversalCounts* counts) {
   std::uint32_t start = bvh.root;
   BoxRayGroup group;
   bool grouped = false;  // (then every ray is valid)
@@ -903,42 +956,48 @@ void traverseGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, i
     }
   }
   for (int i = 0; i < n; ++i) {
-    if constexpr (kBand) out[i].count = 0;
-    else out[i] = BvhHit{};
+    if constexpr (kBand)
+      out[i].count = 0;
+    else
+      out[i] = BvhHit{};
   }
   if (start == BvhNode::kEmpty) return;  // (the whole group passes beside the scene, often)
   for (int i = 0; i < n; ++i)
-    traverseNearest<kBand>(bvh, start, org[i], dir[i], tmin, tmax, sides, limit_of, context, &out[i], counts, grouped);
+    traverseNearest<kBand>(bvh, start, org[i], dir[i], tmin, tmax, sides, limit_of, context,
+                           &out[i], counts, grouped);
 }
-
 
 }  // namespace
 
-BvhHit intersectNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
-                        HitSides sides, BvhTraversalCounts* counts) {
+BvhHit intersectNearest(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin,
+                        float tmax, HitSides sides, BvhTraversalCounts* counts) {
   BvhHit nearest;
-  traverseNearest<false>(bvh, bvh.root, org, dir, tmin, tmax, sides, nullptr, nullptr, &nearest, counts);
+  traverseNearest<false>(bvh, bvh.root, org, dir, tmin, tmax, sides, nullptr, nullptr, &nearest,
+                         counts);
   return nearest;
 }
 
-void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
-                          HitSides sides, BvhBandLimit limit, const void* context, BvhCandidates* out,
-                          BvhTraversalCounts* counts) {
+void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin,
+                          float tmax, HitSides sides, BvhBandLimit limit, const void* context,
+                          BvhCandidates* out, BvhTraversalCounts* counts) {
   traverseNearest<true>(bvh, bvh.root, org, dir, tmin, tmax, sides, limit, context, out, counts);
 }
 
-void intersectNearestGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
-                           float tmax, HitSides sides, BvhHit* out, BvhTraversalCounts* counts) {
+void intersectNearestGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n,
+                           float tmin, float tmax, HitSides sides, BvhHit* out,
+                           BvhTraversalCounts* counts) {
   traverseGroup<false>(bvh, org, dir, n, tmin, tmax, sides, nullptr, nullptr, out, counts);
 }
 
-void intersectNearestBandGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
-                               float tmax, HitSides sides, BvhBandLimit limit, const void* context,
-                               BvhCandidates* out, BvhTraversalCounts* counts) {
+void intersectNearestBandGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n,
+                               float tmin, float tmax, HitSides sides, BvhBandLimit limit,
+                               const void* context, BvhCandidates* out,
+                               BvhTraversalCounts* counts) {
   traverseGroup<true>(bvh, org, dir, n, tmin, tmax, sides, limit, context, out, counts);
 }
 
-bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax) {
+bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin,
+                  float tmax) {
   if (bvh.root == BvhNode::kEmpty || !rayIsValid(org, dir) || !(tmin < tmax)) return false;
   const ShearedRay sheared = shearRay(org, dir);
   const NodeTestRay box_ray(org, dir);

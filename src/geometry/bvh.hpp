@@ -37,10 +37,11 @@ inline constexpr std::uint32_t kBvhNoTriangle = 0xFFFFFFFFu;
 // a leaf (Embree's BVH8); a step tests the eight boxes side by side, four at a time with SSE.
 inline constexpr int kBvhWidth = 8;
 
-// kBvhWidth boxes side by side (structure of arrays, one SSE register per four) and what is in them.
+// kBvhWidth boxes side by side (structure of arrays, one SSE register per four) and what is in
+// them.
 struct alignas(64) BvhNode {
   float lo[3][kBvhWidth], hi[3][kBvhWidth];  // [axis][child]; an empty child's box is inside out
-  std::uint32_t child[kBvhWidth];            // an inner node's index; kLeaf | a leaf's block; or kEmpty
+  std::uint32_t child[kBvhWidth];  // an inner node's index; kLeaf | a leaf's block; or kEmpty
   std::uint32_t pad[8];
 
   static constexpr std::uint32_t kLeaf = 0x80000000u;
@@ -63,16 +64,17 @@ struct alignas(16) BvhTriangles4 {
 // collapsed, so the cost is the SAH's node term alone: the summed area of the eight-wide nodes.
 // Greedy collapsing left a third of the nodes holding just two leaves, each a step of its own.
 struct CollapsePlan {
-  float cost[kBvhWidth];           // cost[i - 1]: the best with at most i slots
-  std::uint8_t left[kBvhWidth];    // its slots for the left part; 0: the subtree whole in one slot
-  std::uint8_t right[kBvhWidth];   // and for the right part
+  float cost[kBvhWidth];          // cost[i - 1]: the best with at most i slots
+  std::uint8_t left[kBvhWidth];   // its slots for the left part; 0: the subtree whole in one slot
+  std::uint8_t right[kBvhWidth];  // and for the right part
   std::uint8_t node_left, node_right;  // an eight-wide node of this subtree: its children's spread
   // (no initialisers: the plans are made in place, without a zero fill of the whole array)
 };
 
 // The plan of a subtree from its children's plans (a leaf: both null, area unused). Open to
 // the tests, which check it against every collapse of small random trees.
-void planCollapse(const CollapsePlan* left, const CollapsePlan* right, float area, CollapsePlan* out);
+void planCollapse(const CollapsePlan* left, const CollapsePlan* right, float area,
+                  CollapsePlan* out);
 
 struct BvhStats {
   std::uint64_t triangles = 0;  // in the tree (non-finite ones are left out)
@@ -84,16 +86,18 @@ struct BvhStats {
 
 struct Bvh {
   // (on huge pages where the system gives them: a ray's walk reads a few lines of many pages)
-  std::vector<BvhNode, LargePageAllocator<BvhNode>> nodes;  // nodes[0] is the root (an empty tree has no nodes)
+  // nodes[0] is the root (an empty tree has no nodes)
+  std::vector<BvhNode, LargePageAllocator<BvhNode>> nodes;
   std::vector<BvhTriangles4, LargePageAllocator<BvhTriangles4>> leaves;
-  glm::vec3 lo{0.0f}, hi{0.0f};  // bounds of everything
+  glm::vec3 lo{0.0f}, hi{0.0f};          // bounds of everything
   std::uint32_t root = BvhNode::kEmpty;  // nodes[0], or a leaf when there are at most 4
   BvhStats stats;
 };
 
 // Builds over triangles (a[i], b[i], c[i]); triangle i is reported as i. Uses the calling
 // task arena's threads (oneTBB); the tree is the same at any thread count.
-Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b, std::span<const glm::vec3> c);
+Bvh buildBvh(std::span<const glm::vec3> a, std::span<const glm::vec3> b,
+             std::span<const glm::vec3> c);
 
 struct BvhHit {
   float t = std::numeric_limits<float>::infinity();
@@ -105,7 +109,8 @@ struct BvhHit {
 };
 
 // The vertices of a hit's triangle, as the tree holds them (the caller's a, b, c exactly).
-inline void bvhTriangleOf(const Bvh& bvh, const BvhHit& h, glm::vec3* a, glm::vec3* b, glm::vec3* c) {
+inline void bvhTriangleOf(const Bvh& bvh, const BvhHit& h, glm::vec3* a, glm::vec3* b,
+                          glm::vec3* c) {
   const BvhTriangles4& l = bvh.leaves[h.leaf];
   *a = {l.a[0][h.lane], l.a[1][h.lane], l.a[2][h.lane]};
   *b = {l.b[0][h.lane], l.b[1][h.lane], l.b[2][h.lane]};
@@ -113,8 +118,8 @@ inline void bvhTriangleOf(const Bvh& bvh, const BvhHit& h, glm::vec3* a, glm::ve
 }
 
 struct BvhTraversalCounts {
-  std::uint64_t nodes = 0;      // inner nodes visited
-  std::uint64_t triangles = 0;  // ray/triangle tests
+  std::uint64_t nodes = 0;        // inner nodes visited
+  std::uint64_t triangles = 0;    // ray/triangle tests
   std::uint64_t group_nodes = 0;  // inner nodes a group of rays was tested against together
   // When set (a teaching view), every box the ray enters, in the order entered (lo, hi)
   std::vector<std::pair<glm::vec3, glm::vec3>>* entered = nullptr;
@@ -135,9 +140,9 @@ struct BvhCandidates {
   BvhHit hit[kBvhCandidates];
 };
 using BvhBandLimit = float (*)(const void* context, float nearest_t);
-void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax,
-                          HitSides sides, BvhBandLimit limit, const void* context, BvhCandidates* out,
-                          BvhTraversalCounts* counts = nullptr);
+void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin,
+                          float tmax, HitSides sides, BvhBandLimit limit, const void* context,
+                          BvhCandidates* out, BvhTraversalCounts* counts = nullptr);
 
 // Rays cast together (a camera's neighbouring pixels): the same answers as intersectNearest
 // and intersectNearestBand ray by ray, bit for bit, found with less work where the rays run
@@ -147,15 +152,19 @@ void intersectNearestBand(const Bvh& bvh, const glm::vec3& org, const glm::vec3&
 // single child of a node its rays start there rather than at the root. Rays whose directions
 // differ in sign along an axis, or that are not valid, are cast one by one. `counts` adds the
 // nodes each ray visits and the group's tests.
-inline constexpr int kBvhGroupSize = 16;  // the ray caster's groups (4x4 pixels); RayScene batches take 32; any n works
-void intersectNearestGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
-                           float tmax, HitSides sides, BvhHit* out, BvhTraversalCounts* counts = nullptr);
-void intersectNearestBandGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
-                               float tmax, HitSides sides, BvhBandLimit limit, const void* context,
-                               BvhCandidates* out, BvhTraversalCounts* counts = nullptr);
+// the ray caster's groups (4x4 pixels); RayScene batches take 32; any n works
+inline constexpr int kBvhGroupSize = 16;
+void intersectNearestGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n,
+                           float tmin, float tmax, HitSides sides, BvhHit* out,
+                           BvhTraversalCounts* counts = nullptr);
+void intersectNearestBandGroup(const Bvh& bvh, const glm::vec3* org, const glm::vec3* dir, int n,
+                               float tmin, float tmax, HitSides sides, BvhBandLimit limit,
+                               const void* context, BvhCandidates* out,
+                               BvhTraversalCounts* counts = nullptr);
 
 // Whether anything is hit with tmin < t < tmax (either side).
-bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax);
+bool intersectAny(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tmin,
+                  float tmax);
 
 // Whether the ray is one the queries answer (finite origin, finite non-zero direction).
 bool rayIsValid(const glm::vec3& org, const glm::vec3& dir);
@@ -168,8 +177,10 @@ struct BoxRay {
   int near_is_hi[3];     // per axis: the near face is `hi` (the direction is negative)
 };
 BoxRay boxRayOf(const glm::vec3& org, const glm::vec3& dir);
-unsigned boxHitsScalar(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]);
-unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax, float tnear[kBvhWidth]);
+unsigned boxHitsScalar(const BvhNode& node, const BoxRay& r, float tmin, float tmax,
+                       float tnear[kBvhWidth]);
+unsigned boxHitsSse(const BvhNode& node, const BoxRay& r, float tmin, float tmax,
+                    float tnear[kBvhWidth]);
 bool boxHitsSseAvailable();
 
 // A group of rays bounded together for the box test: per axis the range of their origins and
@@ -192,12 +203,12 @@ unsigned groupBoxHits(const BvhNode& node, const BoxRayGroup& group, float tmin,
 // one lane from there: the same answer as intersectTriangle, bit for bit. Open to the tests,
 // which pin the two to it.
 struct LeafScreen {
-  alignas(16) float U[4], V[4], W[4];  // the edge functions
+  alignas(16) float U[4], V[4], W[4];     // the edge functions
   alignas(16) float az[4], bz[4], cz[4];  // the vertices' sheared, scaled heights
   unsigned candidates = 0;
 };
 void screenLeaf(const BvhTriangles4& leaf, const ShearedRay& r, unsigned used, LeafScreen* out);
-bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, const ShearedRay& r, float tmin,
-                 float tmax, HitSides sides, TriangleHit* hit);
+bool leafLaneHit(const BvhTriangles4& leaf, const LeafScreen& screen, int lane, const ShearedRay& r,
+                 float tmin, float tmax, HitSides sides, TriangleHit* hit);
 
 }  // namespace hsr::detail

@@ -61,20 +61,24 @@ RayHit hitOf(const RaySceneData& d, const BvhHit& h) {
 
 }  // namespace detail
 
-RayScene::RayScene(const Scene& scene, bool opaque_only) : data_(std::make_unique<detail::RaySceneData>()) {
+RayScene::RayScene(const Scene& scene, bool opaque_only)
+    : data_(std::make_unique<detail::RaySceneData>()) {
   detail::RaySceneData& d = *data_;
   // The triangles every algorithm sees, in polygon order
   std::vector<detail::Triangle> tris;
   for (PolygonId p = 0; p < scene.polygonCount(); ++p) {
     const std::uint32_t m = scene.material(p);
-    if (opaque_only && m < scene.materials.size() && detail::materialSeeThrough(scene.materials[m])) {
+    if (opaque_only && m < scene.materials.size() &&
+        detail::materialSeeThrough(scene.materials[m])) {
       d.stats.polygons_left_out++;
       continue;
     }
     const std::size_t before = tris.size();
     detail::triangulatePolygon(scene, p, tris);
-    if (tris.size() == before) d.stats.polygons_left_out++;
-    else d.stats.polygons++;
+    if (tris.size() == before)
+      d.stats.polygons_left_out++;
+    else
+      d.stats.polygons++;
   }
   d.a.resize(tris.size());
   d.b.resize(tris.size());
@@ -95,7 +99,8 @@ RayScene::RayScene(const Scene& scene, bool opaque_only) : data_(std::make_uniqu
   d.stats.depth = d.bvh.stats.depth;
   d.stats.sah_cost = d.bvh.stats.sah_cost;
   d.stats.build_ms = d.bvh.stats.build_ms;
-  d.stats.bytes = d.bvh.stats.bytes + tris.size() * (3 * sizeof(glm::vec3) + 2 * sizeof(std::uint32_t));
+  d.stats.bytes =
+      d.bvh.stats.bytes + tris.size() * (3 * sizeof(glm::vec3) + 2 * sizeof(std::uint32_t));
 }
 
 RayScene::~RayScene() = default;
@@ -115,14 +120,15 @@ constexpr int kRayGroup = 32;  // neighbours cast as a group (bvh.hpp)
 
 }  // namespace
 
-RayHit RayScene::intersect(const glm::vec3& origin, const glm::vec3& direction, float tmax, float tmin,
-                           RaySides sides) const {
+RayHit RayScene::intersect(const glm::vec3& origin, const glm::vec3& direction, float tmax,
+                           float tmin, RaySides sides) const {
   return detail::hitOf(*data_, detail::intersectNearest(data_->bvh, origin, direction, tmin, tmax,
                                                         detail::hitSidesOf(sides)));
 }
 
-std::vector<RayHit> RayScene::intersect(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions,
-                                        float tmax, float tmin, RaySides sides) const {
+std::vector<RayHit> RayScene::intersect(std::span<const glm::vec3> origins,
+                                        std::span<const glm::vec3> directions, float tmax,
+                                        float tmin, RaySides sides) const {
   checkSizes(origins, directions);
   std::vector<RayHit> hits(origins.size());
   intersect(origins, directions, hits, tmax, tmin, sides);
@@ -133,23 +139,25 @@ void RayScene::intersect(std::span<const glm::vec3> origins, std::span<const glm
                          std::span<RayHit> hits, float tmax, float tmin, RaySides sides) const {
   checkSizes(origins, directions);
   if (hits.size() != origins.size())
-    throw Error("ray query: " + std::to_string(origins.size()) + " rays but room for " + std::to_string(hits.size()) +
-                " answers");
+    throw Error("ray query: " + std::to_string(origins.size()) + " rays but room for " +
+                std::to_string(hits.size()) + " answers");
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), kRaysPerTask),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       // Neighbours in the caller's order (a camera's rays, row by row) cast as
                       // a group: the same answers as one by one
                       detail::BvhHit found[kRayGroup];
                       for (std::size_t i = r.begin(); i < r.end(); i += kRayGroup) {
-                        const int n = static_cast<int>(std::min<std::size_t>(kRayGroup, r.end() - i));
-                        detail::intersectNearestGroup(data_->bvh, &origins[i], &directions[i], n, tmin, tmax,
-                                                      detail::hitSidesOf(sides), found);
+                        const int n =
+                            static_cast<int>(std::min<std::size_t>(kRayGroup, r.end() - i));
+                        detail::intersectNearestGroup(data_->bvh, &origins[i], &directions[i], n,
+                                                      tmin, tmax, detail::hitSidesOf(sides), found);
                         for (int k = 0; k < n; ++k) hits[i + k] = detail::hitOf(*data_, found[k]);
                       }
                     });
 }
 
-bool RayScene::occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax, float tmin) const {
+bool RayScene::occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax,
+                        float tmin) const {
   return detail::intersectAny(data_->bvh, origin, direction, tmin, tmax);
 }
 
@@ -170,7 +178,8 @@ const RaySceneStats& RayScene::stats() const { return data_->stats; }
 std::size_t RayScene::triangleCount() const { return data_->a.size(); }
 
 void RayScene::triangleOf(const RayHit& hit, glm::vec3* v0, glm::vec3* v1, glm::vec3* v2) const {
-  if (hit.triangle >= data_->a.size()) throw Error("ray query: the hit names no triangle of this scene");
+  if (hit.triangle >= data_->a.size())
+    throw Error("ray query: the hit names no triangle of this scene");
   *v0 = data_->a[hit.triangle];
   *v1 = data_->b[hit.triangle];
   *v2 = data_->c[hit.triangle];

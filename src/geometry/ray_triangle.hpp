@@ -53,7 +53,7 @@ inline ShearedRay shearRay(const glm::vec3& org, const glm::vec3& dir) {
 enum class HitSides : std::uint8_t { kBoth, kCounterClockwiseOnly, kClockwiseOnly };
 
 struct TriangleHit {
-  float t = 0;     // along the ray: org + t dir
+  float t = 0;         // along the ray: org + t dir
   float u = 0, v = 0;  // barycentrics of b and c (a's is 1 - u - v), as Embree reports them
   bool counter_clockwise = false;  // seen from the ray's origin
 };
@@ -62,14 +62,15 @@ struct TriangleHit {
 // float) and the vertices' sheared-and-scaled heights az, bz, cz. The part of the test after
 // the edge functions, shared by the one-triangle test below and the leaf test that computes
 // the edge functions of four triangles at once (geometry/bvh.cpp).
-inline bool finishTriangleHit(float U, float V, float W, float az, float bz, float cz, float tmin, float tmax,
-                              HitSides sides, TriangleHit* hit) {
+inline bool finishTriangleHit(float U, float V, float W, float az, float bz, float cz, float tmin,
+                              float tmax, HitSides sides, TriangleHit* hit) {
   // Outside an edge: mixed signs
   if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
   const float det = U + V + W;
   if (det == 0.0f || std::isnan(det)) return false;  // edge-on, or the ray's plane degenerate
   const bool ccw = det > 0.0f;
-  if ((sides == HitSides::kCounterClockwiseOnly && !ccw) || (sides == HitSides::kClockwiseOnly && ccw))
+  if ((sides == HitSides::kCounterClockwiseOnly && !ccw) ||
+      (sides == HitSides::kClockwiseOnly && ccw))
     return false;
   // The scaled hit distance, then the distance: in double, where the three products are exact,
   // so t carries the edge functions' rounding alone (only hits get here)
@@ -84,8 +85,8 @@ inline bool finishTriangleHit(float U, float V, float W, float az, float bz, flo
 }
 
 // The edge functions in double, where float cannot tell their signs (one came out 0).
-inline void edgeFunctionsInDouble(float ax, float ay, float bx, float by, float cx, float cy, float* U, float* V,
-                                  float* W) {
+inline void edgeFunctionsInDouble(float ax, float ay, float bx, float by, float cx, float cy,
+                                  float* U, float* V, float* W) {
   *U = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
   *V = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
   *W = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
@@ -106,8 +107,10 @@ inline bool intersectTriangle(const ShearedRay& r, const glm::vec3& a, const glm
   float V = ax * cy - ay * cx;
   float W = bx * ay - by * ax;
   // Fall back to double where float cannot tell the sign
-  if (U == 0.0f || V == 0.0f || W == 0.0f) edgeFunctionsInDouble(ax, ay, bx, by, cx, cy, &U, &V, &W);
-  return finishTriangleHit(U, V, W, r.sz * A[r.kz], r.sz * B[r.kz], r.sz * C[r.kz], tmin, tmax, sides, hit);
+  if (U == 0.0f || V == 0.0f || W == 0.0f)
+    edgeFunctionsInDouble(ax, ay, bx, by, cx, cy, &U, &V, &W);
+  return finishTriangleHit(U, V, W, r.sz * A[r.kz], r.sz * B[r.kz], r.sz * C[r.kz], tmin, tmax,
+                           sides, hit);
 }
 
 }  // namespace hsr::detail

@@ -41,7 +41,9 @@ struct Line {
   std::int64_t a = 0, b = 0, c = 0;
 };
 
-Line lineThrough(GridPoint p, std::int64_t dx, std::int64_t dy) { return {-dy, dx, dy * p.x - dx * p.y}; }
+Line lineThrough(GridPoint p, std::int64_t dx, std::int64_t dy) {
+  return {-dy, dx, dy * p.x - dx * p.y};
+}
 
 // Exact vertex (X / D, Y / D), D > 0.
 struct Vertex {
@@ -57,7 +59,9 @@ Vertex crossing(const Line& l, const Line& m) {
 }
 
 // Which side of line l the vertex lies on: +1 left, -1 right, 0 on it.
-int side(const Line& l, const Vertex& v) { return sign(i128{l.a} * v.x + i128{l.b} * v.y + i128{l.c} * v.d); }
+int side(const Line& l, const Vertex& v) {
+  return sign(i128{l.a} * v.x + i128{l.b} * v.y + i128{l.c} * v.d);
+}
 
 // sign(p / q - r / s) for q, s > 0, |p|, |r| < 2^127: the products need 192 bits.
 struct U192 {
@@ -83,8 +87,12 @@ int compareFractions(i128 p, std::int64_t q, i128 r, std::int64_t s) {
 }
 
 // Directions: integer vectors of edges. cross > 0: b turns left of a.
-i128 cross(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) { return i128{ax} * by - i128{ay} * bx; }
-i128 dot(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) { return i128{ax} * bx + i128{ay} * by; }
+i128 cross(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) {
+  return i128{ax} * by - i128{ay} * bx;
+}
+i128 dot(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) {
+  return i128{ax} * bx + i128{ay} * by;
+}
 
 struct Direction {
   std::int64_t x = 0, y = 0;
@@ -139,15 +147,17 @@ std::int64_t floorDiv(i128 x, std::int64_t d) {
   if (q * d > x) --q;
   return static_cast<std::int64_t>(q);
 }
-std::int64_t ceilDiv(i128 x, std::int64_t d) { return d == 1 ? static_cast<std::int64_t>(x) : -floorDiv(-x, d); }
+std::int64_t ceilDiv(i128 x, std::int64_t d) {
+  return d == 1 ? static_cast<std::int64_t>(x) : -floorDiv(-x, d);
+}
 
 struct Edge {
-  Vertex v0, v1;       // its ends
-  Direction d;         // along its line, from v0 to v1
-  Line line;           // positive on its left
-  Param t0, t1;        // its ends along d (t0 < t1)
-  int node0, node1;    // graph nodes of the two ends
-  int ring;            // ring index (over both regions)
+  Vertex v0, v1;     // its ends
+  Direction d;       // along its line, from v0 to v1
+  Line line;         // positive on its left
+  Param t0, t1;      // its ends along d (t0 < t1)
+  int node0, node1;  // graph nodes of the two ends
+  int ring;          // ring index (over both regions)
   Owner owner;
   std::int64_t x0, x1, y0, y1;  // a box around it, on the grid
 };
@@ -187,7 +197,8 @@ class Graph {
   // Empty again, keeping the memory: one Graph per thread serves every call (small clips are
   // otherwise half allocation).
   void reset() {
-    nodes.clear(), edges.clear(), rings.clear(), hits.clear(), pieces.clear(), labels.clear(), parent.clear();
+    nodes.clear(), edges.clear(), rings.clear(), hits.clear(), pieces.clear(), labels.clear(),
+        parent.clear();
   }
 
   int find(int v) {
@@ -225,9 +236,11 @@ class Graph {
       const Vertex p = at(i), q = at((i + 1) % n);
       const Line l = lineFrom(i);
       const Direction d = directionOf(l);
-      edges.push_back({p, q, d, l, along(p, d), along(q, d), base + i, base + (i + 1) % n, ring, owner,
-                       std::min(floorDiv(p.x, p.d), floorDiv(q.x, q.d)), std::max(ceilDiv(p.x, p.d), ceilDiv(q.x, q.d)),
-                       std::min(floorDiv(p.y, p.d), floorDiv(q.y, q.d)), std::max(ceilDiv(p.y, p.d), ceilDiv(q.y, q.d))});
+      edges.push_back({p, q, d, l, along(p, d), along(q, d), base + i, base + (i + 1) % n, ring,
+                       owner, std::min(floorDiv(p.x, p.d), floorDiv(q.x, q.d)),
+                       std::max(ceilDiv(p.x, p.d), ceilDiv(q.x, q.d)),
+                       std::min(floorDiv(p.y, p.d), floorDiv(q.y, q.d)),
+                       std::max(ceilDiv(p.y, p.d), ceilDiv(q.y, q.d))});
     }
   }
   void addRegion(const ExactRegion& region, Owner owner) {
@@ -255,9 +268,12 @@ class Graph {
         const Param t = along(v, E.d);
         const int from = compare(t, E.t0), to = compare(t, E.t1);
         if (from < 0 || to > 0) return;
-        if (from == 0) unite(node, E.node0);
-        else if (to == 0) unite(node, E.node1);
-        else hitAt(on, v, node);
+        if (from == 0)
+          unite(node, E.node0);
+        else if (to == 0)
+          unite(node, E.node1);
+        else
+          hitAt(on, v, node);
       };
       place(ea, B.v0, B.node0);
       place(ea, B.v1, B.node1);
@@ -268,9 +284,12 @@ class Graph {
     // The lines cross at one point, and it lies on both edges.
     if (s0 == 0 || s1 == 0) {  // at an end of A's edge
       const int node = s0 == 0 ? A.node0 : A.node1;
-      if (r0 == 0) unite(node, B.node0);
-      else if (r1 == 0) unite(node, B.node1);
-      else hitAt(eb, s0 == 0 ? A.v0 : A.v1, node);
+      if (r0 == 0)
+        unite(node, B.node0);
+      else if (r1 == 0)
+        unite(node, B.node1);
+      else
+        hitAt(eb, s0 == 0 ? A.v0 : A.v1, node);
     } else if (r0 == 0 || r1 == 0) {  // at an end of B's edge, inside A's
       hitAt(ea, r0 == 0 ? B.v0 : B.v1, r0 == 0 ? B.node0 : B.node1);
     } else {  // a proper crossing: a new vertex on both lists
@@ -298,13 +317,15 @@ class Graph {
       std::iota(by_x.begin(), by_x.end(), first1);
       // Ties by number: every sort here is a total order, so that every standard library (the
       // native build's and the web page's) puts them in the same order
-      std::sort(by_x.begin(), by_x.end(),
-                [&](int l, int r) { return edges[l].x0 != edges[r].x0 ? edges[l].x0 < edges[r].x0 : l < r; });
+      std::sort(by_x.begin(), by_x.end(), [&](int l, int r) {
+        return edges[l].x0 != edges[r].x0 ? edges[l].x0 < edges[r].x0 : l < r;
+      });
       std::int64_t widest = 0;
       for (int e : by_x) widest = std::max(widest, edges[e].x1 - edges[e].x0);
       for (int ea = first0; ea < end0; ++ea) {
         const Edge& A = edges[ea];
-        const auto from = std::partition_point(by_x.begin(), by_x.end(), [&](int e) { return edges[e].x0 < A.x0 - widest; });
+        const auto from = std::partition_point(by_x.begin(), by_x.end(),
+                                               [&](int e) { return edges[e].x0 < A.x0 - widest; });
         for (auto it = from; it != by_x.end(); ++it) {
           const int eb = *it;
           const Edge& B = edges[eb];
@@ -319,7 +340,8 @@ class Graph {
     // Rings of one region may touch at points: find those too, so that a point where two rings
     // of one region meet is one node (needed only where a region has several rings)
     if (first_b > 0 && edges[first_b - 1].ring > edges[0].ring) pairs(0, first_b, 0, first_b, true);
-    if (first_b < edge_count && edges[edge_count - 1].ring > edges[first_b].ring) pairs(first_b, edge_count, first_b, edge_count, true);
+    if (first_b < edge_count && edges[edge_count - 1].ring > edges[first_b].ring)
+      pairs(first_b, edge_count, first_b, edge_count, true);
     // Sort the points inside each edge along it; points at the same place are one node.
     std::sort(hits.begin(), hits.end(), [](const Hit& l, const Hit& r) {
       if (l.edge != r.edge) return l.edge < r.edge;
@@ -327,7 +349,8 @@ class Graph {
       return c != 0 ? c < 0 : l.node < r.node;
     });
     for (std::size_t i = 1; i < hits.size(); ++i)
-      if (hits[i].edge == hits[i - 1].edge && compare(hits[i].t, hits[i - 1].t) == 0) unite(hits[i].node, hits[i - 1].node);
+      if (hits[i].edge == hits[i - 1].edge && compare(hits[i].t, hits[i - 1].t) == 0)
+        unite(hits[i].node, hits[i - 1].node);
     // The pieces, ring by ring in boundary order: from each edge's start, through the points
     // found inside it (never at its ends), to its end
     std::size_t h = 0;
@@ -357,9 +380,9 @@ class Graph {
 
 // For each node, the passages of each region's boundary through it: (piece in, piece out).
 struct Passages {
-  std::vector<int> start;                 // per node + 1
+  std::vector<int> start;  // per node + 1
   std::vector<std::pair<int, int>> items;
-  std::vector<int> fill;                  // (working memory)
+  std::vector<int> fill;  // (working memory)
   void build(const Graph& g, Owner owner) {
     start.assign(g.nodes.size() + 1, 0);
     for (std::size_t p = 0; p < g.pieces.size(); ++p)
@@ -380,7 +403,8 @@ bool insideBoundary(const Graph& g, const Vertex& p, Owner owner) {
   bool inside = false;
   for (const Edge& e : g.edges) {
     if (e.owner != owner) continue;
-    const bool a_above = compareFractions(e.v0.y, e.v0.d, p.y, p.d) > 0, b_above = compareFractions(e.v1.y, e.v1.d, p.y, p.d) > 0;
+    const bool a_above = compareFractions(e.v0.y, e.v0.d, p.y, p.d) > 0,
+               b_above = compareFractions(e.v1.y, e.v1.d, p.y, p.d) > 0;
     if (a_above == b_above) continue;
     // The edge crosses the horizontal through p; it crosses right of p when p lies left of
     // the edge walked upwards.
@@ -405,7 +429,9 @@ void label(Graph& g) {
   keys.clear();
   for (std::size_t p = 0; p < g.pieces.size(); ++p)
     if (g.owner(static_cast<int>(p)) == kB)
-      keys.push_back({{std::min(g.pieces[p].from, g.pieces[p].to), std::max(g.pieces[p].from, g.pieces[p].to)}, static_cast<int>(p)});
+      keys.push_back(
+          {{std::min(g.pieces[p].from, g.pieces[p].to), std::max(g.pieces[p].from, g.pieces[p].to)},
+           static_cast<int>(p)});
   std::sort(keys.begin(), keys.end());
   thread_local std::vector<std::int8_t> shared;  // +1 same way, -1 opposite
   shared.assign(g.pieces.size(), 0);
@@ -413,7 +439,8 @@ void label(Graph& g) {
     const Piece& P = g.pieces[p];
     if (g.owner(static_cast<int>(p)) != kA) continue;
     const std::pair<int, int> key{std::min(P.from, P.to), std::max(P.from, P.to)};
-    const auto it = std::lower_bound(keys.begin(), keys.end(), std::pair<std::pair<int, int>, int>{key, -1});
+    const auto it =
+        std::lower_bound(keys.begin(), keys.end(), std::pair<std::pair<int, int>, int>{key, -1});
     if (it == keys.end() || it->first != key) continue;
     const int q = it->second;
     const std::int8_t way = g.pieces[q].from == P.from ? 1 : -1;
@@ -439,7 +466,8 @@ void label(Graph& g) {
       bool nearest_leaves = false, any = false;
       for (int k = there.start[node]; k < there.start[node + 1]; ++k) {
         const auto [arriving, leaving] = there.items[k];
-        for (const auto& [d, leaves] : {std::pair{g.direction(leaving), true}, std::pair{g.direction(arriving).reversed(), false}}) {
+        for (const auto& [d, leaves] : {std::pair{g.direction(leaving), true},
+                                        std::pair{g.direction(arriving).reversed(), false}}) {
           if (sameDirection(d, u)) continue;  // only for a shared piece, decided above
           if (!any || metBefore(u, nearest, d)) nearest = d, nearest_leaves = leaves, any = true;
         }
@@ -460,7 +488,8 @@ void label(Graph& g) {
     int p = start;
     do {
       Label l;
-      if (decided(p, &l)) current = l;
+      if (decided(p, &l))
+        current = l;
       else if (current == Label::SharedSame || current == Label::SharedOpposite)
         current = Label::Outside;  // cannot happen: a shared piece ends where the boundaries meet
       g.labels[p] = current;
@@ -503,7 +532,9 @@ const std::vector<Kept>& keep(const Graph& g, BooleanOp op) {
     }
     const Edge& e = g.edges[g.pieces[i].edge];
     if (forward) kept.push_back({g.pieces[i].from, g.pieces[i].to, e.d, e.line});
-    if (backward) kept.push_back({g.pieces[i].to, g.pieces[i].from, e.d.reversed(), {-e.line.a, -e.line.b, -e.line.c}});
+    if (backward)
+      kept.push_back(
+          {g.pieces[i].to, g.pieces[i].from, e.d.reversed(), {-e.line.a, -e.line.b, -e.line.c}});
   }
   return kept;
 }
@@ -527,7 +558,8 @@ std::vector<RingOut> walk(const Graph& g, const std::vector<Kept>& kept) {
   leaving.resize(kept.size());
   {
     fill.assign(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < kept.size(); ++k) leaving[fill[kept[k].from]++] = static_cast<int>(k);
+    for (std::size_t k = 0; k < kept.size(); ++k)
+      leaving[fill[kept[k].from]++] = static_cast<int>(k);
   }
   used.assign(kept.size(), 0);
   std::vector<RingOut> rings;
@@ -546,9 +578,12 @@ std::vector<RingOut> walk(const Graph& g, const std::vector<Kept>& kept) {
       for (int i = start[node]; i < start[node + 1]; ++i) {
         const int c = leaving[i];
         // the largest counter-clockwise angle from the way back (the way back itself last)
-        if (next < 0) next = c;
-        else if (sameDirection(kept[next].d, back)) next = c;
-        else if (!sameDirection(kept[c].d, back) && metBefore(back, kept[next].d, kept[c].d)) next = c;
+        if (next < 0)
+          next = c;
+        else if (sameDirection(kept[next].d, back))
+          next = c;
+        else if (!sameDirection(kept[c].d, back) && metBefore(back, kept[next].d, kept[c].d))
+          next = c;
       }
       if (next < 0 || next == static_cast<int>(first)) break;
       if (used[next]) break;  // only on invalid input: the ring is left open
@@ -630,11 +665,14 @@ bool insideRing(const RingOut& ring, int v, Direction leaving, const std::vector
       // was dropped, or a ring of the same region touches it), decided by the angle it leaves at
       const Direction d = ring.out[i];
       const bool by_x = (d.x < 0 ? -d.x : d.x) >= (d.y < 0 ? -d.y : d.y);
-      const int from = by_x ? compareFractions(p.x, p.d, a.x, a.d) : compareFractions(p.y, p.d, a.y, a.d);
-      const int to = by_x ? compareFractions(p.x, p.d, b.x, b.d) : compareFractions(p.y, p.d, b.y, b.d);
+      const int from =
+          by_x ? compareFractions(p.x, p.d, a.x, a.d) : compareFractions(p.y, p.d, a.y, a.d);
+      const int to =
+          by_x ? compareFractions(p.x, p.d, b.x, b.d) : compareFractions(p.y, p.d, b.y, b.d);
       if (from * to <= 0) return pointsInto(d, d, leaving);
     }
-    const bool a_above = compareFractions(a.y, a.d, p.y, p.d) > 0, b_above = compareFractions(b.y, b.d, p.y, p.d) > 0;
+    const bool a_above = compareFractions(a.y, a.d, p.y, p.d) > 0,
+               b_above = compareFractions(b.y, b.d, p.y, p.d) > 0;
     if (a_above == b_above) continue;
     const int s = side(ring.lines[i], p);  // > 0: p left of the edge as walked
     if (b_above ? s > 0 : s < 0) inside = !inside;
@@ -655,13 +693,16 @@ ExactRegion assemble(const std::vector<RingOut>& rings, const std::vector<Vertex
     double a = 0;
     for (std::size_t j = 0; j < n; ++j) {
       const Vertex &p = nodes[r.nodes[j]], &q = nodes[r.nodes[(j + 1) % n]];
-      const double px = static_cast<double>(p.x) / static_cast<double>(p.d), py = static_cast<double>(p.y) / static_cast<double>(p.d);
-      const double qx = static_cast<double>(q.x) / static_cast<double>(q.d), qy = static_cast<double>(q.y) / static_cast<double>(q.d);
+      const double px = static_cast<double>(p.x) / static_cast<double>(p.d),
+                   py = static_cast<double>(p.y) / static_cast<double>(p.d);
+      const double qx = static_cast<double>(q.x) / static_cast<double>(q.d),
+                   qy = static_cast<double>(q.y) / static_cast<double>(q.d);
       a += px * qy - qx * py;
     }
     size[i] = std::abs(a);
   }
-  std::sort(outers.begin(), outers.end(), [&](int l, int r) { return size[l] != size[r] ? size[l] < size[r] : l < r; });
+  std::sort(outers.begin(), outers.end(),
+            [&](int l, int r) { return size[l] != size[r] ? size[l] < size[r] : l < r; });
   ExactRegion region(outers.size());
   auto points = [&](const RingOut& r) {
     ExactRing ring;
@@ -726,10 +767,14 @@ double detail::nearestQuotient(i128 n, std::int64_t d) {
 
 const char* booleanOpName(BooleanOp op) {
   switch (op) {
-    case BooleanOp::Intersection: return "A∩B";
-    case BooleanOp::Union: return "A∪B";
-    case BooleanOp::AMinusB: return "A−B";
-    case BooleanOp::BMinusA: return "B−A";
+    case BooleanOp::Intersection:
+      return "A∩B";
+    case BooleanOp::Union:
+      return "A∪B";
+    case BooleanOp::AMinusB:
+      return "A−B";
+    case BooleanOp::BMinusA:
+      return "B−A";
   }
   return "?";
 }
@@ -742,7 +787,8 @@ std::string invalidRegionReason(const GridRegion& region) {
   std::vector<Seg> segs;
   int ring_count = 0;
   auto where = [](int poly, int ring) {
-    return "polygon " + std::to_string(poly) + (ring == 0 ? " outer ring" : " hole " + std::to_string(ring - 1));
+    return "polygon " + std::to_string(poly) +
+           (ring == 0 ? " outer ring" : " hole " + std::to_string(ring - 1));
   };
   for (std::size_t pi = 0; pi < region.size(); ++pi) {
     for (std::size_t ri = 0; ri <= region[pi].holes.size(); ++ri) {
@@ -750,41 +796,50 @@ std::string invalidRegionReason(const GridRegion& region) {
       const std::string at = where(static_cast<int>(pi), static_cast<int>(ri));
       if (r.size() < 3) return at + ": fewer than 3 vertices";
       for (std::size_t i = 0; i < r.size(); ++i) {
-        if (r[i].x < -kClipCoordinateLimit || r[i].x > kClipCoordinateLimit || r[i].y < -kClipCoordinateLimit ||
-            r[i].y > kClipCoordinateLimit)
+        if (r[i].x < -kClipCoordinateLimit || r[i].x > kClipCoordinateLimit ||
+            r[i].y < -kClipCoordinateLimit || r[i].y > kClipCoordinateLimit)
           return at + " vertex " + std::to_string(i) + ": coordinate beyond ±2^28";
-        if (r[i] == r[(i + 1) % r.size()]) return at + " vertex " + std::to_string(i) + ": repeated (an edge of length 0)";
+        if (r[i] == r[(i + 1) % r.size()])
+          return at + " vertex " + std::to_string(i) + ": repeated (an edge of length 0)";
       }
       if (twiceSignedArea(r) == 0) return at + ": area 0";
       const int ring = ring_count++;
       for (std::size_t i = 0; i < r.size(); ++i)
-        segs.push_back({r[i], r[(i + 1) % r.size()], static_cast<int>(pi), ring, static_cast<int>(i), static_cast<int>(r.size())});
+        segs.push_back({r[i], r[(i + 1) % r.size()], static_cast<int>(pi), ring,
+                        static_cast<int>(i), static_cast<int>(r.size())});
     }
   }
   // No two edges cross or run along one another; they may touch at a point.
   for (std::size_t i = 0; i < segs.size(); ++i)
     for (std::size_t j = i + 1; j < segs.size(); ++j) {
       const Seg &s = segs[i], &t = segs[j];
-      if (std::max(s.p.x, s.q.x) < std::min(t.p.x, t.q.x) || std::max(t.p.x, t.q.x) < std::min(s.p.x, s.q.x) ||
-          std::max(s.p.y, s.q.y) < std::min(t.p.y, t.q.y) || std::max(t.p.y, t.q.y) < std::min(s.p.y, s.q.y))
+      if (std::max(s.p.x, s.q.x) < std::min(t.p.x, t.q.x) ||
+          std::max(t.p.x, t.q.x) < std::min(s.p.x, s.q.x) ||
+          std::max(s.p.y, s.q.y) < std::min(t.p.y, t.q.y) ||
+          std::max(t.p.y, t.q.y) < std::min(s.p.y, s.q.y))
         continue;
       const std::string what = "edge " + std::to_string(s.index) + " of " + "ring " +
-                               std::to_string(s.ring) + " and edge " + std::to_string(t.index) + " of ring " + std::to_string(t.ring);
+                               std::to_string(s.ring) + " and edge " + std::to_string(t.index) +
+                               " of ring " + std::to_string(t.ring);
       const int d1 = detail::orient2d(s.p.x, s.p.y, s.q.x, s.q.y, t.p.x, t.p.y);
       const int d2 = detail::orient2d(s.p.x, s.p.y, s.q.x, s.q.y, t.q.x, t.q.y);
       const int d3 = detail::orient2d(t.p.x, t.p.y, t.q.x, t.q.y, s.p.x, s.p.y);
       const int d4 = detail::orient2d(t.p.x, t.p.y, t.q.x, t.q.y, s.q.x, s.q.y);
-      const bool adjacent = s.ring == t.ring && (t.index == (s.index + 1) % s.ring_size || s.index == (t.index + 1) % s.ring_size);
+      const bool adjacent = s.ring == t.ring && (t.index == (s.index + 1) % s.ring_size ||
+                                                 s.index == (t.index + 1) % s.ring_size);
       if (d1 == 0 && d2 == 0) {  // collinear: they may share one point, no more
         const bool by_x = s.p.x != s.q.x;
-        const std::int64_t s0 = by_x ? std::min(s.p.x, s.q.x) : std::min(s.p.y, s.q.y), s1 = by_x ? std::max(s.p.x, s.q.x) : std::max(s.p.y, s.q.y);
-        const std::int64_t t0 = by_x ? std::min(t.p.x, t.q.x) : std::min(t.p.y, t.q.y), t1 = by_x ? std::max(t.p.x, t.q.x) : std::max(t.p.y, t.q.y);
+        const std::int64_t s0 = by_x ? std::min(s.p.x, s.q.x) : std::min(s.p.y, s.q.y),
+                           s1 = by_x ? std::max(s.p.x, s.q.x) : std::max(s.p.y, s.q.y);
+        const std::int64_t t0 = by_x ? std::min(t.p.x, t.q.x) : std::min(t.p.y, t.q.y),
+                           t1 = by_x ? std::max(t.p.x, t.q.x) : std::max(t.p.y, t.q.y);
         if (std::min(s1, t1) > std::max(s0, t0)) return what + ": run along one another";
         if (std::min(s1, t1) == std::max(s0, t0) && s.ring == t.ring && !adjacent)
           return what + ": touch (a ring must not touch itself)";
         continue;
       }
-      if ((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0) || (d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0)) continue;
+      if ((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0) || (d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))
+        continue;
       if (d1 != 0 && d2 != 0 && d3 != 0 && d4 != 0) return what + ": cross";
       // They touch at a point: an end of one on the other. Rings of a region may touch one
       // another so; a ring may not touch itself, except where its edges follow one another.
@@ -797,12 +852,15 @@ std::string invalidRegionReason(const GridRegion& region) {
   // pairs of polygons): H − outer, H1 ∩ H2 and P ∩ Q must be empty (a result's rings are
   // simple, so a result that is not empty has area).
   auto alone = [](const GridRing& r) { return GridRegion{GridPolygon{r, {}}}; };
-  auto overlap = [](const GridRegion& x, const GridRegion& y, BooleanOp op) { return !booleanOp(x, y, op).empty(); };
+  auto overlap = [](const GridRegion& x, const GridRegion& y, BooleanOp op) {
+    return !booleanOp(x, y, op).empty();
+  };
   for (std::size_t pi = 0; pi < region.size(); ++pi) {
     const GridPolygon& p = region[pi];
     for (std::size_t h = 0; h < p.holes.size(); ++h) {
       const std::string at = where(static_cast<int>(pi), static_cast<int>(h) + 1);
-      if (overlap(alone(p.holes[h]), alone(p.outer), BooleanOp::AMinusB)) return at + " is not inside its outer ring";
+      if (overlap(alone(p.holes[h]), alone(p.outer), BooleanOp::AMinusB))
+        return at + " is not inside its outer ring";
       for (std::size_t k = 0; k < h; ++k)
         if (overlap(alone(p.holes[h]), alone(p.holes[k]), BooleanOp::Intersection))
           return at + " overlaps " + where(static_cast<int>(pi), static_cast<int>(k) + 1);
@@ -848,20 +906,25 @@ ExactRegion exactRegion(const GridRegion& region) {
 }
 
 std::string invalidRegionReason(const ExactRegion& region) {
-  const std::int64_t ab = std::int64_t{1} << 29, cmax = std::int64_t{1} << 58, dmax = std::int64_t{1} << 60;
+  const std::int64_t ab = std::int64_t{1} << 29, cmax = std::int64_t{1} << 58,
+                     dmax = std::int64_t{1} << 60;
   const i128 xmax = i128{1} << 89;
   for (std::size_t pi = 0; pi < region.size(); ++pi)
     for (std::size_t ri = 0; ri <= region[pi].holes.size(); ++ri) {
       const ExactRing& r = ri == 0 ? region[pi].outer : region[pi].holes[ri - 1];
-      const std::string at = "polygon " + std::to_string(pi) + (ri == 0 ? " outer ring" : " hole " + std::to_string(ri - 1));
+      const std::string at = "polygon " + std::to_string(pi) +
+                             (ri == 0 ? " outer ring" : " hole " + std::to_string(ri - 1));
       if (r.size() < 3) return at + ": fewer than 3 vertices";
       for (std::size_t i = 0, n = r.size(); i < n; ++i) {
         const ExactPoint& p = r[i];
         const std::string v = at + " vertex " + std::to_string(i);
-        if (p.d <= 0 || p.d >= dmax || p.x <= -xmax || p.x >= xmax || p.y <= -xmax || p.y >= xmax) return v + ": out of range";
-        if (p.a < -ab || p.a > ab || p.b < -ab || p.b > ab || p.c < -cmax || p.c > cmax || (p.a == 0 && p.b == 0))
+        if (p.d <= 0 || p.d >= dmax || p.x <= -xmax || p.x >= xmax || p.y <= -xmax || p.y >= xmax)
+          return v + ": out of range";
+        if (p.a < -ab || p.a > ab || p.b < -ab || p.b > ab || p.c < -cmax || p.c > cmax ||
+            (p.a == 0 && p.b == 0))
           return v + ": its edge's line is out of range";
-        const Vertex here{p.x, p.y, p.d}, next{r[(i + 1) % n].x, r[(i + 1) % n].y, r[(i + 1) % n].d};
+        const Vertex here{p.x, p.y, p.d},
+            next{r[(i + 1) % n].x, r[(i + 1) % n].y, r[(i + 1) % n].d};
         const Line l{p.a, p.b, p.c};
         if (side(l, here) != 0 || side(l, next) != 0) return v + ": not on its edge's line";
         if (compare(along(here, directionOf(l)), along(next, directionOf(l))) >= 0)

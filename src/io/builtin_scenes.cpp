@@ -27,7 +27,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // The largest N accepted by spheres:N and soup:N:SEED (about 1.5 GiB of scene at the top).
 
-
 // HSV (all in [0,1]) to linear RGB, for evenly spread bright colours.
 glm::vec3 hsv(float h, float s, float v) { return detail::hsvToRgb(h, s, v); }
 
@@ -293,7 +292,8 @@ Scene makeSolids() {
     for (int k = 0; k < 6; ++k) {
       const double a = k * kPi / 3, m = a + kPi / 6;
       for (float y : {0.8f, -0.8f})
-        v.emplace_back(static_cast<float>(0.5 * std::cos(a)), y, static_cast<float>(0.5 * std::sin(a)));
+        v.emplace_back(static_cast<float>(0.5 * std::cos(a)), y,
+                       static_cast<float>(0.5 * std::sin(a)));
       n.emplace_back(static_cast<float>(std::cos(m)), 0.0f, static_cast<float>(std::sin(m)));
     }
     addConvexPolyhedron(scene, v, n, at(-1.6f, 1.0f, -1.2f), violet);

@@ -31,7 +31,9 @@ nlohmann::ordered_json cameraObject(const Camera& c) {
   j["target"] = {c.target.x, c.target.y, c.target.z};
   j["up"] = {c.up.x, c.up.y, c.up.z};
   j["projection_kind"] = c.ortho ? "orthographic" : "perspective";
-  j["projection_from"] = c.ortho ? "ortho_half_height" : c.intrinsics.given() ? "intrinsics" : "fov_deg";
+  j["projection_from"] = c.ortho                ? "ortho_half_height"
+                         : c.intrinsics.given() ? "intrinsics"
+                                                : "fov_deg";
   if (c.ortho) {
     j["ortho_half_height"] = c.ortho_half_height;
   } else {
@@ -124,7 +126,8 @@ class Fields {
   glm::vec3 vec3(const char* name, const glm::vec3& otherwise) {
     const Json* v = find(name);
     if (!v) return otherwise;
-    if (!v->is_array() || v->size() != 3) return problem(quoted(name) + " must be [x, y, z]"), otherwise;
+    if (!v->is_array() || v->size() != 3)
+      return problem(quoted(name) + " must be [x, y, z]"), otherwise;
     glm::vec3 out;
     for (int k = 0; k < 3; ++k) {
       if (!(*v)[k].is_number() || !std::isfinite((*v)[k].get<double>()))
@@ -140,7 +143,9 @@ class Fields {
   bool matrix(const char* name, glm::dmat4& m) {
     const Json* v = find(name);
     if (!v) return false;
-    const auto wrong = [&] { return problem(quoted(name) + " must be 4 rows of 4 numbers"), false; };
+    const auto wrong = [&] {
+      return problem(quoted(name) + " must be 4 rows of 4 numbers"), false;
+    };
     if (!v->is_array() || v->size() != 4) return wrong();
     m = glm::dmat4(1.0);
     for (int r = 0; r < 4; ++r) {
@@ -181,7 +186,8 @@ struct Leave {
 
 Camera cameraOf(const Json& in, Leave& leave) {
   // A manifest.json or --stats file holds the camera under "camera"
-  const Json& j = in.is_object() && in.contains("camera") && in["camera"].is_object() ? in["camera"] : in;
+  const Json& j =
+      in.is_object() && in.contains("camera") && in["camera"].is_object() ? in["camera"] : in;
   if (!j.is_object()) bad("a camera must be a JSON object");
   const ViewDefaults* d = leave.defaults;
   Fields f(j);
@@ -195,8 +201,10 @@ Camera cameraOf(const Json& in, Leave& leave) {
   }
   const bool posed = !f.has("eye") && (f.has("pose_opencv") || f.has("pose_opengl"));
   if (!posed && !f.has("eye") && !f.has("target")) {
-    f.problem(d ? "give the view as \"eye\" and \"target\" (\"up\" +y unless given), or as \"pose_opencv\" or \"pose_opengl\""
-                : "give the view as \"eye\", \"target\" and \"up\", or as \"pose_opencv\" or \"pose_opengl\"");
+    f.problem(d ? "give the view as \"eye\" and \"target\" (\"up\" +y unless given), or as "
+                  "\"pose_opencv\" or \"pose_opengl\""
+                : "give the view as \"eye\", \"target\" and \"up\", or as \"pose_opencv\" or "
+                  "\"pose_opengl\"");
   } else if (!posed) {
     c.eye = f.vec3("eye", c.eye);
     c.target = f.vec3("target", c.target);
@@ -220,8 +228,9 @@ Camera cameraOf(const Json& in, Leave& leave) {
     c.ortho = true;
     c.ortho_half_height = f.floatNumber("ortho_half_height", c.ortho_half_height);
   } else if (kind == "perspective") {
-    const bool from_intrinsics = f.has("projection_from") ? j["projection_from"] == "intrinsics"
-                                                           : !f.has("fov_deg") && f.has("intrinsics");
+    const bool from_intrinsics = f.has("projection_from")
+                                     ? j["projection_from"] == "intrinsics"
+                                     : !f.has("fov_deg") && f.has("intrinsics");
     if (from_intrinsics) {
       const Json* k = f.find("intrinsics");
       if (k && !k->is_object()) {
@@ -286,8 +295,8 @@ ViewList readViews(std::string_view text, const ViewDefaults* defaults) {
   // count is checked as they come, so that a list past the limit is refused at its first view
   // too many, not after the whole file.
   enum class Top { kUnknown, kArray, kObject } top = Top::kUnknown;
-  bool views_key = false;   // the top-level object's member being read is "views"
-  int element_depth = -1;   // the depth of the list's elements once the list is open
+  bool views_key = false;  // the top-level object's member being read is "views"
+  int element_depth = -1;  // the depth of the list's elements once the list is open
   ViewList list;
   std::vector<Camera>& cameras = list.cameras;
   const auto take = [&](const Json& view) {
@@ -330,7 +339,8 @@ ViewList readViews(std::string_view text, const ViewDefaults* defaults) {
   };
   Json j = Json::parse(text, each, false);
   if (j.is_discarded()) bad("not valid JSON");
-  const bool listed = top == Top::kArray || (j.is_object() && j.contains("views") && j["views"].is_array());
+  const bool listed =
+      top == Top::kArray || (j.is_object() && j.contains("views") && j["views"].is_array());
   if (!listed) {
     Leave leave{defaults};
     list.cameras = {cameraOf(j, leave)};
@@ -344,9 +354,13 @@ ViewList readViews(std::string_view text, const ViewDefaults* defaults) {
 
 }  // namespace
 
-std::vector<Camera> camerasFromJson(std::string_view text) { return readViews(text, nullptr).cameras; }
+std::vector<Camera> camerasFromJson(std::string_view text) {
+  return readViews(text, nullptr).cameras;
+}
 
-ViewList viewsFromJson(std::string_view text, const ViewDefaults& defaults) { return readViews(text, &defaults); }
+ViewList viewsFromJson(std::string_view text, const ViewDefaults& defaults) {
+  return readViews(text, &defaults);
+}
 
 void ViewList::fitDepth(const Bounds& bounds) {
   for (std::size_t k = 0; k < cameras.size(); ++k) {
@@ -360,12 +374,11 @@ void ViewList::fitDepth(const Bounds& bounds) {
     try {
       c.validate();
     } catch (const Error& e) {
-      throw Error("view " + std::to_string(k) + ": near and far fitted around the scene: " + e.what());
+      throw Error("view " + std::to_string(k) +
+                  ": near and far fitted around the scene: " + e.what());
     }
   }
 }
-
-
 
 glm::dmat4 poseFromText(std::string_view text) {
   // Brackets and commas as spaces: a JSON array of rows, NumPy's savetxt or a line of 16

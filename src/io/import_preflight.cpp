@@ -80,7 +80,8 @@ constexpr std::size_t kMaxObjLine = 64u << 20;
 // past kMaxObjLine.
 class ObjLines {
  public:
-  explicit ObjLines(const fs::path& path) : path_(path), in_(path, std::ios::binary), buffer_(1u << 20) {}
+  explicit ObjLines(const fs::path& path)
+      : path_(path), in_(path, std::ios::binary), buffer_(1u << 20) {}
   bool next(std::string& row) {
     row.clear();
     for (;;) {
@@ -91,16 +92,19 @@ class ObjLines {
         at_ = 0;
         if (size_ == 0) return !row.empty();
         if (const void* nul = std::memchr(buffer_.data(), '\0', size_))
-          throw Error(fmt::format("{}: a NUL byte at offset {}: not an OBJ file (OBJ is text)", path_.string(),
-                                  offset_ + static_cast<std::uint64_t>(static_cast<const char*>(nul) - buffer_.data())));
+          throw Error(fmt::format(
+              "{}: a NUL byte at offset {}: not an OBJ file (OBJ is text)", path_.string(),
+              offset_ +
+                  static_cast<std::uint64_t>(static_cast<const char*>(nul) - buffer_.data())));
         offset_ += size_;
       }
       const char* begin = buffer_.data() + at_;
       const char* end = static_cast<const char*>(std::memchr(begin, '\n', size_ - at_));
       const std::size_t n = end ? static_cast<std::size_t>(end - begin) : size_ - at_;
       if (row.size() + n > kMaxObjLine)
-        throw Error(fmt::format("{}: line {} is longer than {} MiB: not an OBJ file this reader takes",
-                                path_.string(), line_ + 1, kMaxObjLine >> 20));
+        throw Error(
+            fmt::format("{}: line {} is longer than {} MiB: not an OBJ file this reader takes",
+                        path_.string(), line_ + 1, kMaxObjLine >> 20));
       row.append(begin, n);
       at_ += n + (end ? 1 : 0);
       if (end) {
@@ -132,19 +136,21 @@ void checkObjFile(const fs::path& path) {
     const std::size_t first = row.find_first_not_of(" \t");
     if (first == std::string::npos) continue;
     if (keyword(first, "o") && ++objects > kMaxObjObjects)
-      throw Error(fmt::format("{}: more than {} objects ('o' lines, counted to line {}): "
-                              "assimp's OBJ reader slows down with the square of their number; "
-                              "refused (merge objects, or convert the file)",
-                              path.string(), kMaxObjObjects, line_no));
+      throw Error(
+          fmt::format("{}: more than {} objects ('o' lines, counted to line {}): "
+                      "assimp's OBJ reader slows down with the square of their number; "
+                      "refused (merge objects, or convert the file)",
+                      path.string(), kMaxObjObjects, line_no));
     if (keyword(first, "usemtl")) {
       std::string name = row.substr(first + 6);
       name.erase(0, std::min(name.find_first_not_of(" \t"), name.size()));
       materials.insert(std::move(name));
       if (materials.size() > kMaxObjMaterials)
-        throw Error(fmt::format("{}: more than {} distinct material names ('usemtl', line {}): "
-                                "assimp's OBJ reader slows down with the square of their number; "
-                                "refused",
-                                path.string(), kMaxObjMaterials, line_no));
+        throw Error(
+            fmt::format("{}: more than {} distinct material names ('usemtl', line {}): "
+                        "assimp's OBJ reader slows down with the square of their number; "
+                        "refused",
+                        path.string(), kMaxObjMaterials, line_no));
     }
     faces += keyword(first, "f");
     if (row[first] != 'v') continue;
@@ -672,9 +678,12 @@ namespace {
 // bytes per triangle of its count and otherwise text beginning with "solid", a .gltf is JSON.
 std::string_view firstWord(std::string_view head) {
   std::size_t a = 0;
-  while (a < head.size() && (head[a] == ' ' || head[a] == '\t' || head[a] == '\r' || head[a] == '\n')) ++a;
+  while (a < head.size() &&
+         (head[a] == ' ' || head[a] == '\t' || head[a] == '\r' || head[a] == '\n'))
+    ++a;
   std::size_t b = a;
-  while (b < head.size() && !(head[b] == ' ' || head[b] == '\t' || head[b] == '\r' || head[b] == '\n' || head[b] == '\0'))
+  while (b < head.size() && !(head[b] == ' ' || head[b] == '\t' || head[b] == '\r' ||
+                              head[b] == '\n' || head[b] == '\0'))
     ++b;
   return head.substr(a, b - a);
 }
@@ -686,7 +695,8 @@ bool startsWithNoCase(std::string_view s, std::string_view prefix) {
   return true;
 }
 
-void checkWhatItSays(const fs::path& path, const std::string& ext, std::uintmax_t bytes, std::string_view head) {
+void checkWhatItSays(const fs::path& path, const std::string& ext, std::uintmax_t bytes,
+                     std::string_view head) {
   const auto refuse = [&](const std::string& why) { throw Error(path.string() + ": " + why); };
   if (ext == ".ply" && !startsWithNoCase(head, "ply"))
     refuse("not a PLY file (it does not begin with 'ply')");
@@ -700,15 +710,18 @@ void checkWhatItSays(const fs::path& path, const std::string& ext, std::uintmax_
     if (head.size() >= 84) std::memcpy(&count, head.data() + 80, 4);  // little-endian, as x86
     const bool binary = head.size() >= 84 && std::uint64_t{84} + std::uint64_t{50} * count == bytes;
     if (!binary && !startsWithNoCase(firstWord(head), "solid"))
-      refuse(fmt::format("not an STL file: not a binary one (84 bytes and 50 a triangle: its count {} "
-                         "asks for {} bytes, the file has {}) and not a text one (it does not begin "
-                         "with 'solid')",
-                         count, std::uint64_t{84} + std::uint64_t{50} * count, bytes));
+      refuse(
+          fmt::format("not an STL file: not a binary one (84 bytes and 50 a triangle: its count {} "
+                      "asks for {} bytes, the file has {}) and not a text one (it does not begin "
+                      "with 'solid')",
+                      count, std::uint64_t{84} + std::uint64_t{50} * count, bytes));
   }
   if (ext == ".gltf") {
-    const std::string_view text = head.substr(0, 3) == "\xEF\xBB\xBF" ? head.substr(3) : head;  // a BOM
+    // a BOM
+    const std::string_view text = head.substr(0, 3) == "\xEF\xBB\xBF" ? head.substr(3) : head;
     const std::string_view word = firstWord(text);
-    if (word.empty() || word.front() != '{') refuse("not a glTF file (a .gltf is JSON, beginning with '{')");
+    if (word.empty() || word.front() != '{')
+      refuse("not a glTF file (a .gltf is JSON, beginning with '{')");
   }
 }
 

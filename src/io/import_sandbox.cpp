@@ -115,7 +115,8 @@ std::string serializeScene(const Scene& s) {
     // The positions as they lie in memory (three floats each), then each polygon as material,
     // count and local indices gathered into one piece: a million polygons, a million appends
     if (o.vertex_count > 0)
-      out.append(reinterpret_cast<const char*>(&s.position(o.first_vertex)), 12 * std::size_t{o.vertex_count});
+      out.append(reinterpret_cast<const char*>(&s.position(o.first_vertex)),
+                 12 * std::size_t{o.vertex_count});
     putU32(out, o.polygon_count);
     std::vector<std::uint32_t> piece;
     for (PolygonId id = o.first_polygon; id < o.first_polygon + o.polygon_count; ++id) {
@@ -472,9 +473,7 @@ Scene importInSandbox(const SandboxJob& job) {
   // C++ runtime prints there ("terminate called after throwing...") is read, never shown raw,
   // and under the sanitizers it tells a failed allocation from a bug report.
   int fds[2], err_fds[2] = {-1, -1};
-  const auto inProcess = [&] {
-    return job.run(over_budget, nullptr, false);
-  };
+  const auto inProcess = [&] { return job.run(over_budget, nullptr, false); };
   if (::pipe(fds) != 0) return inProcess();  // no pipe: in process
   if (::pipe(err_fds) != 0) err_fds[0] = err_fds[1] = -1;
   const auto closeAll = [&] {
@@ -559,15 +558,18 @@ Scene importInSandbox(const SandboxJob& job) {
         next_progress = now + std::chrono::milliseconds(250);
       }
     }
-    if (::poll(p, watched, static_cast<int>(std::min<long long>(left, limits.progress ? 250 : 1000))) <= 0) continue;
+    if (::poll(p, watched,
+               static_cast<int>(std::min<long long>(left, limits.progress ? 250 : 1000))) <= 0)
+      continue;
     for (nfds_t k = 0; k < watched; ++k)
       if (p[k].fd >= 0 && (p[k].revents & (POLLIN | POLLHUP | POLLERR)) &&
           !drain(p[k].fd, k == 0 ? answer : child_stderr))
         p[k].fd = -1;
   }
   if (limits.progress)
-    limits.progress(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
-                    answer.size(), true);
+    limits.progress(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+        answer.size(), true);
   if (timed_out) ::kill(pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
@@ -595,7 +597,8 @@ Scene importInSandbox(const SandboxJob& job) {
     // program as a failed check does, as the sanitizer would have had the import run in
     // process, with the report
     if (isSanitizerReport(child_stderr))
-      checkFailed(__FILE__, __LINE__, "the import child for " + file + " met a bug; its report:\n" + child_stderr);
+      checkFailed(__FILE__, __LINE__,
+                  "the import child for " + file + " met a bug; its report:\n" + child_stderr);
   }
 #endif
   if (WIFSIGNALED(status)) {
@@ -610,7 +613,6 @@ Scene importInSandbox(const SandboxJob& job) {
   if (answer[0] == 'E') throw Error(answer.substr(1));
   return deserializeScene(std::string_view(answer).substr(1));
 }
-
 
 // What the C++ runtime printed when an exception escaped inside the importer ("terminate
 // called after throwing an instance of 'T'\n  what():  message"), as "an exception it did not

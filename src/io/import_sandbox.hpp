@@ -18,7 +18,7 @@ namespace hsr::detail {
 
 // Limits on untrusted input, checked before anything is allocated for it.
 constexpr std::uintmax_t kMaxFileBytes = 2ull << 30;  // 2 GiB
-constexpr std::uint32_t kMaxCameras = 4096;          // a file's cameras kept to choose from
+constexpr std::uint32_t kMaxCameras = 4096;           // a file's cameras kept to choose from
 
 struct SandboxJob {
   std::string file;         // named in every refusal
@@ -28,8 +28,8 @@ struct SandboxJob {
   // current as referenced files are counted); `on_reference`, in the child, counts the bytes of
   // each file the model references into the budget (null in process); `in_child` says where it
   // runs (a child may leave its memory to _exit).
-  std::function<Scene(const std::string& over_budget, std::function<void(std::uint64_t)> on_reference,
-                      bool in_child)>
+  std::function<Scene(const std::string& over_budget,
+                      std::function<void(std::uint64_t)> on_reference, bool in_child)>
       run;
 };
 

@@ -174,7 +174,8 @@ class PositionJoin {
   static std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v + 0.0f); }  // -0 as 0
   // The three words mixed (a multiply-xorshift finaliser), the table indexed by the high bits
   static std::size_t hash(const Slot& k) {
-    std::uint64_t h = (std::uint64_t{k.x} << 32 | k.y) * 0x9E3779B97F4A7C15ull ^ k.z * 0xC2B2AE3D27D4EB4Full;
+    std::uint64_t h =
+        (std::uint64_t{k.x} << 32 | k.y) * 0x9E3779B97F4A7C15ull ^ k.z * 0xC2B2AE3D27D4EB4Full;
     h ^= h >> 31;
     h *= 0xBF58476D1CE4E5B9ull;
     h ^= h >> 29;
@@ -198,51 +199,52 @@ class PositionJoin {
 
 // A camera that makes no sense (non-finite, degenerate) is left out.
 std::optional<SceneCamera> gltfCamera(const aiScene* ai, const aiCamera* cam, const Scene& scene) {
-    if (!cam) return std::nullopt;
-    const aiNode* node = ai->mRootNode->FindNode(cam->mName);
-    if (!node) return std::nullopt;
-    const aiMatrix4x4 m = globalTransform(node);
-    if (!finite(m)) return std::nullopt;
-    SceneCamera s;
-    s.eye = transformPoint(m, aiVector3D(0, 0, 0));
-    const glm::vec3 forward = transformPoint(m, aiVector3D(0, 0, -1)) - s.eye;
-    const glm::vec3 up = transformPoint(m, aiVector3D(0, 1, 0)) - s.eye;
-    if (!finite(s.eye) || !finite(forward) || !finite(up)) return std::nullopt;
-    const float flen = glm::length(forward), ulen = glm::length(up);
-    if (!(flen > 0.0f) || !(ulen > 0.0f)) return std::nullopt;
-    s.target = s.eye + forward / flen;
-    s.up = up / ulen;
-    if (glm::length(glm::cross(forward / flen, s.up)) < 1e-3f) return std::nullopt;
+  if (!cam) return std::nullopt;
+  const aiNode* node = ai->mRootNode->FindNode(cam->mName);
+  if (!node) return std::nullopt;
+  const aiMatrix4x4 m = globalTransform(node);
+  if (!finite(m)) return std::nullopt;
+  SceneCamera s;
+  s.eye = transformPoint(m, aiVector3D(0, 0, 0));
+  const glm::vec3 forward = transformPoint(m, aiVector3D(0, 0, -1)) - s.eye;
+  const glm::vec3 up = transformPoint(m, aiVector3D(0, 1, 0)) - s.eye;
+  if (!finite(s.eye) || !finite(forward) || !finite(up)) return std::nullopt;
+  const float flen = glm::length(forward), ulen = glm::length(up);
+  if (!(flen > 0.0f) || !(ulen > 0.0f)) return std::nullopt;
+  s.target = s.eye + forward / flen;
+  s.up = up / ulen;
+  if (glm::length(glm::cross(forward / flen, s.up)) < 1e-3f) return std::nullopt;
 
-    const float aspect = cam->mAspect > 0.0f && std::isfinite(cam->mAspect) ? cam->mAspect : 1.0f;
-    if (cam->mHorizontalFOV == 0.0f && cam->mOrthographicWidth > 0.0f) {
-      s.ortho = true;
-      s.ortho_half_height = cam->mOrthographicWidth / aspect;
-      if (!std::isfinite(s.ortho_half_height) || !(s.ortho_half_height > 0.0f)) return std::nullopt;
-    } else {
-      s.fov_deg = static_cast<float>(cam->mHorizontalFOV / aspect * 180.0 / 3.14159265358979323846);
-      if (!std::isfinite(s.fov_deg) || !(s.fov_deg > 0.0f) || !(s.fov_deg < 180.0f))
-        return std::nullopt;
-    }
-    // Clip planes: glTF may leave zfar out (an infinite projection); fit what is missing to
-    // the scene's bounds
-    const Bounds b = scene.bounds();
-    const float reach = b.empty() ? 100.0f : glm::length(b.center() - s.eye) + 1.5f * b.radius();
-    s.far = cam->mClipPlaneFar;
-    s.near = cam->mClipPlaneNear;
-    if (!std::isfinite(s.far) || !(s.far > 0.0f)) s.far = std::max(reach, 1e-3f);
-    // A far plane beyond the whole scene only costs depth precision: pull it in
-    if (reach > 0.0f && reach < s.far && reach > 2.0f * std::max(s.near, 0.0f)) s.far = reach;
-    if (!std::isfinite(s.near) || !(s.near > 0.0f) || !(s.near < s.far)) s.near = s.far * 1e-4f;
-    if (!std::isfinite(s.far) || !(s.far > s.near)) return std::nullopt;
-    return s;
+  const float aspect = cam->mAspect > 0.0f && std::isfinite(cam->mAspect) ? cam->mAspect : 1.0f;
+  if (cam->mHorizontalFOV == 0.0f && cam->mOrthographicWidth > 0.0f) {
+    s.ortho = true;
+    s.ortho_half_height = cam->mOrthographicWidth / aspect;
+    if (!std::isfinite(s.ortho_half_height) || !(s.ortho_half_height > 0.0f)) return std::nullopt;
+  } else {
+    s.fov_deg = static_cast<float>(cam->mHorizontalFOV / aspect * 180.0 / 3.14159265358979323846);
+    if (!std::isfinite(s.fov_deg) || !(s.fov_deg > 0.0f) || !(s.fov_deg < 180.0f))
+      return std::nullopt;
+  }
+  // Clip planes: glTF may leave zfar out (an infinite projection); fit what is missing to
+  // the scene's bounds
+  const Bounds b = scene.bounds();
+  const float reach = b.empty() ? 100.0f : glm::length(b.center() - s.eye) + 1.5f * b.radius();
+  s.far = cam->mClipPlaneFar;
+  s.near = cam->mClipPlaneNear;
+  if (!std::isfinite(s.far) || !(s.far > 0.0f)) s.far = std::max(reach, 1e-3f);
+  // A far plane beyond the whole scene only costs depth precision: pull it in
+  if (reach > 0.0f && reach < s.far && reach > 2.0f * std::max(s.near, 0.0f)) s.far = reach;
+  if (!std::isfinite(s.near) || !(s.near > 0.0f) || !(s.near < s.far)) s.near = s.far * 1e-4f;
+  if (!std::isfinite(s.far) || !(s.far > s.near)) return std::nullopt;
+  return s;
 }
 
 std::vector<SceneCamera> gltfCameras(const aiScene* ai, const Scene& scene) {
   std::vector<SceneCamera> cameras;
   if (!ai->mRootNode || !ai->mCameras) return cameras;
   for (unsigned i = 0; i < ai->mNumCameras && cameras.size() < kMaxCameras; ++i)
-    if (const std::optional<SceneCamera> c = gltfCamera(ai, ai->mCameras[i], scene)) cameras.push_back(*c);
+    if (const std::optional<SceneCamera> c = gltfCamera(ai, ai->mCameras[i], scene))
+      cameras.push_back(*c);
   return cameras;
 }
 
@@ -524,7 +526,8 @@ Scene loadScene(std::string_view spec, const ImportLimits& limits) {
       for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
       return ext == ".wad";
     };
-    if (fs::exists(path, ec)) return isWad(path) ? doom::loadLevel(path) : loadMeshFile(path, limits);
+    if (fs::exists(path, ec))
+      return isWad(path) ? doom::loadLevel(path) : loadMeshFile(path, limits);
     // FILE.wad:MAP01, a Doom map (hsr/doom.hpp)
     const std::size_t colon = spec.rfind(':');
     if (colon != std::string_view::npos) {

@@ -75,8 +75,10 @@ int noteReplacing(const fs::path& path) {
   const std::string s = fs::absolute(path, ec).string();
   const int n = g_replaced_count.load();
   if (n < kReplacedKept) {
-    if (s.size() < kSlotPath) std::memcpy(g_replaced[n], s.c_str(), s.size() + 1);
-    else g_replaced[n][0] = '\0';
+    if (s.size() < kSlotPath)
+      std::memcpy(g_replaced[n], s.c_str(), s.size() + 1);
+    else
+      g_replaced[n][0] = '\0';
     g_replaced_state[n].store(kPending);
   }
   g_replaced_count.store(n + 1);  // after the path: the handler reads only what is complete
@@ -229,12 +231,15 @@ void reportReplacedOutputs(int fd) noexcept {
   int done = n > kReplacedKept ? n - kReplacedKept : 0;
   const char* pending = nullptr;
   for (int i = 0; i < n && i < kReplacedKept; ++i) {
-    if (g_replaced_state[i].load() == kDone) done++;
-    else pending = keptPath(i);
+    if (g_replaced_state[i].load() == kDone)
+      done++;
+    else
+      pending = keptPath(i);
   }
   if (done == 0 && pending == nullptr) {
-    writeText(fd, "hsr: stopped by a signal before it replaced any output: every output is as an "
-                  "earlier run left it\n");
+    writeText(fd,
+              "hsr: stopped by a signal before it replaced any output: every output is as an "
+              "earlier run left it\n");
     return;
   }
   writeText(fd, "hsr: stopped by a signal after it replaced ");

@@ -31,7 +31,8 @@ std::uint32_t hashId(std::uint32_t x) {
 
 void hsvToRgb8(float h, float s, float v, std::uint8_t* out) {
   const glm::vec3 c = detail::hsvToRgb(h, s, v);
-  for (int k = 0; k < 3; ++k) out[k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+  for (int k = 0; k < 3; ++k)
+    out[k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
 }
 
 // Heatmap ramp for t in [0,1]: blue, green, yellow, red, white (brightness rises steadily,
@@ -116,14 +117,16 @@ std::vector<std::uint8_t> idPicture(const Frame& frame) {
 std::vector<std::uint8_t> overdrawPicture(const Frame& frame) {
   const std::size_t n = framePixels(frame);
   if (frame.overdraw.size() != n) return std::vector<std::uint8_t>(n * 3, 0);
-  return overdrawPicture(frame, n ? *std::max_element(frame.overdraw.begin(), frame.overdraw.end()) : 0);
+  return overdrawPicture(frame,
+                         n ? *std::max_element(frame.overdraw.begin(), frame.overdraw.end()) : 0);
 }
 
 std::vector<std::uint8_t> overdrawPicture(const Frame& frame, std::uint32_t most) {
   const std::size_t n = framePixels(frame);
   std::vector<std::uint8_t> rgb(n * 3, 0);
   if (n == 0 || frame.overdraw.size() != n) return rgb;
-  const std::uint32_t max = std::max(most, *std::max_element(frame.overdraw.begin(), frame.overdraw.end()));
+  const std::uint32_t max =
+      std::max(most, *std::max_element(frame.overdraw.begin(), frame.overdraw.end()));
   // Logarithmic over 1..max: depth complexity is heavy-tailed, and a linear scale would paint
   // a few hot pixels white and everything else blue
   const float log_max = max > 1 ? std::log(static_cast<float>(max)) : 1.0f;

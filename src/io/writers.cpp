@@ -46,15 +46,22 @@ std::size_t pixelCount(int width, int height, const std::filesystem::path& path)
 std::string npyHeader(int width, int height, const char* descr, int channels = 1) {
   std::string header = std::string("{'descr': '") + descr +
                        "', 'fortran_order': False, 'shape': (" + std::to_string(height) + ", " +
-                       std::to_string(width) + (channels > 1 ? ", " + std::to_string(channels) : "") +
-                       "), }";
+                       std::to_string(width) +
+                       (channels > 1 ? ", " + std::to_string(channels) : "") + "), }";
   constexpr std::size_t kPrefix = 10;  // magic (6) + version (2) + header length (2)
   constexpr std::size_t kAlign = 64;
   const std::size_t total = (kPrefix + header.size() + 1 + kAlign - 1) / kAlign * kAlign;
   header.append(total - kPrefix - header.size() - 1, ' ');
   header.push_back('\n');
   const auto header_len = static_cast<std::uint16_t>(header.size());
-  const char prefix[kPrefix] = {'\x93', 'N', 'U', 'M', 'P', 'Y', 1, 0,
+  const char prefix[kPrefix] = {'\x93',
+                                'N',
+                                'U',
+                                'M',
+                                'P',
+                                'Y',
+                                1,
+                                0,
                                 static_cast<char>(header_len & 0xFF),
                                 static_cast<char>(header_len >> 8)};
   return std::string(prefix, kPrefix) + header;
@@ -67,7 +74,8 @@ template <typename T>
 std::string_view npyData(int width, int height, const T* data, const std::filesystem::path& path,
                          int channels = 1) {
   static_assert(sizeof(T) == 4);
-  return {reinterpret_cast<const char*>(data), pixelCount(width, height, path) * channels * sizeof(T)};
+  return {reinterpret_cast<const char*>(data),
+          pixelCount(width, height, path) * channels * sizeof(T)};
 }
 
 // The largest PNG hsr writes is the largest render (kMaxDimension squared, RGB): its filtered
@@ -81,8 +89,8 @@ constexpr long long kMaxPngFilteredBytes = (16384LL * 3 + 1) * 16384LL;
 void checkPngSize(const std::filesystem::path& path, long long width, long long height,
                   int channels) {
   if (width <= 0 || height <= 0)
-    throw Error(fmt::format("{}: cannot write an image of size {}x{}", path.string(), width,
-                            height));
+    throw Error(
+        fmt::format("{}: cannot write an image of size {}x{}", path.string(), width, height));
   if (channels < 1 || channels > 4)
     throw Error(fmt::format("{}: a PNG has 1 to 4 channels, not {}", path.string(), channels));
   if (width > kMaxPngFilteredBytes || height > kMaxPngFilteredBytes ||
@@ -98,9 +106,11 @@ void checkPngSize(const std::filesystem::path& path, long long width, long long 
 // stb_image_write's (zlib's default level, all five filters tried: 0.45 s for the four).
 std::string encodePng(int width, int height, int channels, const std::uint8_t* pixels) {
   checkPngSize("PNG", width, height, channels);
-  static constexpr std::uint8_t kColorType[5] = {0, SPNG_COLOR_TYPE_GRAYSCALE, SPNG_COLOR_TYPE_GRAYSCALE_ALPHA,
-                                                 SPNG_COLOR_TYPE_TRUECOLOR, SPNG_COLOR_TYPE_TRUECOLOR_ALPHA};
-  const std::unique_ptr<spng_ctx, void (*)(spng_ctx*)> ctx(spng_ctx_new(SPNG_CTX_ENCODER), spng_ctx_free);
+  static constexpr std::uint8_t kColorType[5] = {
+      0, SPNG_COLOR_TYPE_GRAYSCALE, SPNG_COLOR_TYPE_GRAYSCALE_ALPHA, SPNG_COLOR_TYPE_TRUECOLOR,
+      SPNG_COLOR_TYPE_TRUECOLOR_ALPHA};
+  const std::unique_ptr<spng_ctx, void (*)(spng_ctx*)> ctx(spng_ctx_new(SPNG_CTX_ENCODER),
+                                                           spng_ctx_free);
   if (!ctx) throw std::bad_alloc();
   spng_ihdr ihdr{};
   ihdr.width = static_cast<std::uint32_t>(width);
@@ -112,8 +122,8 @@ std::string encodePng(int width, int height, int channels, const std::uint8_t* p
   if (!err) err = spng_set_option(ctx.get(), SPNG_FILTER_CHOICE, SPNG_DISABLE_FILTERING);
   if (!err) err = spng_set_ihdr(ctx.get(), &ihdr);
   if (!err)
-    err = spng_encode_image(ctx.get(), pixels, static_cast<std::size_t>(width) * height * channels, SPNG_FMT_PNG,
-                            SPNG_ENCODE_FINALIZE);
+    err = spng_encode_image(ctx.get(), pixels, static_cast<std::size_t>(width) * height * channels,
+                            SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
   std::size_t size = 0;
   void* png = err ? nullptr : spng_get_png_buffer(ctx.get(), &size, &err);
   if (!png) {
@@ -131,9 +141,9 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
   writeFileAtomically(path, {encodePng(width, height, channels, pixels)});
 }
 
-void writePictures(const Frame& frame,
-                   const std::vector<std::pair<std::string, std::filesystem::path>>& pictures,
-                   const std::function<void(std::string_view, std::vector<std::uint8_t>&)>& decorate) {
+void writePictures(
+    const Frame& frame, const std::vector<std::pair<std::string, std::filesystem::path>>& pictures,
+    const std::function<void(std::string_view, std::vector<std::uint8_t>&)>& decorate) {
   for (const auto& [kind, path] : pictures) checkPngSize(path, frame.width, frame.height, 3);
   // Drawn and encoded side by side (each picture is one thread's work), written in order
   std::vector<std::string> png(pictures.size());
@@ -142,7 +152,8 @@ void writePictures(const Frame& frame,
     if (decorate) decorate(pictures[k].first, rgb);
     png[k] = encodePng(frame.width, frame.height, 3, rgb.data());
   });
-  for (std::size_t k = 0; k < pictures.size(); ++k) writeFileAtomically(pictures[k].second, {png[k]});
+  for (std::size_t k = 0; k < pictures.size(); ++k)
+    writeFileAtomically(pictures[k].second, {png[k]});
 }
 
 void writeNpy(const std::filesystem::path& path, int width, int height, const float* data) {
@@ -158,7 +169,8 @@ namespace {
 nlohmann::ordered_json objectsArray(const Scene& scene) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
   for (const Object& o : scene.objects)
-    a.push_back({{"name", o.name}, {"first_polygon", o.first_polygon}, {"polygons", o.polygon_count}});
+    a.push_back(
+        {{"name", o.name}, {"first_polygon", o.first_polygon}, {"polygons", o.polygon_count}});
   return a;
 }
 
@@ -244,7 +256,8 @@ void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::s
   if (coverage)
     about["coverage.npy"] = "float32 fraction of the pixel's samples covered by opaque polygons";
   if (scene_data) {
-    about["objects.npy"] = "uint32 object index (the table below), 4294967295 where nothing was drawn";
+    about["objects.npy"] =
+        "uint32 object index (the table below), 4294967295 where nothing was drawn";
     about["materials.npy"] =
         "uint32 material index (the table below), 4294967295 where nothing was drawn";
     if (!normals.empty()) about["normals.npy"] = normalsMeaning(normal_space);
@@ -316,7 +329,8 @@ std::vector<std::uint32_t> perPixel(const Frame& frame, const Scene& scene,
                                     std::uint32_t (Scene::*of)(PolygonId) const) {
   std::vector<std::uint32_t> out(frame.ids.size(), kNoPolygon);
   for (std::size_t k = 0; k < out.size(); ++k)
-    if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene.polygonCount()) out[k] = (scene.*of)(frame.ids[k]);
+    if (frame.ids[k] != kNoPolygon && frame.ids[k] < scene.polygonCount())
+      out[k] = (scene.*of)(frame.ids[k]);
   return out;
 }
 }  // namespace
@@ -355,7 +369,8 @@ std::vector<float> normalsAt(const Frame& frame, const Scene& scene, const Camer
       glm::dvec3 nn(0.0);
       for (std::size_t i = 0; i < poly.size(); ++i) {
         const glm::dvec3 a(scene.position(poly[i])), b(scene.position(poly[(i + 1) % poly.size()]));
-        nn += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+        nn += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x),
+                         (a.x - b.x) * (a.y + b.y));
       }
       const double len = glm::length(nn);
       glm::dvec3 unit = len > 0 ? nn / len : glm::dvec3(0.0);

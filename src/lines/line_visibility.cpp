@@ -206,8 +206,8 @@ bool makeOccluder(dvec3 a, dvec3 b, dvec3 c, PolygonId id, std::uint32_t object,
   o.zmin = static_cast<float>(std::min({a.z, b.z, c.z}));
   o.zmax = static_cast<float>(std::max({a.z, b.z, c.z}));
   const double reach_z = std::max({std::abs(a.z), std::abs(b.z), std::abs(c.z)});
-  const double reach_xy = std::max({std::abs(a.x), std::abs(b.x), std::abs(c.x), std::abs(a.y),
-                                    std::abs(b.y), std::abs(c.y)});
+  const double reach_xy = std::max(
+      {std::abs(a.x), std::abs(b.x), std::abs(c.x), std::abs(a.y), std::abs(b.y), std::abs(c.y)});
   o.behind = std::max(kBehind, kRoundingUlps * 0x1p-24 *
                                    (reach_z + (std::abs(o.dzdx) + std::abs(o.dzdy)) * reach_xy));
   o.xmin = static_cast<float>(std::min({a.x, b.x, c.x}));

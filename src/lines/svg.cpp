@@ -62,15 +62,16 @@ std::string lineDrawingSvg(const LineDrawing& d, const SvgPage& page) {
   const double stroke = f.on_page ? page.stroke_mm : 1.0;
   std::string out;
   out.reserve(256 + 24 * (d.visible_stats.length > 0 ? d.visible.size() + d.hidden.size() : 0));
-  header(out, f, d.width, d.height,
-         fmt::format("hidden-line drawing ({}): {} visible strokes, {} hidden",
-                     !d.exact ? "NOT exact: lines from the z-buffer's ids, the exact drawing passed "
-                                "the time limit"
-                     : d.engine == LineEngine::kRoberts
-                         ? "exact, engine roberts: Roberts' visible segments of every edge"
-                         : "exact, engine edges: the edges classified, then tested against the "
-                           "triangles in front of them",
-                     d.visible.size(), d.hidden.size()));
+  header(
+      out, f, d.width, d.height,
+      fmt::format("hidden-line drawing ({}): {} visible strokes, {} hidden",
+                  !d.exact ? "NOT exact: lines from the z-buffer's ids, the exact drawing passed "
+                             "the time limit"
+                  : d.engine == LineEngine::kRoberts
+                      ? "exact, engine roberts: Roberts' visible segments of every edge"
+                      : "exact, engine edges: the edges classified, then tested against the "
+                        "triangles in front of them",
+                  d.visible.size(), d.hidden.size()));
   auto layer = [&](const std::vector<LineStroke>& strokes, const char* id, bool dashed) {
     fmt::format_to(std::back_inserter(out),
                    "<g id=\"{}\"{} fill=\"none\" stroke=\"black\" stroke-width=\"{}\" "

@@ -33,26 +33,26 @@ namespace hsr::detail {
 struct WindowPolygon {
   std::vector<glm::dvec3> vertices;  // in the polygon's own winding
   PolygonId id = kNoPolygon;
-  std::uint32_t material = 0;        // index into Scene::materials
-  std::uint32_t rgba = 0;            // shaded colour, as its screen triangles
+  std::uint32_t material = 0;  // index into Scene::materials
+  std::uint32_t rgba = 0;      // shaded colour, as its screen triangles
   bool transparent = false;
-  bool front = true;                 // front-facing under the front-face rule
-  glm::dvec4 eye_plane{0.0};         // a x + b y + c z + d = 0 in eye space; (a, b, c) is
-                                     // Newell's normal of the winding, not normalised
-  DepthPlane depth{};                // the depth plane its screen triangles use
-  std::uint32_t piece = 0;           // a non-planar polygon comes as its triangles
-                                     // (triangulatePolygon's order): which one this is
+  bool front = true;          // front-facing under the front-face rule
+  glm::dvec4 eye_plane{0.0};  // a x + b y + c z + d = 0 in eye space; (a, b, c) is
+                              // Newell's normal of the winding, not normalised
+  DepthPlane depth{};         // the depth plane its screen triangles use
+  std::uint32_t piece = 0;    // a non-planar polygon comes as its triangles
+                              // (triangulatePolygon's order): which one this is
 };
 
 struct PipelineScratch;  // prepare()'s working memory, reused between calls
 
 struct PreparedScene {
   int width = 0, height = 0;
-  ScreenTriangles triangles;              // polygon-id order (submission order), FILL mode
-  std::vector<ScreenLine> lines;          // LINE mode: visible polygon edges
-  std::vector<ScreenLine> points;         // POINT mode: x1 == x0
-  std::vector<ScreenLine> outline;        // silhouette edges, drawn over the fill
-  std::vector<WindowPolygon> polygons;    // on request: clipped polygons, id order, FILL mode
+  ScreenTriangles triangles;            // polygon-id order (submission order), FILL mode
+  std::vector<ScreenLine> lines;        // LINE mode: visible polygon edges
+  std::vector<ScreenLine> points;       // POINT mode: x1 == x0
+  std::vector<ScreenLine> outline;      // silhouette edges, drawn over the fill
+  std::vector<WindowPolygon> polygons;  // on request: clipped polygons, id order, FILL mode
   Stats stats;
   std::shared_ptr<PipelineScratch> scratch;
 };
@@ -69,8 +69,8 @@ struct PrepareRequest {
 // Fills `out`, reusing the memory it holds from an earlier call.
 void prepare(const Scene& scene, const Camera& camera, const RenderOptions& options,
              const PrepareRequest& request, PreparedScene& out);
-inline PreparedScene prepare(const Scene& scene, const Camera& camera,
-                             const RenderOptions& options, const PrepareRequest& request = {}) {
+inline PreparedScene prepare(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                             const PrepareRequest& request = {}) {
   PreparedScene out;
   prepare(scene, camera, options, request, out);
   return out;
@@ -84,7 +84,8 @@ int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera);
 // The shaded colour prepare() gives polygon `id` (its material, lit by the headlight when
 // options.shade), for an algorithm that finds a polygon without the pipeline's triangles (the
 // ray caster, for a polygon hit between the snapped triangles' pixels).
-std::uint32_t shadedColour(const Scene& scene, const Camera& camera, const RenderOptions& options, PolygonId id);
+std::uint32_t shadedColour(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                           PolygonId id);
 
 // World -> homogeneous device coordinates (x, y in pixels with centres at integers, y down; z
 // window depth; w the clip w, > 0 in front of the eye), as prepare() projects.
@@ -102,7 +103,8 @@ struct PixelRay {
 class PixelRays {
  public:
   explicit PixelRays(const Camera& camera);
-  PixelRay at(double x, double y) const;  // x, y: device coordinates (a pixel's centre is an integer)
+  PixelRay at(double x,
+              double y) const;  // x, y: device coordinates (a pixel's centre is an integer)
 
  private:
   glm::dmat4 world_from_device_;
@@ -113,7 +115,8 @@ class PixelRays {
 
 // Whether the box [lo, hi] lies wholly outside one plane of the view frustum (in clip space:
 // -w <= x, y, z <= w), for skipping a part of a tree (BSP, octree) the eye cannot see.
-bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, const glm::dvec3& hi);
+bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo,
+                       const glm::dvec3& hi);
 
 // Whether the polygon with vertices `vi` lies in `plane` within float's precision: the
 // pipeline's test (a non-planar polygon is drawn as its triangles, each with its own plane).

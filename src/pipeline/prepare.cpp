@@ -169,8 +169,8 @@ namespace {
 void joinTriangles(const std::vector<ChunkOut>& parts, ScreenTriangles& triangles) {
   const bool overflowed = std::any_of(parts.begin(), parts.end(), [&](const ChunkOut& p) {
     const std::span<const ScreenTriangle> made = p.triangles.made();
-    return !made.empty() && (made.data() < triangles.data() ||
-                             made.data() >= triangles.data() + triangles.size());
+    return !made.empty() &&
+           (made.data() < triangles.data() || made.data() >= triangles.data() + triangles.size());
   });
   if (!overflowed) {
     std::size_t end = 0;
@@ -184,7 +184,8 @@ void joinTriangles(const std::vector<ChunkOut>& parts, ScreenTriangles& triangle
     return;
   }
   std::vector<std::size_t> offset(parts.size() + 1, 0);
-  for (std::size_t c = 0; c < parts.size(); ++c) offset[c + 1] = offset[c] + parts[c].triangles.made().size();
+  for (std::size_t c = 0; c < parts.size(); ++c)
+    offset[c + 1] = offset[c] + parts[c].triangles.made().size();
   ScreenTriangles joined(offset.back());
   tbb::parallel_for(std::size_t(0), parts.size(), [&](std::size_t c) {
     const std::span<const ScreenTriangle> made = parts[c].triangles.made();
@@ -314,10 +315,12 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
   }
 }
 
-bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo, const glm::dvec3& hi) {
+bool boxOutsideFrustum(const glm::dmat4& clip_from_world, const glm::dvec3& lo,
+                       const glm::dvec3& hi) {
   glm::dvec4 c[8];
   for (int i = 0; i < 8; ++i)
-    c[i] = clip_from_world * glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
+    c[i] = clip_from_world *
+           glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
   for (int axis = 0; axis < 3; ++axis)
     for (const double sign : {-1.0, 1.0}) {
       bool all_out = true;

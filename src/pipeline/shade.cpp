@@ -20,14 +20,16 @@
 
 namespace hsr::detail {
 
-std::uint32_t shadedColour(const Scene& scene, const Camera& camera, const RenderOptions& options, PolygonId id) {
+std::uint32_t shadedColour(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                           PolygonId id) {
   const std::span<const std::uint32_t> vi = scene.polygon(id);
   const glm::dvec3 n = vi.size() >= 3 ? polygonNormal(scene, vi) : glm::dvec3(0.0);
   const double len2 = glm::dot(n, n);
   const glm::dvec3 view_dir = glm::normalize(glm::dvec3(camera.target) - glm::dvec3(camera.eye));
   const std::uint32_t m = scene.material(id);
   const Material material = m < scene.materials.size() ? scene.materials[m] : Material{};
-  return shadeRgba(materialRgb(material), m < scene.materials.size() ? materialAlphaBits(material) : 0xFF000000u,
+  return shadeRgba(materialRgb(material),
+                   m < scene.materials.size() ? materialAlphaBits(material) : 0xFF000000u,
                    lambertOf(options, n, len2, view_dir));
 }
 
@@ -66,7 +68,6 @@ int eyeSpaceOrientation(const Scene& scene, PolygonId id, const Camera& camera) 
   const glm::dvec3 view_dir = glm::normalize(glm::dvec3(camera.target) - glm::dvec3(camera.eye));
   return eyeOrientation(n, glm::dvec3(scene.position(vi[0])), camera, view_dir);
 }
-
 
 const DepthPlane& depthPlaneOf(const Context& ctx, PolygonInfo& info) {
   if (info.depth_known) return info.depth;

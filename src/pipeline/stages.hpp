@@ -47,9 +47,9 @@ inline constexpr unsigned kNonFinite = 1u << 16;  // beside the outcode bits
 // position as toWindow gives it, kept in 24 bytes (the array is rewritten every frame: 3
 // million vertices for a soup of a million triangles).
 struct VertexOut {
-  float x, y, z;         // valid when !(code & (kMustClip | kNonFinite))
-  std::int32_t fx, fy;   // snapped; toWindow bounds them by 2^30
-  unsigned code;         // outcode, plus kNonFinite
+  float x, y, z;        // valid when !(code & (kMustClip | kNonFinite))
+  std::int32_t fx, fy;  // snapped; toWindow bounds them by 2^30
+  unsigned code;        // outcode, plus kNonFinite
   WindowVertex window() const { return {x, y, z, fx, fy, true}; }
 };
 static_assert(sizeof(VertexOut) == 24);
@@ -86,7 +86,7 @@ struct Context {
   const std::vector<std::uint8_t>& object_state;  // ObjectState per object
   std::vector<glm::vec3> material_rgb;            // per material: rgb clamped to [0,1], NaN 0
   std::vector<std::uint32_t> material_alpha;      // per material: alpha byte << 24
-  int box_margin = 0;                             // makeScreenTriangle's margin (PrepareRequest::samples)
+  int box_margin = 0;  // makeScreenTriangle's margin (PrepareRequest::samples)
 };
 
 // ---- shade: facing, colour and depth plane of a polygon
@@ -121,7 +121,8 @@ PolygonInfo forTriangle(const PolygonInfo& polygon, const std::uint32_t (&triang
 // polygon (even a non-planar one).
 glm::dvec3 polygonNormal(const Scene& scene, std::span<const std::uint32_t> vi);
 // A triangle's: (v1 - v0) x (v2 - v0) in double.
-inline glm::dvec3 triangleNormal(const Scene& scene, std::uint32_t v0, std::uint32_t v1, std::uint32_t v2) {
+inline glm::dvec3 triangleNormal(const Scene& scene, std::uint32_t v0, std::uint32_t v1,
+                                 std::uint32_t v2) {
   const glm::dvec3 p0(scene.position(v0));
   return glm::cross(glm::dvec3(scene.position(v1)) - p0, glm::dvec3(scene.position(v2)) - p0);
 }
@@ -205,7 +206,8 @@ inline bool usableNormal(double len2) { return len2 > 0.0 && std::isfinite(len2)
 
 // Polygon id's shaded colour from its normal n (squared length len2), as describePolygon and the
 // fast triangle path both give it.
-inline std::uint32_t polygonRgba(const Context& ctx, PolygonId id, const glm::dvec3& n, double len2) {
+inline std::uint32_t polygonRgba(const Context& ctx, PolygonId id, const glm::dvec3& n,
+                                 double len2) {
   const float lambert = lambertOf(ctx.options, n, len2, ctx.view_dir);
   const std::uint32_t m = ctx.scene.material(id);
   const bool known = m < ctx.material_rgb.size();
@@ -261,7 +263,8 @@ class TriangleSink {
     spill_.push_back(t);
   }
   std::span<const ScreenTriangle> made() const {
-    return spilled_ ? std::span<const ScreenTriangle>(spill_) : std::span<const ScreenTriangle>(slot_, count_);
+    return spilled_ ? std::span<const ScreenTriangle>(spill_)
+                    : std::span<const ScreenTriangle>(slot_, count_);
   }
 
  private:
@@ -286,8 +289,9 @@ struct ChunkOut {
 // Facing, culling and the screen triangle of one snapped triangle, in that order (each drop
 // counted where it happens); its colour and depth plane are asked for only when it is kept.
 template <class Colour, class Depth>
-inline void cullAndEmitWith(const Context& ctx, const std::int64_t (&fx)[3], const std::int64_t (&fy)[3],
-                            PolygonId id, int eye_orientation, Colour colour, Depth depth, ChunkOut& out) {
+inline void cullAndEmitWith(const Context& ctx, const std::int64_t (&fx)[3],
+                            const std::int64_t (&fy)[3], PolygonId id, int eye_orientation,
+                            Colour colour, Depth depth, ChunkOut& out) {
   const int orientation = windowOrientation(fx, fy);
   if (orientation == 0) {  // zero area after snapping: draws nothing, as in GL
     out.counts.zero_area++;

@@ -49,7 +49,8 @@ inline float fragmentDepth(const DepthPlane& p, int x, int y) {
 // position. At offset (0, 0) it is fragmentDepth, bit for bit (y + 0.0 is y exactly).
 inline float sampleDepth(const DepthPlane& p, int x, int y, int ox, int oy) {
   const double row = p.z0 + p.dzdy * (static_cast<double>(y) + static_cast<double>(oy) / 256.0);
-  const float z = static_cast<float>(row + p.dzdx * (static_cast<double>(x) + static_cast<double>(ox) / 256.0));
+  const float z =
+      static_cast<float>(row + p.dzdx * (static_cast<double>(x) + static_cast<double>(ox) / 256.0));
   return z > 1.0f ? 1.0f : (0.0f > z ? 0.0f : z);
 }
 

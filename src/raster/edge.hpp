@@ -106,13 +106,13 @@ class RowSpans {
 
  private:
   struct Limit {
-    std::int64_t q = 0;       // the limit (for a horizontal edge, the row's value)
-    std::int64_t r = 0;       // remainder, in [0, d)
-    std::int64_t d = 0;       // divisor: |step_x|
-    std::int64_t dq = 0;      // quotient and remainder of the numerator's change per row
+    std::int64_t q = 0;   // the limit (for a horizontal edge, the row's value)
+    std::int64_t r = 0;   // remainder, in [0, d)
+    std::int64_t d = 0;   // divisor: |step_x|
+    std::int64_t dq = 0;  // quotient and remainder of the numerator's change per row
     std::int64_t dr = 0;
-    std::int64_t left = 0;    // -1: a lower limit on the column
-    std::int64_t right = 0;   // -1: an upper limit
+    std::int64_t left = 0;   // -1: a lower limit on the column
+    std::int64_t right = 0;  // -1: an upper limit
   };
   Limit limit_[3];
 };

@@ -63,10 +63,10 @@ std::size_t fillPolygon(std::span<const glm::dvec2> vertices, const DepthPlane& 
   });
 }
 
-std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<const PixelHalfPlane> cuts,
-                             const PixelBox& box, const DepthPlane& depth, PolygonId id,
-                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts,
-                             const PaintGroup* group) {
+std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices,
+                             std::span<const PixelHalfPlane> cuts, const PixelBox& box,
+                             const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
+                             const FrameView& fb, FragmentCounts& counts, const PaintGroup* group) {
   return forEachSnappedTriangle(vertices, depth, id, rgba, fb, [&](const ScreenTriangle& st) {
     // The triangle's pixels as the shared setup gives them (raster/edge.hpp), within the box,
     // those outside a cut left to the other piece.
@@ -110,9 +110,9 @@ void forEachCentreIn(const ExactRegion& region, int width, int height,
                      const std::function<void(int y, int x0, int x1)>& span) {
   using i128 = __int128;
   struct RegionEdge {
-    i128 y0, y1;            // ends' y as fractions of their d
+    i128 y0, y1;  // ends' y as fractions of their d
     std::int64_t d0, d1;
-    std::int64_t a, b, c;   // its line
+    std::int64_t a, b, c;  // its line
   };
   thread_local std::vector<RegionEdge> edges;
   thread_local std::vector<std::int64_t> starts;
@@ -139,8 +139,10 @@ void forEachCentreIn(const ExactRegion& region, int width, int height,
     if (q * d > n) --q;
     return q;
   };
-  const int y0 = static_cast<int>(std::clamp(std::floor(lo / kSubpixelOne) - 1, 0.0, static_cast<double>(height)));
-  const int y1 = static_cast<int>(std::clamp(std::ceil(hi / kSubpixelOne) + 1, -1.0, static_cast<double>(height - 1)));
+  const int y0 = static_cast<int>(
+      std::clamp(std::floor(lo / kSubpixelOne) - 1, 0.0, static_cast<double>(height)));
+  const int y1 = static_cast<int>(
+      std::clamp(std::ceil(hi / kSubpixelOne) + 1, -1.0, static_cast<double>(height - 1)));
   for (int y = y0; y <= y1; ++y) {
     const i128 Y = i128{y} * kSubpixelOne;
     // Each edge met by the row just above the centres (y - e²): one whose ends lie on either
@@ -164,8 +166,9 @@ void forEachCentreIn(const ExactRegion& region, int width, int height,
   }
 }
 
-std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
-                             const FrameView& fb, FragmentCounts& counts, DepthFunc func) {
+std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id,
+                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts,
+                             DepthFunc func) {
   std::size_t written = 0;
   ScreenTriangle st{};
   st.id = id;
@@ -174,8 +177,12 @@ std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth,
     const double row = depthRowStart(depth, y);
     for (int x = x0; x <= x1; ++x) {
       const std::size_t before = counts.written;
-      if (func == DepthFunc::Less) writeFragment<DepthFunc::Less>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true, counts);
-      else writeFragment<DepthFunc::Always>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true, counts);
+      if (func == DepthFunc::Less)
+        writeFragment<DepthFunc::Less>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true,
+                                       counts);
+      else
+        writeFragment<DepthFunc::Always>(st, fb, fb.index(x, y), depthInRow(row, depth, x), true,
+                                         counts);
       written += counts.written - before;
     }
   });

@@ -77,9 +77,10 @@ struct PaintGroup {
   std::span<std::uint32_t> stamps;
   std::uint32_t stamp = 0;
 };
-std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<const PixelHalfPlane> cuts,
-                             const PixelBox& box, const DepthPlane& depth, PolygonId id,
-                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts,
+std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices,
+                             std::span<const PixelHalfPlane> cuts, const PixelBox& box,
+                             const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
+                             const FrameView& fb, FragmentCounts& counts,
                              const PaintGroup* group = nullptr);
 
 // Paints, with no depth test by default (depth written), the pixel centres inside an exact region
@@ -93,8 +94,9 @@ std::size_t paintPolygonPart(std::span<const glm::dvec2> vertices, std::span<con
 // other algorithm writes it. Cost: per row of the region's box, its edges and a sort of their
 // crossings. Returns the fragments written.
 // With `func` Less, a fragment is written only where it is nearer than what the pixel holds.
-std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id, std::uint32_t rgba,
-                             const FrameView& fb, FragmentCounts& counts, DepthFunc func = DepthFunc::Always);
+std::size_t paintExactRegion(const ExactRegion& region, const DepthPlane& depth, PolygonId id,
+                             std::uint32_t rgba, const FrameView& fb, FragmentCounts& counts,
+                             DepthFunc func = DepthFunc::Always);
 
 // The pixel centres paintExactRegion paints, within a width x height picture, as spans:
 // span(y, x0, x1) for columns x0..x1 of row y.

@@ -55,8 +55,8 @@ bool inside(const PixelBox& b, int x, int y) {
 }
 
 // One fragment of a line or point at fb[idx]: depth-tested, then written like a triangle's.
-void writeLineFragment(const ScreenLine& l, std::size_t idx, float z, const FrameView& fb, DepthFunc func,
-                       bool depth_mask, FragmentCounts& c) {
+void writeLineFragment(const ScreenLine& l, std::size_t idx, float z, const FrameView& fb,
+                       DepthFunc func, bool depth_mask, FragmentCounts& c) {
   c.tested++;
   if (!depthPasses(func, z, fb.depth[idx])) return;
   c.written++;
@@ -78,8 +78,8 @@ void drawLine(const ScreenLine& l, const PixelBox& clip, const FrameView& fb, De
   }
 }
 
-void drawPoint(const ScreenLine& p, float size, const PixelBox& clip, const FrameView& fb, DepthFunc func,
-               bool depth_mask, FragmentCounts& c) {
+void drawPoint(const ScreenLine& p, float size, const PixelBox& clip, const FrameView& fb,
+               DepthFunc func, bool depth_mask, FragmentCounts& c) {
   if (!(size > 1.0f)) {
     drawLine(p, clip, fb, func, depth_mask, c);
     return;
@@ -92,7 +92,8 @@ void drawPoint(const ScreenLine& p, float size, const PixelBox& clip, const Fram
   const int y0 = std::max(static_cast<int>(std::floor(p.y0 - half)) + 1, clip.y0);
   const int y1 = std::min(static_cast<int>(std::floor(p.y0 + half)), clip.y1);
   for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) writeLineFragment(p, fb.index(x, y), p.z0, fb, func, depth_mask, c);
+    for (int x = x0; x <= x1; ++x)
+      writeLineFragment(p, fb.index(x, y), p.z0, fb, func, depth_mask, c);
 }
 
 void drawOutlinePen(const ScreenLine& l, const PixelBox& clip, const FrameView& fb) {

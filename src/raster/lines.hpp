@@ -19,8 +19,8 @@ void drawLine(const ScreenLine& l, const PixelBox& clip, const FrameView& fb, De
 // `size` centred on the point, half-open in OpenGL's window coordinates (x - size/2 <=
 // centre < x + size/2, and likewise upwards), as OpenGL
 // rasterizes points without antialiasing. One depth, the point's.
-void drawPoint(const ScreenLine& p, float size, const PixelBox& clip, const FrameView& fb, DepthFunc func,
-               bool depth_mask, FragmentCounts& c);
+void drawPoint(const ScreenLine& p, float size, const PixelBox& clip, const FrameView& fb,
+               DepthFunc func, bool depth_mask, FragmentCounts& c);
 
 // A silhouette edge drawn with a 2x2 pen over the finished fill, colour only. A pixel shows
 // the pen where nothing is drawn, where one of the edge's two polygons is the visible one, or

@@ -40,7 +40,9 @@ std::uint64_t PolygonStarts::build(const ScreenTriangles& tris) {
 }
 
 std::uint32_t PolygonStarts::polygonOf(std::uint32_t triangle) const {
-  auto upTo = [](std::uint64_t word, std::size_t bit) { return word & (~std::uint64_t{0} >> (63 - bit)); };
+  auto upTo = [](std::uint64_t word, std::size_t bit) {
+    return word & (~std::uint64_t{0} >> (63 - bit));
+  };
   std::size_t w = triangle / 64;
   std::uint64_t word = upTo(bits_[w], triangle % 64);
   if (word == 0) {  // the polygon began in an earlier word (triangle 0 starts one: w > 0)

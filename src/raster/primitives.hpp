@@ -54,7 +54,8 @@ static_assert(sizeof(ScreenTriangle) == 64, "a screen triangle fills one cache l
 // The pipeline's output of triangles: resizing it before the parallel copy fills nothing, and
 // a large one lies on huge pages (core/large_pages.hpp).
 using ScreenTriangles =
-    std::vector<ScreenTriangle, DefaultInitAllocator<ScreenTriangle, LargePageAllocator<ScreenTriangle>>>;
+    std::vector<ScreenTriangle,
+                DefaultInitAllocator<ScreenTriangle, LargePageAllocator<ScreenTriangle>>>;
 
 // The polygons of the pipeline's triangles, for the algorithms that reason about polygons
 // (scan-line, Warnock): a polygon is a run of consecutive triangles with the same id, depth
@@ -104,9 +105,10 @@ enum class TriangleFate {
 // distance of the triangle's bounds along x and y: kSampleMargin, half a pixel, reaches every
 // sub-pixel sample (raster/samples.hpp), and a triangle between pixel centres is then made too.
 inline constexpr int kSampleMargin = kSubpixelOne / 2;
-inline TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3], int orientation,
-                                       int width, int height, const DepthPlane& depth,
-                                       ScreenTriangle* out, int margin = 0) {
+inline TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3],
+                                       int orientation, int width, int height,
+                                       const DepthPlane& depth, ScreenTriangle* out,
+                                       int margin = 0) {
   if (orientation == 0) return TriangleFate::kZeroArea;
   // Order the vertices so the y-down area is positive (every edge function > 0 inside):
   // counter-clockwise in y-up is negative area in y-down.
@@ -114,12 +116,14 @@ inline TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int6
   if (orientation > 0) std::swap(o[1], o[2]);
   // Pixel bounding box (pixel centres are at multiples of 256), clamped to the viewport.
   auto ceilPixel = [](std::int64_t a) { return -((-a) >> kSubpixelBits); };
-  const std::int64_t bx0 = std::max<std::int64_t>(0, ceilPixel(std::min({fx[0], fx[1], fx[2]}) - margin));
-  const std::int64_t by0 = std::max<std::int64_t>(0, ceilPixel(std::min({fy[0], fy[1], fy[2]}) - margin));
-  const std::int64_t bx1 =
-      std::min<std::int64_t>(width - 1, (std::max({fx[0], fx[1], fx[2]}) + margin) >> kSubpixelBits);
-  const std::int64_t by1 =
-      std::min<std::int64_t>(height - 1, (std::max({fy[0], fy[1], fy[2]}) + margin) >> kSubpixelBits);
+  const std::int64_t bx0 =
+      std::max<std::int64_t>(0, ceilPixel(std::min({fx[0], fx[1], fx[2]}) - margin));
+  const std::int64_t by0 =
+      std::max<std::int64_t>(0, ceilPixel(std::min({fy[0], fy[1], fy[2]}) - margin));
+  const std::int64_t bx1 = std::min<std::int64_t>(
+      width - 1, (std::max({fx[0], fx[1], fx[2]}) + margin) >> kSubpixelBits);
+  const std::int64_t by1 = std::min<std::int64_t>(
+      height - 1, (std::max({fy[0], fy[1], fy[2]}) + margin) >> kSubpixelBits);
   if (bx0 > bx1 || by0 > by1) return TriangleFate::kMissesPixelCentres;
   ScreenTriangle& t = *out;
   // The box lies in the viewport and the vertices within the 2^30 the int32 fields hold.

@@ -22,7 +22,8 @@ inline constexpr int kMaxSamples = 64;
 
 struct SamplePattern {
   int count = 0;
-  std::int32_t x[kMaxSamples], y[kMaxSamples];  // offsets from the centre in sub-pixel units (1/256)
+  std::int32_t x[kMaxSamples],
+      y[kMaxSamples];  // offsets from the centre in sub-pixel units (1/256)
 };
 
 bool validSampleCount(int count);               // 1, 4, 8, 16, 32 or 64

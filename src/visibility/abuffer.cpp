@@ -141,7 +141,7 @@ struct FrameJob {
   const SamplePattern& pattern;
   const FrameView& fb;
   float* coverage;
-  std::uint64_t fragment_limit;         // fragments the memory budget allows
+  std::uint64_t fragment_limit;           // fragments the memory budget allows
   std::atomic<std::uint64_t>& fragments;  // fragments made so far, all tiles
 };
 
@@ -170,8 +170,10 @@ std::uint32_t dropBehind(TileLists& l, std::uint32_t& link, double covered_to) {
       continue;
     }
     *next = l.pool[g].next;
-    if (kept == kEndOfList) kept = g;
-    else l.free.push_back(g);
+    if (kept == kEndOfList)
+      kept = g;
+    else
+      l.free.push_back(g);
   }
   return kept;
 }
@@ -187,8 +189,8 @@ struct DepthRanges {
   DepthRanges(const DepthPlane& p, int x0, int y0, int x1, int y1)
       : plane(p),
         half(0.5 * (std::abs(p.dzdx) + std::abs(p.dzdy))),
-        safe(planeDepthIsSafe(p, x0, y0) && planeDepthIsSafe(p, x1, y0) && planeDepthIsSafe(p, x0, y1) &&
-             planeDepthIsSafe(p, x1, y1)) {}
+        safe(planeDepthIsSafe(p, x0, y0) && planeDepthIsSafe(p, x1, y0) &&
+             planeDepthIsSafe(p, x0, y1) && planeDepthIsSafe(p, x1, y1)) {}
   DepthRange at(double row_start, int x) const {
     if (!safe) return {1.0, 0.0};
     const double centre = row_start + plane.dzdx * static_cast<double>(x);
@@ -214,7 +216,8 @@ int holdWhole(TileLists& l, const DepthRanges& ranges, double row_start, std::si
     const int p = x - x0;  // in the tile's row
     if (head[p] != kEndOfList || whole[p] == polygon) break;
     const DepthRange r = ranges.at(row_start, x);
-    if (!(r.hi < covered_to[p]) || (whole[p] != kNoneHeld && !behind(whole_nearest[p], r.hi))) break;
+    if (!(r.hi < covered_to[p]) || (whole[p] != kNoneHeld && !behind(whole_nearest[p], r.hi)))
+      break;
     covered_to[p] = r.hi;
     whole[p] = polygon;
     whole_nearest[p] = nearestOf(r);
@@ -242,8 +245,10 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
     const ScreenTriangle& t = job.tris[i];
     const std::uint32_t polygon = job.polygon_of[i];
     const bool opaque = !t.transparent();
-    const int y0 = std::max(box.y0, static_cast<int>(t.y0)), y1 = std::min(box.y1, static_cast<int>(t.y1));
-    const int x0 = std::max(box.x0, static_cast<int>(t.x0)), x1 = std::min(box.x1, static_cast<int>(t.x1));
+    const int y0 = std::max(box.y0, static_cast<int>(t.y0)),
+              y1 = std::min(box.y1, static_cast<int>(t.y1));
+    const int x0 = std::max(box.x0, static_cast<int>(t.x0)),
+              x1 = std::min(box.x1, static_cast<int>(t.x1));
     if (y0 > y1 || x0 > x1) continue;
     TriangleSetup s = setupTriangle(t, y0);
     setupSampleEdges(s, job.pattern, &samples);
@@ -261,7 +266,8 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
       if (!spanOfRow(reach, &lo, &hi)) continue;
       tested += static_cast<std::uint64_t>(hi - lo + 1);
       const double row_start = depthRowStart(t.depth, y);
-      const std::size_t row_at = static_cast<std::size_t>(y - box.y0) * tile_w;  // the row's first pixel in the tile
+      // the row's first pixel in the tile
+      const std::size_t row_at = static_cast<std::size_t>(y - box.y0) * tile_w;
 
       // Where every sample and the centre are inside (a row of a few pixels is not worth
       // finding it for)
@@ -304,7 +310,8 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
               l.covered_to[at] = r.hi;
               const std::uint32_t dropped = dropBehind(l, h.next, r.hi);
               if (dropped != kEndOfList) l.free.push_back(dropped);
-              if (l.whole[at] != kNoneHeld && behind(l.whole_nearest[at], r.hi)) l.whole[at] = kNoneHeld;
+              if (l.whole[at] != kNoneHeld && behind(l.whole_nearest[at], r.hi))
+                l.whole[at] = kNoneHeld;
             }
           }
           continue;
@@ -318,7 +325,8 @@ void fillLists(const FrameJob& job, std::size_t tile, const PixelBox& box, TileL
         std::uint32_t f = kEndOfList;
         if (opaque && mask == all && centre && r.lo <= r.hi && r.hi < l.covered_to[at]) {
           l.covered_to[at] = r.hi;
-          if (l.whole[at] != kNoneHeld && behind(l.whole_nearest[at], r.hi)) l.whole[at] = kNoneHeld;
+          if (l.whole[at] != kNoneHeld && behind(l.whole_nearest[at], r.hi))
+            l.whole[at] = kNoneHeld;
           if (head != kEndOfList) f = dropBehind(l, head, r.hi);
           if (head == kEndOfList && l.whole[at] == kNoneHeld) {
             l.whole[at] = polygon;
@@ -377,8 +385,8 @@ struct SampleResult {
 };
 
 // Step 2, for one sample of pixel (x, y) whose fragments are `list`.
-SampleResult resolveSample(const FrameJob& job, const std::vector<const Fragment*>& list, int x, int y, int s,
-                           std::uint32_t background) {
+SampleResult resolveSample(const FrameJob& job, const std::vector<const Fragment*>& list, int x,
+                           int y, int s, std::uint32_t background) {
   auto opaque = [&](const Fragment* f) { return !job.tris[f->polygon].transparent(); };
   auto colour = [&](const Fragment* f) { return job.tris[f->polygon].rgba; };
   const std::uint64_t bit = std::uint64_t(1) << s;
@@ -412,7 +420,8 @@ SampleResult resolveSample(const FrameJob& job, const std::vector<const Fragment
 std::uint32_t meanOfSamples(const std::uint32_t sum[3], int count) {
   const int shift = std::countr_zero(static_cast<unsigned>(count));
   std::uint32_t out = 0xFF000000u;
-  for (int ch = 0; ch < 3; ++ch) out |= ((sum[ch] + static_cast<std::uint32_t>(count) / 2) >> shift) << (8 * ch);
+  for (int ch = 0; ch < 3; ++ch)
+    out |= ((sum[ch] + static_cast<std::uint32_t>(count) / 2) >> shift) << (8 * ch);
   return out;
 }
 
@@ -434,13 +443,15 @@ bool resolveAlike(const FrameJob& job, const std::vector<const Fragment*>& list,
     if (!(r.lo <= r.hi)) return false;
     order.push_back({r, f});
   }
-  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first.lo < b.first.lo; });
+  std::sort(order.begin(), order.end(),
+            [](const auto& a, const auto& b) { return a.first.lo < b.first.lo; });
   for (std::size_t i = 1; i < order.size(); ++i)
     if (!behind(order[i].first.lo, order[i - 1].first.hi)) return false;
   // Nearest first: up to the first opaque one, then back out over the see-through ones
   std::size_t opaque = 0;
   while (opaque < order.size() && job.tris[order[opaque].second->polygon].transparent()) ++opaque;
-  std::uint32_t c = opaque < order.size() ? job.tris[order[opaque].second->polygon].rgba : background;
+  std::uint32_t c =
+      opaque < order.size() ? job.tris[order[opaque].second->polygon].rgba : background;
   for (std::size_t i = opaque; i-- > 0;) c = blendOver(job.tris[order[i].second->polygon].rgba, c);
   *colour = c;
   return true;
@@ -477,11 +488,14 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::size_t at, int x
     job.fb.depth[idx] = centre_z;
     job.fb.ids[idx] = job.tris[at_centre->polygon].id;
   }
-  if (job.coverage) job.coverage[idx] = static_cast<float>(std::popcount(opaque_mask)) / static_cast<float>(p.count);
+  if (job.coverage)
+    job.coverage[idx] =
+        static_cast<float>(std::popcount(opaque_mask)) / static_cast<float>(p.count);
 
   // Colour, sample by sample
   const std::uint32_t background = job.fb.rgba[idx];
-  if (list.size() == 1 && opaque(list[0]) && list[0]->mask == all) {  // one polygon over all samples
+  if (list.size() == 1 && opaque(list[0]) &&
+      list[0]->mask == all) {  // one polygon over all samples
     job.fb.rgba[idx] = colour(list[0]);
     return;
   }
@@ -498,7 +512,8 @@ void resolvePixel(const FrameJob& job, const TileLists& l, std::size_t at, int x
     covered |= f->mask;
   }
   if (!shared) {
-    for (const Fragment* f : list) add(colour(f), static_cast<std::uint32_t>(std::popcount(f->mask)));
+    for (const Fragment* f : list)
+      add(colour(f), static_cast<std::uint32_t>(std::popcount(f->mask)));
     add(background, static_cast<std::uint32_t>(p.count - std::popcount(covered)));
   } else if (std::uint32_t c; resolveAlike(job, list, x, y, background, &c)) {
     add(c, static_cast<std::uint32_t>(p.count));
@@ -530,9 +545,12 @@ std::string describeList(const FrameJob& job, const TileLists& l, std::size_t at
   Fragment whole;
   gatherPixel(l, at, allSamples(job.pattern.count), whole, fragments);
   std::vector<std::pair<float, const Fragment*>> list;
-  for (const Fragment* f : fragments) list.push_back({fragmentDepth(job.tris[f->polygon].depth, x, y), f});
-  std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::string s = "Pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") holds " + std::to_string(list.size()) +
+  for (const Fragment* f : fragments)
+    list.push_back({fragmentDepth(job.tris[f->polygon].depth, x, y), f});
+  std::sort(list.begin(), list.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::string s = "Pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") holds " +
+                  std::to_string(list.size()) +
                   " fragments, one per polygon that reaches it, nearest first:";
   for (const auto& [z, f] : list) {
     const ScreenTriangle& t = job.tris[f->polygon];
@@ -541,16 +559,22 @@ std::string describeList(const FrameJob& job, const TileLists& l, std::size_t at
     char depth[32];
     std::snprintf(depth, sizeof depth, "%.6f", static_cast<double>(z));
     s += " polygon " + std::to_string(t.id) + " (" +
-         (t.transparent() ? "alpha " + std::to_string(t.rgba >> 24) + "/255" : std::string("opaque")) + "), samples " +
-         bits + (f->centre ? " and the centre" : "") + ", depth " + depth + " at the centre" +
-         (f == &whole ? " (covering the pixel in front of all that came before it, so held by the pixel itself, "
+         (t.transparent() ? "alpha " + std::to_string(t.rgba >> 24) + "/255"
+                          : std::string("opaque")) +
+         "), samples " + bits + (f->centre ? " and the centre" : "") + ", depth " + depth +
+         " at the centre" +
+         (f == &whole ? " (covering the pixel in front of all that came before it, so held by the "
+                        "pixel itself, "
                         "not listed)"
                       : "") +
          ";";
   }
-  s += " Resolve: each sample takes the nearest opaque fragment covering it (or the background) with the "
-       "see-through ones in front of it laid over it, farthest first; the pixel is the mean of its " +
-       std::to_string(job.pattern.count) + " samples, its id and depth the nearest opaque fragment at the centre.";
+  s += " Resolve: each sample takes the nearest opaque fragment covering it (or the background) "
+       "with the "
+       "see-through ones in front of it laid over it, farthest first; the pixel is the mean of "
+       "its " +
+       std::to_string(job.pattern.count) +
+       " samples, its id and depth the nearest opaque fragment at the centre.";
   return s;
 }
 
@@ -573,10 +597,11 @@ std::uint32_t closeUp(const FrameJob& job, const KeptPixel& k, TracePixel& out) 
   std::uint32_t sum[3] = {0, 0, 0};
   for (int s = 0; s < p.count; ++s) {
     const SampleResult r = resolveSample(job, list, k.x, k.y, s, k.background);
-    out.samples.push_back({{p.x[s] / static_cast<double>(kSubpixelOne), p.y[s] / static_cast<double>(kSubpixelOne)},
-                           r.colour,
-                           r.depth,
-                           r.id});
+    out.samples.push_back(
+        {{p.x[s] / static_cast<double>(kSubpixelOne), p.y[s] / static_cast<double>(kSubpixelOne)},
+         r.colour,
+         r.depth,
+         r.id});
     for (int ch = 0; ch < 3; ++ch) sum[ch] += (r.colour >> (8 * ch)) & 0xFFu;
   }
   const auto window = [](std::int32_t x, std::int32_t y) {
@@ -620,12 +645,13 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
   std::unique_ptr<Scratch> own;
   Scratch& scratch = algorithmScratch(in, own);
   const ScreenTriangles& tris = in.prepared.triangles;
-  const SamplePattern& pattern = samplePattern(in.options.samples == 0 ? kDefaultSamples : in.options.samples);
+  const SamplePattern& pattern =
+      samplePattern(in.options.samples == 0 ? kDefaultSamples : in.options.samples);
 
   // Bin: each triangle listed in every tile it reaches (its box reaches every sample)
   numberPolygons(tris, scratch.polygon_of);
-  binPrimitives(std::span<const ScreenTriangle>(tris.data(), tris.size()), frame.width, frame.height, scratch.bins,
-                scratch.counts);
+  binPrimitives(std::span<const ScreenTriangle>(tris.data(), tris.size()), frame.width,
+                frame.height, scratch.bins, scratch.counts);
   lap("bin");
 
   // Fill and resolve each tile's lists, tiles in parallel
@@ -652,13 +678,14 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
   } else {
     // Explained: the tiles one after another, and the longest list of all described
     if (in.trace->wants(kStepBin, 0, 1))
-      in.trace->record({kStepBin,
-                        "Bin: the screen is cut into " + std::to_string(tiles) +
-                            " tiles of 64x64 pixels; each of the " + std::to_string(tris.size()) +
-                            " triangles is listed in every tile it reaches. Each tile is filled and resolved "
-                            "on its own, so only one tile's fragment lists exist at a time.",
-                        &frame,
-                        {}});
+      in.trace->record(
+          {kStepBin,
+           "Bin: the screen is cut into " + std::to_string(tiles) +
+               " tiles of 64x64 pixels; each of the " + std::to_string(tris.size()) +
+               " triangles is listed in every tile it reaches. Each tile is filled and resolved "
+               "on its own, so only one tile's fragment lists exist at a time.",
+           &frame,
+           {}});
     std::string longest;
     int longest_n = 0, px = 0, py = 0;
     KeptPixel kept;
@@ -682,44 +709,51 @@ void drawABuffer(const AlgorithmInput& in, Frame& frame) {
       resolveTile(job, box, lists);
       counts.local() += c;
       if (in.trace->wants(kStepTile, tile, tiles))
-        in.trace->record({kStepTile,
-                          "Tile " + std::to_string(tile + 1) + " of " + std::to_string(tiles) + ": " +
-                              std::to_string(scratch.bins.start[tile + 1] - scratch.bins.start[tile]) +
-                              " triangles gave " + std::to_string(c.written) +
-                              " fragments (a coverage mask of " + std::to_string(pattern.count) +
-                              " samples each, those hidden behind a polygon covering the whole pixel left out); "
-                              "each pixel's list resolved sample by sample.",
-                          &frame,
-                          {pixelBoxOutline(box)}});
+        in.trace->record(
+            {kStepTile,
+             "Tile " + std::to_string(tile + 1) + " of " + std::to_string(tiles) + ": " +
+                 std::to_string(scratch.bins.start[tile + 1] - scratch.bins.start[tile]) +
+                 " triangles gave " + std::to_string(c.written) +
+                 " fragments (a coverage mask of " + std::to_string(pattern.count) +
+                 " samples each, those hidden behind a polygon covering the whole pixel left out); "
+                 "each pixel's list resolved sample by sample.",
+             &frame,
+             {pixelBoxOutline(box)}});
     }
     if (longest_n > 0 && in.trace->wants(kStepPixel, 0, 1))
-      in.trace->record({kStepPixel, longest, &frame, {pixelBoxOutline(PixelBox{px - 3, py - 3, px + 3, py + 3})}});
+      in.trace->record({kStepPixel,
+                        longest,
+                        &frame,
+                        {pixelBoxOutline(PixelBox{px - 3, py - 3, px + 3, py + 3})}});
     if (longest_n > 0 && in.trace->wants(kStepMagnified, 0, 1)) {
       TracePixel close;
       const std::uint32_t mean = closeUp(job, kept, close);
       char hex[8];
-      std::snprintf(hex, sizeof hex, "#%02x%02x%02x", mean & 0xFFu, (mean >> 8) & 0xFFu, (mean >> 16) & 0xFFu);
-      in.trace->record({kStepMagnified,
-                        "Pixel (" + std::to_string(px) + ", " + std::to_string(py) +
-                            ") magnified: the lines are the true edges of the triangles of the " +
-                            std::to_string(kept.fragments.size()) + " polygons listed there, the squares its " +
-                            std::to_string(pattern.count) +
-                            " samples; each point shows what the sample nearest it resolves to (the nearest "
-                            "opaque fragment covering it, see-through ones laid over it) and that fragment's "
-                            "depth. The pixel's colour is the mean of its samples: " +
-                            hex + ".",
-                        &frame,
-                        {},
-                        nullptr,
-                        &close});
+      std::snprintf(hex, sizeof hex, "#%02x%02x%02x", mean & 0xFFu, (mean >> 8) & 0xFFu,
+                    (mean >> 16) & 0xFFu);
+      in.trace->record(
+          {kStepMagnified,
+           "Pixel (" + std::to_string(px) + ", " + std::to_string(py) +
+               ") magnified: the lines are the true edges of the triangles of the " +
+               std::to_string(kept.fragments.size()) + " polygons listed there, the squares its " +
+               std::to_string(pattern.count) +
+               " samples; each point shows what the sample nearest it resolves to (the nearest "
+               "opaque fragment covering it, see-through ones laid over it) and that fragment's "
+               "depth. The pixel's colour is the mean of its samples: " +
+               hex + ".",
+           &frame,
+           {},
+           nullptr,
+           &close});
     }
     if (in.trace->wants(kStepDone, 0, 1))
-      in.trace->record({kStepDone,
-                        "Done: edges antialiased (a pixel an edge crosses shows the mean of its samples), "
-                        "see-through polygons blended in depth order whatever order they came in; ids and "
-                        "depth are the nearest opaque polygon at each pixel centre, as the z-buffer's.",
-                        &frame,
-                        {}});
+      in.trace->record(
+          {kStepDone,
+           "Done: edges antialiased (a pixel an edge crosses shows the mean of its samples), "
+           "see-through polygons blended in depth order whatever order they came in; ids and "
+           "depth are the nearest opaque polygon at each pixel centre, as the z-buffer's.",
+           &frame,
+           {}});
   }
   lap("fill and resolve");
 

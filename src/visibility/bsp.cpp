@@ -50,7 +50,8 @@ constexpr std::string_view kStepPaint = "paint";
 constexpr std::string_view kStepDone = "done";
 
 // A world polygon's outline in the picture (empty when a vertex lies behind the eye).
-TraceOutline projectOutline(const std::vector<glm::dvec3>& vertices, const glm::dmat4& device_from_world) {
+TraceOutline projectOutline(const std::vector<glm::dvec3>& vertices,
+                            const glm::dmat4& device_from_world) {
   TraceOutline out;
   for (const glm::dvec3& v : vertices) {
     const glm::dvec4 h = device_from_world * glm::dvec4(v, 1.0);
@@ -69,7 +70,8 @@ Camera birdsEye(const Scene& scene, const Camera& camera) {
   const glm::vec3 up = glm::normalize(camera.up);
   glm::vec3 forward = camera.target - camera.eye;
   forward -= up * glm::dot(forward, up);
-  if (!(glm::length(forward) > 1e-6f * glm::length(camera.target - camera.eye))) forward = glm::cross(up, glm::vec3(1, 0, 0));
+  if (!(glm::length(forward) > 1e-6f * glm::length(camera.target - camera.eye)))
+    forward = glm::cross(up, glm::vec3(1, 0, 0));
   if (!(glm::length(forward) > 0)) forward = glm::cross(up, glm::vec3(0, 0, 1));
   Camera top = camera;
   top.ortho = true;
@@ -86,7 +88,8 @@ Camera birdsEye(const Scene& scene, const Camera& camera) {
 // lines (the very lines its pixels are tested against), one pixel more each way for the
 // snapping of the outline. Empty (x0 > x1) when nothing is left.
 PixelBox pieceBox(const std::vector<glm::dvec2>& outline, const std::vector<PixelHalfPlane>& cuts,
-                  const Frame& frame, std::vector<glm::dvec2>& region, std::vector<glm::dvec2>& next) {
+                  const Frame& frame, std::vector<glm::dvec2>& region,
+                  std::vector<glm::dvec2>& next) {
   region = outline;
   for (const PixelHalfPlane& h : cuts) {
     next.clear();
@@ -97,7 +100,9 @@ PixelBox pieceBox(const std::vector<glm::dvec2>& outline, const std::vector<Pixe
       const double value = (h.c + h.b * v.y) + h.a * v.x;
       return (h.negative ? -value : value) >= -margin;
     };
-    auto value = [&](const glm::dvec2& v) { return (h.c + h.b * v.y) + h.a * v.x + (h.negative ? -margin : margin); };
+    auto value = [&](const glm::dvec2& v) {
+      return (h.c + h.b * v.y) + h.a * v.x + (h.negative ? -margin : margin);
+    };
     for (std::size_t i = 0; i < region.size(); ++i) {
       const glm::dvec2& u = region[i];
       const glm::dvec2& v = region[(i + 1) % region.size()];
@@ -114,7 +119,8 @@ PixelBox pieceBox(const std::vector<glm::dvec2>& outline, const std::vector<Pixe
   for (const glm::dvec2& v : region)
     x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
   if (!(x1 - x0 < 1e7 && y1 - y0 < 1e7)) return {0, 0, frame.width - 1, frame.height - 1};
-  return {std::max(0, static_cast<int>(std::floor(x0)) - 1), std::max(0, static_cast<int>(std::floor(y0)) - 1),
+  return {std::max(0, static_cast<int>(std::floor(x0)) - 1),
+          std::max(0, static_cast<int>(std::floor(y0)) - 1),
           std::min(frame.width - 1, static_cast<int>(std::ceil(x1)) + 1),
           std::min(frame.height - 1, static_cast<int>(std::ceil(y1)) + 1)};
 }
@@ -187,29 +193,34 @@ void drawBsp(const AlgorithmInput& in, Frame& frame) {
     if (in.trace) {
       report = [&](const BspNodeReport& r) {
         std::vector<TraceOutline> outlines{projectOutline(r.splitter_vertices, plan_from_world)};
-        for (const std::vector<glm::dvec3>& v : r.split) outlines.push_back(projectOutline(v, plan_from_world));
+        for (const std::vector<glm::dvec3>& v : r.split)
+          outlines.push_back(projectOutline(v, plan_from_world));
         // The eye: a small square, and a line to what it looks at.
         const glm::dvec4 e = plan_from_world * glm::dvec4(glm::dvec3(in.camera.eye), 1.0);
         const glm::dvec4 t = plan_from_world * glm::dvec4(glm::dvec3(in.camera.target), 1.0);
         const glm::vec2 tp(static_cast<float>(t.x / t.w), static_cast<float>(t.y / t.w));
         glm::vec2 ep(static_cast<float>(e.x / e.w), static_cast<float>(e.y / e.w));
         // An eye beyond the picture is marked at its edge, in its direction from the target.
-        const glm::vec2 lo(6.0f), hi(static_cast<float>(top.width) - 7.0f, static_cast<float>(top.height) - 7.0f);
+        const glm::vec2 lo(6.0f),
+            hi(static_cast<float>(top.width) - 7.0f, static_cast<float>(top.height) - 7.0f);
         for (int axis = 0; axis < 2; ++axis) {
           const float d = ep[axis] - tp[axis];
           if (ep[axis] > hi[axis] && d > 0) ep = tp + (ep - tp) * ((hi[axis] - tp[axis]) / d);
           if (ep[axis] < lo[axis] && d < 0) ep = tp + (ep - tp) * ((lo[axis] - tp[axis]) / d);
         }
-        outlines.push_back({ep + glm::vec2(-3, -3), ep + glm::vec2(3, -3), ep + glm::vec2(3, 3), ep + glm::vec2(-3, 3)});
+        outlines.push_back({ep + glm::vec2(-3, -3), ep + glm::vec2(3, -3), ep + glm::vec2(3, 3),
+                            ep + glm::vec2(-3, 3)});
         outlines.push_back({ep, tp});
         node_steps.push_back(
             {r.node,
-             "Node " + std::to_string(r.node) + " (depth " + std::to_string(r.depth) + "): polygon " +
-                 std::to_string(r.splitter) + " is chosen from a list of " + std::to_string(r.list) +
-                 "; its plane sorts the others: " + std::to_string(r.front) + " in front, " +
-                 std::to_string(r.behind) + " behind (pieces included), " + std::to_string(r.split.size()) +
+             "Node " + std::to_string(r.node) + " (depth " + std::to_string(r.depth) +
+                 "): polygon " + std::to_string(r.splitter) + " is chosen from a list of " +
+                 std::to_string(r.list) + "; its plane sorts the others: " +
+                 std::to_string(r.front) + " in front, " + std::to_string(r.behind) +
+                 " behind (pieces included), " + std::to_string(r.split.size()) +
                  " split in two (outlined), " + std::to_string(r.on - 1) +
-                 " more in its plane stay at the node. Seen from above: the eye is the small square, looking along the line.",
+                 " more in its plane stay at the node. Seen from above: the eye is the small "
+                 "square, looking along the line.",
              std::move(outlines)});
       };
     }
@@ -217,13 +228,13 @@ void drawBsp(const AlgorithmInput& in, Frame& frame) {
     frame.stats.addStage("bsp build", t0.ms());
     for (NodeStep& step : node_steps)
       if (in.trace->wants(kStepSplitter, step.node, built.stats.nodes))
-        in.trace->record({kStepSplitter, std::move(step.caption), nullptr, std::move(step.outlines), &top});
+        in.trace->record(
+            {kStepSplitter, std::move(step.caption), nullptr, std::move(step.outlines), &top});
   }
   const BspTree& tree = in.given ? *static_cast<const BspTree*>(in.given) : built;
   t0.restart();
   paintFromBspTree(tree, in, frame);
-  frame.stats.addStage("bsp traverse + paint",
-                       t0.ms());
+  frame.stats.addStage("bsp traverse + paint", t0.ms());
   frame.stats.state_bytes += tree.stats.bytes;
   frame.stats.addCounter("bsp: polygons in the tree", tree.stats.polygons);
   frame.stats.addCounter("bsp: splits", tree.stats.splits);
@@ -238,7 +249,8 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
   // The pipeline's polygons by id (a polygon culled or clipped away has none).
   std::vector<std::int32_t> by_id(in.scene.polygonCount(), -1);
   for (std::size_t i = 0; i < polygons.size(); ++i)
-    if (polygons[i].id < by_id.size() && by_id[polygons[i].id] < 0) by_id[polygons[i].id] = static_cast<std::int32_t>(i);
+    if (polygons[i].id < by_id.size() && by_id[polygons[i].id] < 0)
+      by_id[polygons[i].id] = static_cast<std::int32_t>(i);
   std::vector<glm::dvec2> outline, region, next;  // reused from polygon to polygon
   const glm::dmat4 device_from_world = deviceFromWorld(in.camera);
   const glm::dmat4 device_plane_from_world_plane = glm::transpose(glm::inverse(device_from_world));
@@ -247,20 +259,26 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
   std::vector<PixelHalfPlane> cuts;
   std::vector<std::uint32_t> stamps;
   PaintGroup group;
-  if (std::any_of(tree.nodes.begin(), tree.nodes.end(), [](const BspNode& n) { return n.polygon_count > 1; })) {
+  if (std::any_of(tree.nodes.begin(), tree.nodes.end(),
+                  [](const BspNode& n) { return n.polygon_count > 1; })) {
     stamps.assign(static_cast<std::size_t>(frame.width) * frame.height, 0);
     group.stamps = stamps;
   }
   BspTraversalStats traversal;
   std::uint64_t painted = 0, to_paint = 0;
-  if (in.trace) forEachBspPolygon(tree, in.camera, false, [&](const BspPolygon&, std::uint32_t) { ++to_paint; });
+  if (in.trace)
+    forEachBspPolygon(tree, in.camera, false,
+                      [&](const BspPolygon&, std::uint32_t) { ++to_paint; });
   forEachBspPolygon(
       tree, in.camera, false,
       [&](const BspPolygon& p, std::uint32_t node) {
         if (p.id >= by_id.size() || by_id[p.id] < 0) return;
         std::size_t index = static_cast<std::size_t>(by_id[p.id]);
-        while (index < polygons.size() && polygons[index].id == p.id && polygons[index].piece != p.piece) ++index;
-        if (index == polygons.size() || polygons[index].id != p.id) return;  // that triangle was culled
+        while (index < polygons.size() && polygons[index].id == p.id &&
+               polygons[index].piece != p.piece)
+          ++index;
+        if (index == polygons.size() || polygons[index].id != p.id)
+          return;  // that triangle was culled
         const WindowPolygon& w = polygons[index];
         outline.clear();
         for (const glm::dvec3& v : w.vertices) outline.emplace_back(v.x, v.y);
@@ -271,15 +289,18 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
         // move a line cutting at a grazing angle by pixels); every piece of one polygon uses the
         // same, so two pieces of one cut take the two sides of one line.
         const glm::dvec4 own = device_plane_from_eye_plane * w.eye_plane;
-        const bool edge_on = !(std::abs(own.z) > 1e-12 * (std::abs(own.x) + std::abs(own.y) + std::abs(own.w)));
+        const bool edge_on =
+            !(std::abs(own.z) > 1e-12 * (std::abs(own.x) + std::abs(own.y) + std::abs(own.w)));
         cuts.clear();
         for (std::uint32_t c = 0; c < p.cut_count; ++c) {
           const BspCut& cut = tree.cuts[p.first_cut + c];
           const glm::dvec4 d = device_plane_from_world_plane * tree.nodes[cut.node].plane;
           if (edge_on)
-            cuts.push_back({d.x + d.z * w.depth.dzdx, d.y + d.z * w.depth.dzdy, d.w + d.z * w.depth.z0, !cut.front});
+            cuts.push_back({d.x + d.z * w.depth.dzdx, d.y + d.z * w.depth.dzdy,
+                            d.w + d.z * w.depth.z0, !cut.front});
           else
-            cuts.push_back({d.x - d.z * own.x / own.z, d.y - d.z * own.y / own.z, d.w - d.z * own.w / own.z, !cut.front});
+            cuts.push_back({d.x - d.z * own.x / own.z, d.y - d.z * own.y / own.z,
+                            d.w - d.z * own.w / own.z, !cut.front});
         }
         const PixelBox box = pieceBox(outline, cuts, frame, region, next);
         if (box.x0 > box.x1) return;
@@ -289,18 +310,23 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
         paintPolygonPart(outline, cuts, box, w.depth, w.id, w.rgba, fb, fragments,
                          tree.nodes[node].polygon_count > 1 ? &group : nullptr);
         if (in.trace && in.trace->wants(kStepPaint, painted, to_paint)) {
-          const int side = in.camera.ortho ? 0 : eyeSide(tree.nodes[node], glm::dvec3(in.camera.eye));
-          in.trace->record(
-              {kStepPaint,
-               "Paint polygon " + std::to_string(p.id) + (p.cut_count == 1   ? std::string(" (a piece of it, cut once)")
-                    : p.cut_count > 1 ? " (a piece of it, cut " + std::to_string(p.cut_count) + " times)"
-                                      : std::string()) +
-                   ", held by node " + std::to_string(node) + ": " +
-                   (side > 0   ? "the eye is in front of its plane, so the node's back subtree is already painted"
-                    : side < 0 ? "the eye is behind its plane, so the node's front subtree is already painted"
-                               : "the far side of its plane is already painted") +
-                   "; the near side comes after it.",
-               &frame, {projectOutline(p.vertices, device_from_world)}});
+          const int side =
+              in.camera.ortho ? 0 : eyeSide(tree.nodes[node], glm::dvec3(in.camera.eye));
+          in.trace->record({kStepPaint,
+                            "Paint polygon " + std::to_string(p.id) +
+                                (p.cut_count == 1  ? std::string(" (a piece of it, cut once)")
+                                 : p.cut_count > 1 ? " (a piece of it, cut " +
+                                                         std::to_string(p.cut_count) + " times)"
+                                                   : std::string()) +
+                                ", held by node " + std::to_string(node) + ": " +
+                                (side > 0 ? "the eye is in front of its plane, so the node's back "
+                                            "subtree is already painted"
+                                 : side < 0 ? "the eye is behind its plane, so the node's front "
+                                              "subtree is already painted"
+                                            : "the far side of its plane is already painted") +
+                                "; the near side comes after it.",
+                            &frame,
+                            {projectOutline(p.vertices, device_from_world)}});
         }
         ++painted;
       },
@@ -313,10 +339,14 @@ void paintFromBspTree(const BspTree& tree, const AlgorithmInput& in, Frame& fram
   frame.stats.addCounter("bsp: subtrees skipped", traversal.skipped);
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
-                      "Done: " + std::to_string(traversal.drawn) + " polygons and pieces painted back to front with no depth "
-                      "test, " + std::to_string(traversal.skipped) + " subtrees outside the view skipped; the same tree "
-                      "serves any other eye.",
-                      &frame, {}});
+                      "Done: " + std::to_string(traversal.drawn) +
+                          " polygons and pieces painted back to front with no depth "
+                          "test, " +
+                          std::to_string(traversal.skipped) +
+                          " subtrees outside the view skipped; the same tree "
+                          "serves any other eye.",
+                      &frame,
+                      {}});
 }
 
 }  // namespace hsr::detail
@@ -326,8 +356,9 @@ namespace hsr {
 std::vector<PolygonId> bspOrder(const Bsp& bsp, const Camera& camera, bool front_to_back) {
   camera.validate();
   std::vector<PolygonId> order;
-  detail::forEachBspPolygon(bsp.tree(), camera, front_to_back,
-                            [&](const detail::BspPolygon& p, std::uint32_t) { order.push_back(p.id); });
+  detail::forEachBspPolygon(
+      bsp.tree(), camera, front_to_back,
+      [&](const detail::BspPolygon& p, std::uint32_t) { order.push_back(p.id); });
   return order;
 }
 

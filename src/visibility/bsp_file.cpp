@@ -78,7 +78,8 @@ class Reader {
   std::uint32_t u32() {
     need(4);
     std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= std::uint32_t{static_cast<std::uint8_t>(in_[at_++])} << (8 * i);
+    for (int i = 0; i < 4; ++i)
+      v |= std::uint32_t{static_cast<std::uint8_t>(in_[at_++])} << (8 * i);
     return v;
   }
   std::uint64_t u64() {
@@ -102,7 +103,8 @@ class Reader {
   }
   std::string str(const char* what) {
     const std::uint32_t n = count(1, what);
-    if (n > kMaxString) fail(fmt::format("corrupt: a {} of {} bytes (at most {})", what, n, kMaxString));
+    if (n > kMaxString)
+      fail(fmt::format("corrupt: a {} of {} bytes (at most {})", what, n, kMaxString));
     std::string s(in_.substr(at_, n));
     at_ += n;
     return s;
@@ -129,7 +131,8 @@ void writeScene(Writer& w, const Scene& s) {
   if (!s.cameras.empty()) {
     const SceneCamera& c = s.cameras.front();
     for (const glm::vec3& v : {c.eye, c.target, c.up}) w.f32(v.x), w.f32(v.y), w.f32(v.z);
-    w.f32(c.fov_deg), w.u8(c.ortho ? 1 : 0), w.f32(c.ortho_half_height), w.f32(c.near), w.f32(c.far);
+    w.f32(c.fov_deg), w.u8(c.ortho ? 1 : 0), w.f32(c.ortho_half_height), w.f32(c.near),
+        w.f32(c.far);
   }
   w.count(s.objects.size());
   for (const Object& o : s.objects) {
@@ -163,7 +166,8 @@ Scene readScene(Reader& r) {
   if (has_camera) {
     SceneCamera c;
     for (glm::vec3* v : {&c.eye, &c.target, &c.up}) v->x = r.f32(), v->y = r.f32(), v->z = r.f32();
-    c.fov_deg = r.f32(), c.ortho = r.u8() != 0, c.ortho_half_height = r.f32(), c.near = r.f32(), c.far = r.f32();
+    c.fov_deg = r.f32(), c.ortho = r.u8() != 0, c.ortho_half_height = r.f32(), c.near = r.f32(),
+    c.far = r.f32();
     s.cameras.push_back(c);
   }
   const std::uint32_t objects = r.count(12, "objects");
@@ -188,8 +192,8 @@ Scene readScene(Reader& r) {
       for (std::uint32_t& v : local) v = r.u32();
       for (const std::uint32_t v : local)  // checked here, so that the refusal names the file
         if (v >= vertices)
-          r.fail(fmt::format("corrupt: polygon {} uses vertex {} of an object with {}", s.polygonCount(), v,
-                             vertices));
+          r.fail(fmt::format("corrupt: polygon {} uses vertex {} of an object with {}",
+                             s.polygonCount(), v, vertices));
       s.addPolygon(local, material);
     }
   }
@@ -235,35 +239,42 @@ detail::BspTree readTree(Reader& r, const Scene& scene) {
     expected_first += n.polygon_count;
     for (const std::int32_t c : {n.front, n.back}) {
       if (c == -1) continue;
-      if (c <= static_cast<std::int64_t>(i) || c >= static_cast<std::int64_t>(nodes) || parents[c]++)
-        r.fail(fmt::format("corrupt: node {} names child {}, which is not a node of one tree", i, c));
+      if (c <= static_cast<std::int64_t>(i) || c >= static_cast<std::int64_t>(nodes) ||
+          parents[c]++)
+        r.fail(
+            fmt::format("corrupt: node {} names child {}, which is not a node of one tree", i, c));
     }
   }
   for (std::uint32_t i = 1; i < nodes; ++i)
     if (!parents[i]) r.fail(fmt::format("corrupt: node {} belongs to no parent", i));
   const std::uint32_t polygons = r.count(16, "tree polygons");
   if (polygons != expected_first)
-    r.fail(fmt::format("corrupt: the nodes hold {} polygons, the file {}", expected_first, polygons));
+    r.fail(
+        fmt::format("corrupt: the nodes hold {} polygons, the file {}", expected_first, polygons));
   t.polygons.resize(polygons);
   for (std::uint32_t i = 0; i < polygons; ++i) {
     detail::BspPolygon& p = t.polygons[i];
     p.id = r.u32(), p.piece = r.u32();
-    if (p.id >= scene.polygonCount() || p.piece + 2 >= std::max<std::size_t>(scene.polygon(p.id).size(), 3))
-      r.fail(fmt::format("corrupt: tree polygon {} names polygon {} piece {}, which the scene lacks", i, p.id,
-                         p.piece));
+    if (p.id >= scene.polygonCount() ||
+        p.piece + 2 >= std::max<std::size_t>(scene.polygon(p.id).size(), 3))
+      r.fail(
+          fmt::format("corrupt: tree polygon {} names polygon {} piece {}, which the scene lacks",
+                      i, p.id, p.piece));
     const std::uint32_t cuts = r.count(5, "cuts");
     p.first_cut = static_cast<std::uint32_t>(t.cuts.size()), p.cut_count = cuts;
     for (std::uint32_t c = 0; c < cuts; ++c) {
       const std::uint32_t node = r.u32();
       const std::uint8_t front = r.u8();
-      if (node >= nodes || front > 1) r.fail(fmt::format("corrupt: tree polygon {} has a cut by no node", i));
+      if (node >= nodes || front > 1)
+        r.fail(fmt::format("corrupt: tree polygon {} has a cut by no node", i));
       t.cuts.push_back({node, front == 1});
     }
     const std::uint32_t vertices = r.count(24, "tree polygon vertices");
     if (vertices < 3 || vertices > kMaxPolygonVertices)
       r.fail(fmt::format("corrupt: tree polygon {} has {} vertices", i, vertices));
     p.vertices.resize(vertices);
-    for (glm::dvec3& v : p.vertices) v.x = r.finite("a vertex"), v.y = r.finite("a vertex"), v.z = r.finite("a vertex");
+    for (glm::dvec3& v : p.vertices)
+      v.x = r.finite("a vertex"), v.y = r.finite("a vertex"), v.z = r.finite("a vertex");
   }
   return t;
 }
@@ -284,8 +295,8 @@ void saveBsp(const Bsp& bsp, const std::filesystem::path& path) {
   Writer h;
   for (const char c : kMagic) h.u8(static_cast<std::uint8_t>(c));
   h.u32(kVersion);
-  h.u32(static_cast<std::uint32_t>(
-      crc32_z(crc32_z(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload.data()), payload.size())));
+  h.u32(static_cast<std::uint32_t>(crc32_z(
+      crc32_z(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload.data()), payload.size())));
   h.u64(payload.size());
   writeFileAtomically(path, {h.bytes(), payload});
 }
@@ -313,12 +324,15 @@ Bsp readBsp(std::string_view bytes, const std::string& where) {
   const std::uint32_t crc = header.u32();
   const std::uint64_t size = header.u64();
   if (version != kVersion)
-    throw Error(fmt::format("{}: BSP file version {}; this hsr reads version {}", where, version, kVersion));
+    throw Error(fmt::format("{}: BSP file version {}; this hsr reads version {}", where, version,
+                            kVersion));
   if (size != bytes.size() - kHeaderBytes)
-    throw Error(fmt::format("{}: truncated or extended: the header says {} payload bytes, the file holds {}",
-                            where, size, bytes.size() - kHeaderBytes));
+    throw Error(fmt::format(
+        "{}: truncated or extended: the header says {} payload bytes, the file holds {}", where,
+        size, bytes.size() - kHeaderBytes));
   const std::string_view payload = bytes.substr(kHeaderBytes);
-  if (crc32_z(crc32_z(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload.data()), payload.size()) != crc)
+  if (crc32_z(crc32_z(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload.data()),
+              payload.size()) != crc)
     throw Error(where + ": checksum mismatch: the file is corrupt");
 
   Reader r(payload, where);
@@ -358,15 +372,17 @@ std::string bspDot(const Bsp& bsp, std::size_t max_nodes) {
   const std::size_t shown = std::min(max_nodes, t.nodes.size());
   for (std::size_t i = 0; i < shown; ++i) {
     const detail::BspNode& n = t.nodes[i];
-    out += fmt::format("  n{} [label=\"node {}\\n{:.3f}x {:+.3f}y {:+.3f}z {:+.3f} = 0\\npolygons {}\"];\n", i, i,
-                       n.plane.x, n.plane.y, n.plane.z, n.plane.w, ids(n));
+    out += fmt::format(
+        "  n{} [label=\"node {}\\n{:.3f}x {:+.3f}y {:+.3f}z {:+.3f} = 0\\npolygons {}\"];\n", i, i,
+        n.plane.x, n.plane.y, n.plane.z, n.plane.w, ids(n));
     if (n.front >= 0 && static_cast<std::size_t>(n.front) < shown)
       out += fmt::format("  n{} -> n{} [label=\"front\"];\n", i, n.front);
     if (n.back >= 0 && static_cast<std::size_t>(n.back) < shown)
       out += fmt::format("  n{} -> n{} [label=\"behind\", style=dashed];\n", i, n.back);
   }
   if (shown < t.nodes.size())
-    out += fmt::format("  more [shape=plaintext, label=\"... {} more nodes\"];\n", t.nodes.size() - shown);
+    out += fmt::format("  more [shape=plaintext, label=\"... {} more nodes\"];\n",
+                       t.nodes.size() - shown);
   return out + "}\n";
 }
 
@@ -395,14 +411,17 @@ std::string bspOutline(const Bsp& bsp, std::size_t max_nodes) {
     for (std::uint32_t k = 0; k < n.polygon_count && k < 6; ++k)
       ids += (k ? "," : "") + std::to_string(t.polygons[n.first_polygon + k].id);
     if (n.polygon_count > 6) ids += fmt::format(",... ({})", n.polygon_count);
-    out += fmt::format("{:{}}{} node {}: plane {:.3f}x {:+.3f}y {:+.3f}z {:+.3f} = 0; polygons {}; front {}, behind {}\n",
-                       "", 2 * it.depth, it.side, it.node, n.plane.x, n.plane.y, n.plane.z, n.plane.w, ids,
-                       n.front >= 0 ? below[n.front] : 0, n.back >= 0 ? below[n.back] : 0);
+    out += fmt::format(
+        "{:{}}{} node {}: plane {:.3f}x {:+.3f}y {:+.3f}z {:+.3f} = 0; polygons {}; front {}, "
+        "behind {}\n",
+        "", 2 * it.depth, it.side, it.node, n.plane.x, n.plane.y, n.plane.z, n.plane.w, ids,
+        n.front >= 0 ? below[n.front] : 0, n.back >= 0 ? below[n.back] : 0);
     ++lines;
     if (n.back >= 0) stack.push_back({n.back, it.depth + 1, "behind"});
     if (n.front >= 0) stack.push_back({n.front, it.depth + 1, "front"});
   }
-  if (lines < t.nodes.size()) out += fmt::format("... {} more nodes (--dot FILE writes them all)\n", t.nodes.size() - lines);
+  if (lines < t.nodes.size())
+    out += fmt::format("... {} more nodes (--dot FILE writes them all)\n", t.nodes.size() - lines);
   return out;
 }
 

@@ -73,8 +73,9 @@ struct Task {
 }  // namespace
 
 bool parseSplitterChoice(std::string_view s, SplitterChoice* out) {
-  for (const SplitterChoice c : {SplitterChoice::kFirst, SplitterChoice::kRandom, SplitterChoice::kFewest,
-                                 SplitterChoice::kBalanced, SplitterChoice::kBestOfK})
+  for (const SplitterChoice c :
+       {SplitterChoice::kFirst, SplitterChoice::kRandom, SplitterChoice::kFewest,
+        SplitterChoice::kBalanced, SplitterChoice::kBestOfK})
     if (toString(c) == s) return *out = c, true;
   return false;
 }
@@ -109,13 +110,15 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
     throw Error("unknown BSP splitter choice '" + options.splitter +
                 "' (first, random, fewest, balanced, best-of-k)");
   if (options.candidates < 1 || options.candidates > 4096)
-    throw Error("BSP splitter candidates must be 1..4096 (got " + std::to_string(options.candidates) + ")");
+    throw Error("BSP splitter candidates must be 1..4096 (got " +
+                std::to_string(options.candidates) + ")");
   BspTree tree;
   // The epsilon: 1e-6 of the scene's size. The vertices are floats, good to about 6e-8 of
   // their magnitude: polygons meant to be coplanar (a duplicate, two triangles of one quad)
   // stray from each other's planes by that much, and must be found on them, not split along
   // a plane they lie in (a cut that thin is no line of the picture).
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()),
+      hi(-std::numeric_limits<double>::infinity());
   for (const glm::vec3& p : scene.positions())
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
       lo = glm::min(lo, glm::dvec3(p));
@@ -196,7 +199,8 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
       return sc;
     };
     auto cost = [&](const Score& sc) {
-      const double imbalance = static_cast<double>(sc.front > sc.back ? sc.front - sc.back : sc.back - sc.front);
+      const double imbalance =
+          static_cast<double>(sc.front > sc.back ? sc.front - sc.back : sc.back - sc.front);
       return choice == SplitterChoice::kBalanced ? 8.0 * static_cast<double>(sc.splits) + imbalance
                                                  : static_cast<double>(sc.splits);
     };
@@ -230,7 +234,9 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
     const auto node_index = static_cast<std::uint32_t>(tree.nodes.size());
     tree.nodes.push_back({});
     tree.nodes.back().plane = plane;
-    if (task.parent >= 0) (task.front ? tree.nodes[task.parent].front : tree.nodes[task.parent].back) = static_cast<std::int32_t>(node_index);
+    if (task.parent >= 0)
+      (task.front ? tree.nodes[task.parent].front : tree.nodes[task.parent].back) =
+          static_cast<std::int32_t>(node_index);
 
     // 2 and 3. Classify, split the spanning ones.
     Task front{{}, static_cast<std::int32_t>(node_index), true, task.depth + 1};
@@ -239,7 +245,8 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
     std::vector<std::vector<glm::dvec3>> split_ones;  // only when reporting
     for (const std::uint32_t q : list) {
       const PlaneSide side =
-          q == splitter ? PlaneSide::kOn : classifyAgainstPlane(tree.polygons[q].vertices, asPlane(plane), eps);
+          q == splitter ? PlaneSide::kOn
+                        : classifyAgainstPlane(tree.polygons[q].vertices, asPlane(plane), eps);
       if (side == PlaneSide::kOn) {
         on.push_back(q);
       } else if (side == PlaneSide::kFront) {
@@ -252,14 +259,18 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
         if (report) split_ones.push_back(tree.polygons[q].vertices);
         const PolygonId id = tree.polygons[q].id;
         const std::uint32_t sub = tree.polygons[q].piece;
-        const std::uint32_t first_cut = tree.polygons[q].first_cut, cut_count = tree.polygons[q].cut_count;
+        const std::uint32_t first_cut = tree.polygons[q].first_cut,
+                            cut_count = tree.polygons[q].cut_count;
         for (const bool is_front : {true, false}) {
           std::vector<glm::dvec3>& part = is_front ? front_part : back_part;
           if (part.size() < 3) continue;
-          BspPolygon piece{part, id, sub, static_cast<std::uint32_t>(tree.cuts.size()), cut_count + 1};
-          for (std::uint32_t c = 0; c < cut_count; ++c) tree.cuts.push_back(tree.cuts[first_cut + c]);
+          BspPolygon piece{part, id, sub, static_cast<std::uint32_t>(tree.cuts.size()),
+                           cut_count + 1};
+          for (std::uint32_t c = 0; c < cut_count; ++c)
+            tree.cuts.push_back(tree.cuts[first_cut + c]);
           tree.cuts.push_back({node_index, is_front});
-          (is_front ? front.list : back.list).push_back(static_cast<std::uint32_t>(tree.polygons.size()));
+          (is_front ? front.list : back.list)
+              .push_back(static_cast<std::uint32_t>(tree.polygons.size()));
           tree.polygons.push_back(std::move(piece));
           planes.push_back(planes[q]);
         }
@@ -287,7 +298,8 @@ BspTree buildBspTree(const Scene& scene, const BspOptions& options,
   for (const std::uint32_t i : order) {
     BspPolygon& p = kept.emplace_back(std::move(tree.polygons[i]));
     const auto first = static_cast<std::uint32_t>(kept_cuts.size());
-    kept_cuts.insert(kept_cuts.end(), tree.cuts.begin() + p.first_cut, tree.cuts.begin() + p.first_cut + p.cut_count);
+    kept_cuts.insert(kept_cuts.end(), tree.cuts.begin() + p.first_cut,
+                     tree.cuts.begin() + p.first_cut + p.cut_count);
     p.first_cut = first;
   }
   tree.polygons = std::move(kept);
@@ -357,7 +369,8 @@ Bsp buildBsp(Scene scene, const BspOptions& options,
              const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
   Bsp bsp;
   bsp.scene_ = std::make_shared<const Scene>(std::move(scene));
-  bsp.tree_ = std::make_shared<const detail::BspTree>(detail::buildBspTree(*bsp.scene_, options, progress));
+  bsp.tree_ =
+      std::make_shared<const detail::BspTree>(detail::buildBspTree(*bsp.scene_, options, progress));
   bsp.options_ = options;
   return bsp;
 }

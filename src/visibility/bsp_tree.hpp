@@ -49,17 +49,17 @@ struct BspCut {
 };
 
 struct BspNode {
-  glm::dvec4 plane{0.0};                    // unit normal (x, y, z) and offset w: n . p + w = 0
+  glm::dvec4 plane{0.0};  // unit normal (x, y, z) and offset w: n . p + w = 0
   std::uint32_t first_polygon = 0, polygon_count = 0;  // its coplanar polygons in BspTree::polygons
-  std::int32_t front = -1, back = -1;       // children (-1: empty)
-  glm::dvec3 lo{0.0}, hi{0.0};              // bounds of every polygon in the subtree
+  std::int32_t front = -1, back = -1;                  // children (-1: empty)
+  glm::dvec3 lo{0.0}, hi{0.0};                         // bounds of every polygon in the subtree
 };
 
 struct BspTree {
   std::vector<BspNode> nodes;        // nodes[0] is the root (when there is one)
   std::vector<BspPolygon> polygons;  // every polygon and piece, node by node
   std::vector<BspCut> cuts;
-  double epsilon = 0;                // plane distance within which a vertex is on a plane
+  double epsilon = 0;  // plane distance within which a vertex is on a plane
   BspStats stats;
 };
 
@@ -71,16 +71,17 @@ struct BspTree {
 // is made, front subtrees before back ones).
 struct BspNodeReport {
   std::uint32_t node = 0;
-  PolygonId splitter = kNoPolygon;                      // the polygon whose plane splits
+  PolygonId splitter = kNoPolygon;  // the polygon whose plane splits
   const std::vector<glm::dvec3>& splitter_vertices;
-  std::size_t list = 0, front = 0, behind = 0;          // the list, and what went to each side
-  const std::vector<std::vector<glm::dvec3>>& split;    // the polygons split in two
-  std::size_t on = 0;                                   // kept at the node (the splitter too)
+  std::size_t list = 0, front = 0, behind = 0;        // the list, and what went to each side
+  const std::vector<std::vector<glm::dvec3>>& split;  // the polygons split in two
+  std::size_t on = 0;                                 // kept at the node (the splitter too)
   std::uint32_t depth = 0;
 };
-BspTree buildBspTree(const Scene& scene, const BspOptions& options,
-                     const std::function<void(std::uint64_t done, std::uint64_t total)>& progress = {},
-                     const std::function<void(const BspNodeReport&)>& report = {});
+BspTree buildBspTree(
+    const Scene& scene, const BspOptions& options,
+    const std::function<void(std::uint64_t done, std::uint64_t total)>& progress = {},
+    const std::function<void(const BspNodeReport&)>& report = {});
 
 // Fills in the tree's node bounds and the statistics a loaded tree does not store (every one
 // but build_ms).

@@ -96,7 +96,8 @@ struct Builder {
             in = up ? above[a] : below[a];
             // The child's face at the middle replaces the parent's face on that side.
             const int face = 2 * a + (up ? 0 : 1);
-            cuts = static_cast<std::uint8_t>((cuts & ~(1u << face)) | (across[a] ? 1u << face : 0u));
+            cuts =
+                static_cast<std::uint8_t>((cuts & ~(1u << face)) | (across[a] ? 1u << face : 0u));
           }
           if (in) child[c].push_back({it.polygon, cuts}), ++handed;
         }
@@ -170,12 +171,12 @@ Octree buildOctree(const Scene& scene, const OctreeLimits& limits) {
   b.build(0, std::move(all), 0);
   tree.stats.nodes = tree.nodes.size();
   tree.stats.entries = tree.entries.size();
-  tree.stats.bytes = tree.nodes.capacity() * sizeof(OctreeNode) + tree.entries.capacity() * sizeof(OctreeEntry);
+  tree.stats.bytes =
+      tree.nodes.capacity() * sizeof(OctreeNode) + tree.entries.capacity() * sizeof(OctreeEntry);
   tree.fingerprint = sceneFingerprint(scene);
   tree.stats.build_ms = t0.ms();
   return tree;
 }
-
 
 // ---------------------------------------------------------------------------------------------
 // Drawing.
@@ -204,10 +205,12 @@ struct Scratch {
   std::vector<std::uint32_t> stamp;     // ... valid where stamp == the leaf's number
   std::vector<std::uint32_t> tile_written;
   std::vector<std::uint32_t> tri_start;  // each polygon's first screen triangle
-  std::vector<SmallBox> polygon_box;      // the rectangle around each polygon's opaque ones
+  std::vector<SmallBox> polygon_box;     // the rectangle around each polygon's opaque ones
   std::size_t bytes() const {
     return (leaf_z.capacity() + leaf_tri.capacity() + stamp.capacity() + tile_written.capacity() +
-            tri_start.capacity()) * 4 + polygon_box.capacity() * sizeof(SmallBox);
+            tri_start.capacity()) *
+               4 +
+           polygon_box.capacity() * sizeof(SmallBox);
   }
 };
 
@@ -217,7 +220,8 @@ struct Counts {
   std::uint64_t pixels_written = 0, rewritten = 0;
   FragmentCounts fragments;
   void add(const Counts& o) {
-    visited += o.visited, outside += o.outside, covered += o.covered, covered_leaves += o.covered_leaves;
+    visited += o.visited, outside += o.outside, covered += o.covered,
+        covered_leaves += o.covered_leaves;
     leaves_drawn += o.leaves_drawn, leaves_hidden += o.leaves_hidden, pieces += o.pieces;
     triangles_covered += o.triangles_covered;
     pixels_written += o.pixels_written, rewritten += o.rewritten;
@@ -233,9 +237,11 @@ void prepareScratch(const AlgorithmInput& in, const Frame& frame, Scratch& s) {
   s.leaf_tri.resize(pixels);
   s.stamp.assign(pixels, 0);
   const int tiles_x = (frame.width + kTile - 1) / kTile;
-  s.tile_written.assign(static_cast<std::size_t>(tiles_x) * ((frame.height + kTile - 1) / kTile), 0);
+  s.tile_written.assign(static_cast<std::size_t>(tiles_x) * ((frame.height + kTile - 1) / kTile),
+                        0);
   s.tri_start.assign(in.scene.polygonCount() + 1, 0);
-  const auto w = static_cast<std::int16_t>(frame.width), h = static_cast<std::int16_t>(frame.height);
+  const auto w = static_cast<std::int16_t>(frame.width),
+             h = static_cast<std::int16_t>(frame.height);
   s.polygon_box.assign(in.scene.polygonCount(), SmallBox{w, h, -1, -1});
   for (const ScreenTriangle& t : in.prepared.triangles) {
     s.tri_start[t.id + 1]++;
@@ -250,8 +256,14 @@ void prepareScratch(const AlgorithmInput& in, const Frame& frame, Scratch& s) {
 // footprints cut to the band, so bands own their pixels and run in parallel.
 class Painter {
  public:
-  Painter(const AlgorithmInput& in, Frame& frame, const Octree& tree, Scratch& s, int row0, int row1)
-      : in_(in), frame_(frame), fb_(frame), tree_(tree), s_(s), tris_(in.prepared.triangles),
+  Painter(const AlgorithmInput& in, Frame& frame, const Octree& tree, Scratch& s, int row0,
+          int row1)
+      : in_(in),
+        frame_(frame),
+        fb_(frame),
+        tree_(tree),
+        s_(s),
+        tris_(in.prepared.triangles),
         band_{0, row0, frame.width - 1, row1} {
     tiles_x_ = (frame.width + kTile - 1) / kTile;
     device_from_world_ = deviceFromWorld(in.camera);
@@ -284,7 +296,8 @@ class Painter {
       if (fullyWritten(footprint)) {  // everything in it is hidden
         counts.covered++;
         counts.covered_leaves += node.leaves;
-        trace(n, footprint, "skipped with everything under it: its footprint is already fully written");
+        trace(n, footprint,
+              "skipped with everything under it: its footprint is already fully written");
         continue;
       }
       counts.visited++;
@@ -293,7 +306,8 @@ class Painter {
         static constexpr int kByPlanesAway[8] = {0, 1, 2, 4, 3, 5, 6, 7};
         const int nearest = eyeOctant(node);
         for (int k = 7; k >= 0; --k)
-          stack.push_back(static_cast<std::uint32_t>(node.first_child + (nearest ^ kByPlanesAway[k])));
+          stack.push_back(
+              static_cast<std::uint32_t>(node.first_child + (nearest ^ kByPlanesAway[k])));
         continue;
       }
       // A leaf's own footprint is tighter: the rectangle around its pieces' triangles.
@@ -306,8 +320,9 @@ class Painter {
       }
       const std::uint64_t written = drawLeaf(node, content);
       (written ? counts.leaves_drawn : counts.leaves_hidden)++;
-      trace(n, footprint, written ? "drawn: " + std::to_string(written) + " pixels written, each once and final"
-                                  : std::string("drawn, but every pixel of it was already written: hidden"));
+      trace(n, footprint,
+            written ? "drawn: " + std::to_string(written) + " pixels written, each once and final"
+                    : std::string("drawn, but every pixel of it was already written: hidden"));
     }
   }
 
@@ -324,7 +339,8 @@ class Painter {
 
   // The child of `node` on the eye's side of each of its middle planes.
   int eyeOctant(const OctreeNode& node) const {
-    const glm::dvec3 mid = tree_.nodes[static_cast<std::size_t>(node.first_child)].hi;  // child 0's top
+    // child 0's top
+    const glm::dvec3 mid = tree_.nodes[static_cast<std::size_t>(node.first_child)].hi;
     int c = 0;
     for (int a = 0; a < 3; ++a) {
       const bool up = in_.camera.ortho ? toward_eye_[a] > 0 : eye_[a] >= mid[a];
@@ -357,21 +373,25 @@ class Painter {
     PixelBox b{frame_.width, frame_.height, -1, -1};
     for (std::uint32_t k = 0; k < leaf.entry_count; ++k) {
       const SmallBox& p = s_.polygon_box[tree_.entries[leaf.first_entry + k].polygon];
-      b = {std::min<int>(b.x0, p.x0), std::min<int>(b.y0, p.y0), std::max<int>(b.x1, p.x1), std::max<int>(b.y1, p.y1)};
+      b = {std::min<int>(b.x0, p.x0), std::min<int>(b.y0, p.y0), std::max<int>(b.x1, p.x1),
+           std::max<int>(b.y1, p.y1)};
     }
-    return {std::max(b.x0, footprint.x0), std::max(b.y0, footprint.y0), std::min(b.x1, footprint.x1),
-            std::min(b.y1, footprint.y1)};
+    return {std::max(b.x0, footprint.x0), std::max(b.y0, footprint.y0),
+            std::min(b.x1, footprint.x1), std::min(b.y1, footprint.y1)};
   }
 
   bool fullyWritten(const PixelBox& b) const {
     for (int ty = b.y0 / kTile; ty <= b.y1 / kTile; ++ty)
       for (int tx = b.x0 / kTile; tx <= b.x1 / kTile; ++tx) {
         const int px0 = tx * kTile, py0 = ty * kTile;
-        const int px1 = std::min(px0 + kTile, frame_.width) - 1, py1 = std::min(py0 + kTile, frame_.height) - 1;
-        const std::uint32_t tile_pixels = static_cast<std::uint32_t>((px1 - px0 + 1) * (py1 - py0 + 1));
+        const int px1 = std::min(px0 + kTile, frame_.width) - 1,
+                  py1 = std::min(py0 + kTile, frame_.height) - 1;
+        const std::uint32_t tile_pixels =
+            static_cast<std::uint32_t>((px1 - px0 + 1) * (py1 - py0 + 1));
         const std::uint32_t written = s_.tile_written[static_cast<std::size_t>(ty) * tiles_x_ + tx];
         if (written == tile_pixels) continue;
-        if (px0 >= b.x0 && px1 <= b.x1 && py0 >= b.y0 && py1 <= b.y1) return false;  // whole tile, not full
+        if (px0 >= b.x0 && px1 <= b.x1 && py0 >= b.y0 && py1 <= b.y1)
+          return false;  // whole tile, not full
         for (int y = std::max(py0, b.y0); y <= std::min(py1, b.y1); ++y)
           for (int x = std::max(px0, b.x0); x <= std::min(px1, b.x1); ++x)
             if (fb_.ids[fb_.index(x, y)] == kNoPolygon) return false;
@@ -484,7 +504,8 @@ class Painter {
   void trace(std::uint32_t n, const PixelBox& fp, const std::string& what) {
     if (!in_.trace) return;
     if (trace_count_ == 0)  // the octants that can be pictured: every leaf holding something
-      for (const OctreeNode& node : tree_.nodes) trace_count_ += node.first_child < 0 && node.entry_count > 0;
+      for (const OctreeNode& node : tree_.nodes)
+        trace_count_ += node.first_child < 0 && node.entry_count > 0;
     if (!in_.trace->wants(kStepOctant, traced_++, trace_count_)) return;
     const OctreeNode& node = tree_.nodes[n];
     std::vector<TraceOutline> outlines;
@@ -492,7 +513,8 @@ class Painter {
     glm::vec2 c[8];
     bool ok = true;
     for (int i = 0; i < 8; ++i) {
-      const glm::dvec4 h = device_from_world_ * glm::dvec4((i & 1) ? node.hi.x : node.lo.x, (i & 2) ? node.hi.y : node.lo.y,
+      const glm::dvec4 h = device_from_world_ * glm::dvec4((i & 1) ? node.hi.x : node.lo.x,
+                                                           (i & 2) ? node.hi.y : node.lo.y,
                                                            (i & 4) ? node.hi.z : node.lo.z, 1.0);
       ok = ok && h.w > 1e-9;
       c[i] = glm::vec2(static_cast<float>(h.x / h.w), static_cast<float>(h.y / h.w));
@@ -501,15 +523,17 @@ class Painter {
       for (int i = 0; i < 8; ++i)
         for (int a = 0; a < 3; ++a)
           if (!(i & (1 << a))) outlines.push_back({c[i], c[i | (1 << a)]});
-    in_.trace->record({kStepOctant,
-                       std::string(node.first_child >= 0 ? "Octant" : "Leaf octant") + " at depth " +
-                           std::to_string(node.depth) + (node.first_child < 0 ? " holding " + std::to_string(node.entry_count) +
-                                                                                    " polygons or pieces"
-                                                                              : std::string()) +
-                           ", footprint [" + std::to_string(fp.x0) + ".." + std::to_string(fp.x1) + "] x [" +
-                           std::to_string(fp.y0) + ".." + std::to_string(fp.y1) + "]: " + what +
-                           ". Octants are visited front to back, so written pixels are final.",
-                       &frame_, std::move(outlines)});
+    in_.trace->record(
+        {kStepOctant,
+         std::string(node.first_child >= 0 ? "Octant" : "Leaf octant") + " at depth " +
+             std::to_string(node.depth) +
+             (node.first_child < 0
+                  ? " holding " + std::to_string(node.entry_count) + " polygons or pieces"
+                  : std::string()) +
+             ", footprint [" + std::to_string(fp.x0) + ".." + std::to_string(fp.x1) + "] x [" +
+             std::to_string(fp.y0) + ".." + std::to_string(fp.y1) + "]: " + what +
+             ". Octants are visited front to back, so written pixels are final.",
+         &frame_, std::move(outlines)});
   }
 
   const AlgorithmInput& in_;
@@ -539,7 +563,8 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
   const std::uint64_t fingerprint = sceneFingerprint(in.scene);
   const OctreeLimits limits = in.trace ? kOctreeTeachingLimits : OctreeLimits{};
   bool built = false;
-  if (!s.tree || s.scene != &in.scene || s.tree->fingerprint != fingerprint || !(s.tree->limits == limits)) {
+  if (!s.tree || s.scene != &in.scene || s.tree->fingerprint != fingerprint ||
+      !(s.tree->limits == limits)) {
     s.tree = std::make_shared<const Octree>(buildOctree(in.scene, limits));
     s.scene = &in.scene;
     built = true;
@@ -547,18 +572,21 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
   }
   const Octree& tree = *s.tree;
   if (in.trace && in.trace->wants(kStepBuild, 0, 1))
-    in.trace->record({kStepBuild,
-                      "The octree, built once in world space for every view: " + std::to_string(tree.stats.nodes) +
-                          " octants, " + std::to_string(tree.stats.leaves) + " leaves, depth " +
-                          std::to_string(tree.stats.depth) + "; " + std::to_string(tree.stats.polygons) +
-                          " polygons held as " + std::to_string(tree.stats.entries) +
-                          " pieces (a polygon crossing octants is clipped to each). " +
-                          "Cut finer than for rendering, to show the octants: a leaf holds at most " +
-                          std::to_string(limits.leaf_polygons) + " polygon, the first " +
-                          std::to_string(limits.cut_regardless_to) + " levels cut whatever they copy (rendering: " +
-                          std::to_string(kOctreeLeafPolygons) + " a leaf; the same picture).",
-                      &frame,
-                      {}});
+    in.trace->record(
+        {kStepBuild,
+         "The octree, built once in world space for every view: " +
+             std::to_string(tree.stats.nodes) + " octants, " + std::to_string(tree.stats.leaves) +
+             " leaves, depth " + std::to_string(tree.stats.depth) + "; " +
+             std::to_string(tree.stats.polygons) + " polygons held as " +
+             std::to_string(tree.stats.entries) +
+             " pieces (a polygon crossing octants is clipped to each). " +
+             "Cut finer than for rendering, to show the octants: a leaf holds at most " +
+             std::to_string(limits.leaf_polygons) + " polygon, the first " +
+             std::to_string(limits.cut_regardless_to) +
+             " levels cut whatever they copy (rendering: " + std::to_string(kOctreeLeafPolygons) +
+             " a leaf; the same picture).",
+         &frame,
+         {}});
   t0.restart();
   // The picture in bands of kBandRows rows, in parallel; the bands are fixed, so the picture
   // and every count are the same at any thread count.
@@ -567,7 +595,8 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
   const int bands = (frame.height + band_rows - 1) / band_rows;
   std::vector<Counts> per_band(static_cast<std::size_t>(bands));
   auto drawBand = [&](int b) {
-    Painter painter(in, frame, tree, s, b * band_rows, std::min(frame.height, (b + 1) * band_rows) - 1);
+    Painter painter(in, frame, tree, s, b * band_rows,
+                    std::min(frame.height, (b + 1) * band_rows) - 1);
     painter.run();
     per_band[static_cast<std::size_t>(b)] = painter.counts;
   };
@@ -589,10 +618,11 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
 
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
-                      "Done: " + std::to_string(c.visited) + " octants visited, " + std::to_string(c.covered) +
-                          " skipped as hidden (" + std::to_string(c.covered_leaves) + " leaves under them), " +
-                          std::to_string(c.outside) + " outside the view; " + std::to_string(c.pixels_written) +
-                          " pixels written, each once.",
+                      "Done: " + std::to_string(c.visited) + " octants visited, " +
+                          std::to_string(c.covered) + " skipped as hidden (" +
+                          std::to_string(c.covered_leaves) + " leaves under them), " +
+                          std::to_string(c.outside) + " outside the view; " +
+                          std::to_string(c.pixels_written) + " pixels written, each once.",
                       &frame,
                       {}});
   frame.stats.fragments_tested += c.fragments.tested;
@@ -613,8 +643,7 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("octree: triangles skipped, covered", c.triangles_covered);
   frame.stats.addCounter("octree: pixels written once", c.pixels_written);
   frame.stats.addCounter("octree: pixels rewritten on a float tie", c.rewritten);
-  frame.stats.addStage("octree traverse + draw",
-                       t0.ms());
+  frame.stats.addStage("octree traverse + draw", t0.ms());
 }
 
 }  // namespace hsr::detail

@@ -22,11 +22,11 @@ struct OctreeEntry {
 };
 
 struct OctreeNode {
-  glm::dvec3 lo, hi;                // the octant
-  std::int32_t first_child = -1;    // 8 consecutive children (bit 0: x above the middle, bit 1:
-                                    // y, bit 2: z), or -1 for a leaf
+  glm::dvec3 lo, hi;              // the octant
+  std::int32_t first_child = -1;  // 8 consecutive children (bit 0: x above the middle, bit 1:
+                                  // y, bit 2: z), or -1 for a leaf
   std::uint32_t first_entry = 0, entry_count = 0;  // a leaf's polygons
-  std::uint32_t leaves = 1;         // leaves in the subtree (itself, for a leaf)
+  std::uint32_t leaves = 1;                        // leaves in the subtree (itself, for a leaf)
   std::uint8_t depth = 0;
 };
 
@@ -65,6 +65,5 @@ struct Octree {
 };
 
 Octree buildOctree(const Scene& scene, const OctreeLimits& limits = {});
-
 
 }  // namespace hsr::detail

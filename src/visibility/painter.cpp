@@ -103,7 +103,9 @@ constexpr std::size_t kMaxCutsPerPiece = 48;
 constexpr std::uint64_t kTestsPerPolygon = 512;
 constexpr std::uint64_t kTestsAtLeast = 1u << 16;
 
-double depthAt(const DepthPlane& p, const glm::dvec2& v) { return (p.z0 + p.dzdy * v.y) + p.dzdx * v.x; }
+double depthAt(const DepthPlane& p, const glm::dvec2& v) {
+  return (p.z0 + p.dzdy * v.y) + p.dzdx * v.x;
+}
 
 // How many P a piece remembers having passed the tests for (a P swapped aside comes back to
 // the same candidates; four cover the usual chain of swaps).
@@ -115,13 +117,13 @@ struct Piece {
   std::vector<std::int64_t> hull;    // convex hull on the sub-pixel grid: x0, y0, x1, y1, ...
   std::vector<PixelHalfPlane> cuts;  // the lines it was cut along, and its side of each
   const WindowPolygon* parent = nullptr;
-  std::uint32_t polygon = 0;         // the parent's index in the pipeline's list
-  double zmin = 0, zmax = 0;         // depth extent (on the parent's plane)
+  std::uint32_t polygon = 0;                    // the parent's index in the pipeline's list
+  double zmin = 0, zmax = 0;                    // depth extent (on the parent's plane)
   std::int64_t x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // extent of the hull, sub-pixel grid
-  bool alive = true;                 // in the list, not yet painted or split
-  bool marked = false;               // at the far end (taken from the list's end, or moved
-                                     // there by a swap), still waiting
-  std::uint32_t seen = 0;            // stamp of the last candidate search that met it
+  bool alive = true;                            // in the list, not yet painted or split
+  bool marked = false;     // at the far end (taken from the list's end, or moved
+                           // there by a swap), still waiting
+  std::uint32_t seen = 0;  // stamp of the last candidate search that met it
   // The last P it passed the tests for (P can be painted before it): not asked again.
   std::uint32_t cleared_for[kClearedSlots] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu};
   std::uint32_t next_slot = 0;
@@ -175,7 +177,8 @@ bool edgeOfASeparates(const std::vector<std::int64_t>& a, const std::vector<std:
     const std::size_t j = (i + 1) % n;
     bool separates = true;
     for (std::size_t k = 0; k < m && separates; ++k)
-      separates = orient2d(a[2 * i], a[2 * i + 1], a[2 * j], a[2 * j + 1], b[2 * k], b[2 * k + 1]) <= 0;
+      separates =
+          orient2d(a[2 * i], a[2 * i + 1], a[2 * j], a[2 * j + 1], b[2 * k], b[2 * k + 1]) <= 0;
     if (separates) return true;
   }
   return false;
@@ -219,7 +222,8 @@ void coverageRegion(const Piece& piece, const std::vector<std::int64_t>& parent_
 // asked. Tests d and e look at whole polygons and fail for two polygons that overlap only
 // where one is clearly behind; this one does not.
 constexpr int kCentresAsked = 64;
-bool behindWhereTheyOverlap(const Piece& p, const Piece& q, const std::vector<std::int64_t>& p_parent_hull,
+bool behindWhereTheyOverlap(const Piece& p, const Piece& q,
+                            const std::vector<std::int64_t>& p_parent_hull,
                             const std::vector<std::int64_t>& q_parent_hull) {
   std::vector<HalfPlane> region;
   coverageRegion(q, q_parent_hull, region);
@@ -277,9 +281,9 @@ struct Counts {
 // Step 2: can P be painted before Q, P hiding no part of Q? The notes' tests, cheapest first.
 bool canPaintBefore(const Piece& p, const Piece& q, const std::vector<std::int64_t>& p_parent_hull,
                     const std::vector<std::int64_t>& q_parent_hull, Counts& c) {
-  if (p.zmin >= q.zmax) return ++c.by_depth, true;                 // a. P wholly farther
-  if (p.x1 <= q.x0 || q.x1 <= p.x0) return ++c.by_x, true;         // b. x extents apart
-  if (p.y1 <= q.y0 || q.y1 <= p.y0) return ++c.by_y, true;         // c. y extents apart
+  if (p.zmin >= q.zmax) return ++c.by_depth, true;          // a. P wholly farther
+  if (p.x1 <= q.x0 || q.x1 <= p.x0) return ++c.by_x, true;  // b. x extents apart
+  if (p.y1 <= q.y0 || q.y1 <= p.y0) return ++c.by_y, true;  // c. y extents apart
   const SideOfPlane p_side = sideOf(p, q), q_side = sideOf(q, p);
   if (p_side.behind && p_side.in_front && q_side.behind && q_side.in_front) {
     // In one plane: neither hides the other, and the z-buffer's tie rule (the first submitted
@@ -287,10 +291,11 @@ bool canPaintBefore(const Piece& p, const Piece& q, const std::vector<std::int64
     if (p.parent->id >= q.parent->id || projectionsDisjoint(p, q)) return ++c.by_coplanar, true;
     return false;
   }
-  if (p_side.behind) return ++c.by_p_behind, true;                 // d. P behind Q's plane
-  if (q_side.in_front) return ++c.by_q_in_front, true;             // e. Q in front of P's plane
-  if (projectionsDisjoint(p, q)) return ++c.by_projection, true;   // f. projections apart
-  if (behindWhereTheyOverlap(p, q, p_parent_hull, q_parent_hull)) return ++c.by_overlap, true;  // g. behind in the overlap
+  if (p_side.behind) return ++c.by_p_behind, true;                // d. P behind Q's plane
+  if (q_side.in_front) return ++c.by_q_in_front, true;            // e. Q in front of P's plane
+  if (projectionsDisjoint(p, q)) return ++c.by_projection, true;  // f. projections apart
+  if (behindWhereTheyOverlap(p, q, p_parent_hull, q_parent_hull))
+    return ++c.by_overlap, true;  // g. behind in the overlap
   ++c.all_failed;
   return false;
 }
@@ -307,12 +312,15 @@ class DepthSort {
     for (const WindowPolygon& p : polygons) {
       double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
       for (const glm::dvec3& v : p.vertices) {
-        x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+        x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y),
+        y1 = std::max(y1, v.y);
       }
-      box_sides += std::sqrt(std::clamp(x1 - x0, 0.0, 1.0 * width) * std::clamp(y1 - y0, 0.0, 1.0 * height));
+      box_sides +=
+          std::sqrt(std::clamp(x1 - x0, 0.0, 1.0 * width) * std::clamp(y1 - y0, 0.0, 1.0 * height));
     }
     const double n = static_cast<double>(std::max<std::size_t>(polygons.size(), 1));
-    cell_ = static_cast<int>(std::clamp(std::max(std::sqrt(4.0 * area / n), box_sides / n), 4.0, 256.0));
+    cell_ = static_cast<int>(
+        std::clamp(std::max(std::sqrt(4.0 * area / n), box_sides / n), 4.0, 256.0));
     cols_ = (width + cell_ - 1) / cell_;
     rows_ = (height + cell_ - 1) / cell_;
     cells_.resize(static_cast<std::size_t>(cols_) * rows_);
@@ -337,8 +345,9 @@ class DepthSort {
       add(std::move(snapped), &polygons[i], i, {});
     }
     for (std::vector<std::uint32_t>& cell : cells_)
-      std::stable_sort(cell.begin(), cell.end(),
-                       [this](std::uint32_t a, std::uint32_t b) { return pieces_[a].zmax > pieces_[b].zmax; });
+      std::stable_sort(cell.begin(), cell.end(), [this](std::uint32_t a, std::uint32_t b) {
+        return pieces_[a].zmax > pieces_[b].zmax;
+      });
     sorted_ = true;
     max_splits_ = kSplitsPerPolygon * polygons.size() + kSplitsAtLeast;
     max_tests_ = kTestsPerPolygon * polygons.size() + kTestsAtLeast;
@@ -377,7 +386,8 @@ class DepthSort {
         pieces_[list.top()].marked = true;
       }
       const std::uint32_t p = far_end.back();
-      budget_spent_ = budget_spent_ || counts_.splits >= max_splits_ || counts_.candidates >= max_tests_;
+      budget_spent_ =
+          budget_spent_ || counts_.splits >= max_splits_ || counts_.candidates >= max_tests_;
       const std::uint32_t q = budget_spent_ ? kNone : firstHidden(p);
       if (q == kNone) {
         // Out of budget: painted as reached, unchecked, and counted (reported).
@@ -387,7 +397,8 @@ class DepthSort {
         continue;
       }
       // 3. Q might be hidden by P. If Q may go first and is not marked, swap.
-      if (!pieces_[q].marked && canPaintBefore(pieces_[q], pieces_[p], hulls_[pieces_[q].polygon], hulls_[pieces_[p].polygon], counts_)) {
+      if (!pieces_[q].marked && canPaintBefore(pieces_[q], pieces_[p], hulls_[pieces_[q].polygon],
+                                               hulls_[pieces_[p].polygon], counts_)) {
         ++counts_.swaps;
         pieces_[q].marked = true;
         far_end.push_back(q);
@@ -429,7 +440,8 @@ class DepthSort {
   std::size_t pieceCount() const { return pieces_.size(); }
   std::size_t bytes() const {
     std::size_t b = pieces_.capacity() * sizeof(Piece);
-    for (const Piece& p : pieces_) b += p.xy.capacity() * sizeof(glm::dvec2) + p.hull.capacity() * 8;
+    for (const Piece& p : pieces_)
+      b += p.xy.capacity() * sizeof(glm::dvec2) + p.hull.capacity() * 8;
     for (const auto& c : cells_) b += c.capacity() * sizeof(std::uint32_t);
     return b;
   }
@@ -491,9 +503,9 @@ class DepthSort {
         cell.push_back(index);
         return;
       }
-      const auto at = std::upper_bound(cell.begin(), cell.end(), zmax, [this](double z, std::uint32_t q) {
-        return z > pieces_[q].zmax;
-      });
+      const auto at =
+          std::upper_bound(cell.begin(), cell.end(), zmax,
+                           [this](double z, std::uint32_t q) { return z > pieces_[q].zmax; });
       cell.insert(at, index);
     });
     pieces_.push_back(std::move(p));
@@ -504,13 +516,16 @@ class DepthSort {
   void forCells(const Piece& p, Fn&& fn) {
     // Cells in whole pixels; the extents are on the sub-pixel grid.
     auto col = [&](std::int64_t x) {
-      return static_cast<int>(std::clamp<std::int64_t>(floorDiv(x, kSubpixelOne * cell_), 0, cols_ - 1));
+      return static_cast<int>(
+          std::clamp<std::int64_t>(floorDiv(x, kSubpixelOne * cell_), 0, cols_ - 1));
     };
     auto row = [&](std::int64_t y) {
-      return static_cast<int>(std::clamp<std::int64_t>(floorDiv(y, kSubpixelOne * cell_), 0, rows_ - 1));
+      return static_cast<int>(
+          std::clamp<std::int64_t>(floorDiv(y, kSubpixelOne * cell_), 0, rows_ - 1));
     };
     for (int r = row(p.y0); r <= row(p.y1); ++r)
-      for (int c = col(p.x0); c <= col(p.x1); ++c) fn(cells_[static_cast<std::size_t>(r) * cols_ + c]);
+      for (int c = col(p.x0); c <= col(p.x1); ++c)
+        fn(cells_[static_cast<std::size_t>(r) * cols_ + c]);
   }
 
   // The first waiting Q that P might hide (every test of step 2 failed), or kNone.
@@ -533,7 +548,8 @@ class DepthSort {
           continue;
         pieces_[q].seen = stamp_;
         ++counts_.candidates;
-        if (canPaintBefore(pieces_[p], pieces_[q], hulls_[pieces_[p].polygon], hulls_[pieces_[q].polygon], counts_))
+        if (canPaintBefore(pieces_[p], pieces_[q], hulls_[pieces_[p].polygon],
+                           hulls_[pieces_[q].polygon], counts_))
           pieces_[q].cleared_for[pieces_[q].next_slot++ % kClearedSlots] = p;
         else
           found = q;
@@ -604,7 +620,8 @@ class DepthSort {
   // of the others' planes has none to cut along, and then P is cut across the middle of its
   // longer side, which separates its overlaps with its neighbours in the cycle as the pieces
   // shrink. Returns the piece cut, or kNone when P is too small to cut.
-  std::uint32_t breakCycle(std::span<const std::uint32_t> cycle, std::uint32_t p, std::uint32_t parts[2]) {
+  std::uint32_t breakCycle(std::span<const std::uint32_t> cycle, std::uint32_t p,
+                           std::uint32_t parts[2]) {
     for (const std::uint32_t x : cycle)
       for (const std::uint32_t y : cycle) {
         if (x == y) continue;
@@ -618,14 +635,17 @@ class DepthSort {
     const Piece& c = pieces_[p];
     // A piece within one pixel both ways is not cut further: the cycle is left unresolved
     // (reported); it can only come from depths that tie within kOnPlane.
-    if ((c.x1 - c.x0 <= kSubpixelOne && c.y1 - c.y0 <= kSubpixelOne) || c.cuts.size() >= kMaxCutsPerPiece)
+    if ((c.x1 - c.x0 <= kSubpixelOne && c.y1 - c.y0 <= kSubpixelOne) ||
+        c.cuts.size() >= kMaxCutsPerPiece)
       return kNone;
     const bool wide = c.x1 - c.x0 >= c.y1 - c.y0;
     const double middle = wide ? 0.5 * static_cast<double>(c.x0 + c.x1) / kSubpixelOne
                                : 0.5 * static_cast<double>(c.y0 + c.y1) / kSubpixelOne;
     ++counts_.screen_cuts;
-    split(p, wide ? PixelHalfPlane{1.0, 0.0, -middle, false} : PixelHalfPlane{0.0, 1.0, -middle, false},
-          parts);
+    split(
+        p,
+        wide ? PixelHalfPlane{1.0, 0.0, -middle, false} : PixelHalfPlane{0.0, 1.0, -middle, false},
+        parts);
     return p;
   }
 
@@ -646,7 +666,8 @@ std::vector<TraceOutline> outlineOf(const Piece* a, const Piece* b) {
   for (const Piece* p : {a, b}) {
     if (p == nullptr) continue;
     TraceOutline o;
-    for (const glm::dvec2& v : p->xy) o.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y));
+    for (const glm::dvec2& v : p->xy)
+      o.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y));
     out.push_back(std::move(o));
   }
   return out;
@@ -672,8 +693,8 @@ void drawPainter(const AlgorithmInput& in, Frame& frame) {
                 " polygons by their farthest depth, farthest first. Nothing is painted yet.";
     else if (step == kStepSwap)
       caption = "Swap: polygon " + std::to_string(a->parent->id) + " might hide part of polygon " +
+                std::to_string(b->parent->id) + " (every test failed), and polygon " +
                 std::to_string(b->parent->id) +
-                " (every test failed), and polygon " + std::to_string(b->parent->id) +
                 " can go first: it moves to the far end of the list, marked.";
     else
       caption = "Split: a cycle or an interpenetration; polygon " + std::to_string(a->parent->id) +
@@ -703,9 +724,10 @@ void drawPainter(const AlgorithmInput& in, Frame& frame) {
   const Counts& c = sort.counts();
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
-                      "Done: " + std::to_string(c.pieces_painted) + " pieces painted back to front, " +
-                          std::to_string(c.swaps) + " swaps, " + std::to_string(c.splits) +
-                          " splits, " + std::to_string(c.cycles) + " cycles broken.",
+                      "Done: " + std::to_string(c.pieces_painted) +
+                          " pieces painted back to front, " + std::to_string(c.swaps) + " swaps, " +
+                          std::to_string(c.splits) + " splits, " + std::to_string(c.cycles) +
+                          " cycles broken.",
                       &frame,
                       {}});
   frame.stats.fragments_tested += fragments.tested;
@@ -728,9 +750,7 @@ void drawPainter(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("painter: cuts across a piece", c.screen_cuts);
   frame.stats.addCounter("painter: pieces painted", c.pieces_painted);
   frame.stats.addCounter("painter: unresolved", c.unresolved);
-  frame.stats.addStage(
-      "depth sort + paint",
-      t0.ms());
+  frame.stats.addStage("depth sort + paint", t0.ms());
 }
 
 }  // namespace hsr::detail

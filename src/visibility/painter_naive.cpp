@@ -43,9 +43,7 @@ void drawPainterNaive(const AlgorithmInput& in, Frame& frame) {
   frame.stats.fragments_tested += fragments.tested;
   frame.stats.fragments_written += fragments.written;
   frame.stats.state_bytes += frameBufferBytes(frame) + order.capacity() * 12;
-  frame.stats.addStage(
-      "sort + paint",
-      t0.ms());
+  frame.stats.addStage("sort + paint", t0.ms());
 }
 
 }  // namespace hsr::detail

@@ -129,7 +129,9 @@ void outlineBox(const glm::dmat4& device_from_world, const glm::vec3& lo, const 
                 std::vector<TraceOutline>& out) {
   glm::vec2 c[8];
   for (int i = 0; i < 8; ++i) {
-    const glm::dvec4 h = device_from_world * glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
+    const glm::dvec4 h =
+        device_from_world *
+        glm::dvec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0);
     if (!(h.w > 1e-9)) return;
     c[i] = glm::vec2(static_cast<float>(h.x / h.w), static_cast<float>(h.y / h.w));
   }
@@ -140,7 +142,8 @@ void outlineBox(const glm::dmat4& device_from_world, const glm::vec3& lo, const 
 
 // The teaching view: the hierarchy's boxes over the picture level by level, then a few
 // pixels' rays with the boxes each entered and the triangle it kept.
-void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySceneData& data, HitSides sides) {
+void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySceneData& data,
+                      HitSides sides) {
   const Bvh& bvh = data.bvh;
   const glm::dmat4 device_from_world = deviceFromWorld(in.camera);
   // Boxes by level: the root's children are level 1
@@ -165,12 +168,14 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
     }
     if (boxes == 0) break;  // only leaves below: the tree ends here
     if (in.trace->wants(kStepLevel, static_cast<std::uint64_t>(l - 1), kLevels))
-      in.trace->record({kStepLevel,
-                        "Level " + std::to_string(l) + " of the bounding volume hierarchy: " + std::to_string(boxes) +
-                            " boxes" + (boxes > kMostBoxes ? " (the first " + std::to_string(kMostBoxes) + " drawn)" : "") +
-                            ". Each box holds up to " + std::to_string(kBvhWidth) + " smaller ones; a ray tests them side by side and enters only those it meets.",
-                        &frame,
-                        std::move(outlines)});
+      in.trace->record(
+          {kStepLevel,
+           "Level " + std::to_string(l) +
+               " of the bounding volume hierarchy: " + std::to_string(boxes) + " boxes" +
+               (boxes > kMostBoxes ? " (the first " + std::to_string(kMostBoxes) + " drawn)" : "") +
+               ". Each box holds up to " + std::to_string(kBvhWidth) +
+               " smaller ones; a ray tests them side by side and enters only those it meets.",
+           &frame, std::move(outlines)});
     level.swap(next);
   }
   // A few rays: three pixels that show a polygon (a quarter, half and three quarters through
@@ -182,9 +187,11 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
     if (frame.ids[i] != kNoPolygon) shown.push_back(i);
   int picks[3][2];
   for (int k = 0; k < 3; ++k) {
-    const std::size_t i = shown.empty() ? static_cast<std::size_t>(frame.height / 2) * frame.width + frame.width / 2
-                                        : shown[shown.size() * static_cast<std::size_t>(k + 1) / 4];
-    picks[k][0] = static_cast<int>(i % frame.width), picks[k][1] = static_cast<int>(i / frame.width);
+    const std::size_t i =
+        shown.empty() ? static_cast<std::size_t>(frame.height / 2) * frame.width + frame.width / 2
+                      : shown[shown.size() * static_cast<std::size_t>(k + 1) / 4];
+    picks[k][0] = static_cast<int>(i % frame.width),
+    picks[k][1] = static_cast<int>(i / frame.width);
   }
   for (int k = 0; k < 3; ++k) {
     const PixelRay ray = pixel_rays.at(picks[k][0], picks[k][1]);
@@ -192,7 +199,8 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
     BvhTraversalCounts counts;
     counts.entered = &entered;
     BvhCandidates found;
-    intersectNearestBand(bvh, ray.org, ray.dir, ray.tmin, ray.tmax, sides, &bandLimit, &band, &found, &counts);
+    intersectNearestBand(bvh, ray.org, ray.dir, ray.tmin, ray.tmax, sides, &bandLimit, &band,
+                         &found, &counts);
     std::vector<TraceOutline> outlines;
     for (const auto& [lo, hi] : entered) outlineBox(device_from_world, lo, hi, outlines);
     std::string kept = "it meets nothing";
@@ -201,19 +209,22 @@ void explainHierarchy(const AlgorithmInput& in, const Frame& frame, const RaySce
       TraceOutline tri;
       for (const glm::vec3& v : {data.a[t], data.b[t], data.c[t]}) {
         const glm::dvec4 h = device_from_world * glm::dvec4(glm::dvec3(v), 1.0);
-        if (h.w > 1e-9) tri.push_back(glm::vec2(static_cast<float>(h.x / h.w), static_cast<float>(h.y / h.w)));
+        if (h.w > 1e-9)
+          tri.push_back(glm::vec2(static_cast<float>(h.x / h.w), static_cast<float>(h.y / h.w)));
       }
       if (tri.size() == 3) outlines.push_back(std::move(tri));
-      kept = "it keeps polygon " + std::to_string(data.polygon[t]) + " at t = " + std::to_string(found.hit[0].t);
+      kept = "it keeps polygon " + std::to_string(data.polygon[t]) +
+             " at t = " + std::to_string(found.hit[0].t);
     }
     if (in.trace->wants(kStepRay, static_cast<std::uint64_t>(k), 3))
       in.trace->record({kStepRay,
-                        "The ray through pixel (" + std::to_string(picks[k][0]) + ", " + std::to_string(picks[k][1]) +
-                            ") enters " + std::to_string(entered.size()) + (entered.size() == 1 ? " box" : " boxes") + " and tests " +
-                            std::to_string(counts.triangles) + " triangles of " + std::to_string(bvh.stats.triangles) +
-                            "; " + kept + ", the nearest.",
-                        &frame,
-                        std::move(outlines)});
+                        "The ray through pixel (" + std::to_string(picks[k][0]) + ", " +
+                            std::to_string(picks[k][1]) + ") enters " +
+                            std::to_string(entered.size()) +
+                            (entered.size() == 1 ? " box" : " boxes") + " and tests " +
+                            std::to_string(counts.triangles) + " triangles of " +
+                            std::to_string(bvh.stats.triangles) + "; " + kept + ", the nearest.",
+                        &frame, std::move(outlines)});
   }
 }
 
@@ -229,7 +240,8 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   std::vector<std::uint8_t> see_through;
   for (const Material& m : in.scene.materials) see_through.push_back(materialSeeThrough(m));
   bool built = false;
-  if (!s.rays || s.scene != &in.scene || s.fingerprint != fingerprint || s.see_through != see_through) {
+  if (!s.rays || s.scene != &in.scene || s.fingerprint != fingerprint ||
+      s.see_through != see_through) {
     s.rays = std::make_shared<const RayScene>(in.scene, /*opaque_only=*/true);
     s.scene = &in.scene;
     s.fingerprint = fingerprint;
@@ -246,10 +258,11 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
                       "The bounding volume hierarchy, built once in world space for every view: " +
                           std::to_string(data.bvh.stats.triangles) + " triangles in " +
                           std::to_string(data.bvh.stats.leaves) + " leaves under " +
-                          std::to_string(data.bvh.stats.nodes) + " boxes of up to " + std::to_string(kBvhWidth) + ", depth " +
-                          std::to_string(data.bvh.stats.depth) + " (binned surface-area heuristic).",
-                      &frame,
-                      std::move(outlines)});
+                          std::to_string(data.bvh.stats.nodes) + " boxes of up to " +
+                          std::to_string(kBvhWidth) + ", depth " +
+                          std::to_string(data.bvh.stats.depth) +
+                          " (binned surface-area heuristic).",
+                      &frame, std::move(outlines)});
   }
   t0.restart();
 
@@ -279,7 +292,8 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   const bool can_hit = sidesFor(in.options, &sides);
 
   const FrameView fb(frame);
-  const int tiles_x = (frame.width + kTile - 1) / kTile, tiles_y = (frame.height + kTile - 1) / kTile;
+  const int tiles_x = (frame.width + kTile - 1) / kTile,
+            tiles_y = (frame.height + kTile - 1) / kTile;
   std::vector<TileCounts> per_tile(static_cast<std::size_t>(tiles_x) * tiles_y);
   std::atomic<std::uint64_t> unshaded{0};
   // A pixel's hits (the nearest and its ties, the nearest first) made its fragment
@@ -293,8 +307,10 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
       const BvhHit& h = found.hit[i];
       const PolygonId p = data.polygon[h.triangle];
       const double t = h.t;
-      const float zi = (s.state[p] & kOnePlane) ? fragmentDepth(s.plane[p], x, y)
-                                                : static_cast<float>(cam.ortho ? t : (t * far - near) / (t * (far - near)));
+      const float zi =
+          (s.state[p] & kOnePlane)
+              ? fragmentDepth(s.plane[p], x, y)
+              : static_cast<float>(cam.ortho ? t : (t * far - near) / (t * (far - near)));
       if (zi < z || (zi == z && p < id)) z = zi, id = p;
     }
     if (!(z < fb.depth[k])) return;  // LESS against the cleared depth
@@ -313,7 +329,8 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   auto castTile = [&](int tx, int ty) {
     TileCounts& c = per_tile[static_cast<std::size_t>(ty) * tiles_x + tx];
     BvhTraversalCounts work;
-    const int x_end = std::min(frame.width, (tx + 1) * kTile), y_end = std::min(frame.height, (ty + 1) * kTile);
+    const int x_end = std::min(frame.width, (tx + 1) * kTile),
+              y_end = std::min(frame.height, (ty + 1) * kTile);
     // The tile's rays in groups of kGroup x kGroup neighbours, cast together (bvh.hpp: each
     // ray's answer is its own, found with one box test for the group where they run side by side)
     for (int gy = ty * kTile; gy < y_end; gy += kGroup) {
@@ -326,14 +343,16 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
           for (int x = gx; x < std::min(x_end, gx + kGroup); ++x) {
             // A ray from the eye through the pixel centre
             const PixelRay ray = pixel_rays.at(x, y);
-            org[n] = ray.org, dir[n] = ray.dir, px[n] = x, py[n] = y, tmin = ray.tmin, tmax = ray.tmax;
+            org[n] = ray.org, dir[n] = ray.dir, px[n] = x, py[n] = y, tmin = ray.tmin,
+            tmax = ray.tmax;
             ++n;
           }
         }
         c.rays += static_cast<std::uint64_t>(n);
         if (!can_hit) continue;
         BvhCandidates found[kGroup * kGroup];
-        intersectNearestBandGroup(data.bvh, org, dir, n, tmin, tmax, sides, &bandLimit, &band, found, &work);
+        intersectNearestBandGroup(data.bvh, org, dir, n, tmin, tmax, sides, &bandLimit, &band,
+                                  found, &work);
         for (int i = 0; i < n; ++i) settle(px[i], py[i], found[i], c);
       }
     }
@@ -352,8 +371,9 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   }
   if (in.trace && in.trace->wants(kStepCast, 0, 1))
     in.trace->record({kStepCast,
-                      "A ray from the eye through every pixel centre: " + std::to_string(c.rays) + " rays, " +
-                          std::to_string(c.hits) + " hit a polygon; each pixel shows the nearest hit.",
+                      "A ray from the eye through every pixel centre: " + std::to_string(c.rays) +
+                          " rays, " + std::to_string(c.hits) +
+                          " hit a polygon; each pixel shows the nearest hit.",
                       &frame,
                       {}});
   if (in.trace) explainHierarchy(in, frame, data, sides);
@@ -369,9 +389,10 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
 
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
-                      "Done: " + std::to_string(c.hits) + " pixels show their ray's nearest polygon; " +
-                          std::to_string(c.nodes) + " nodes of up to " + std::to_string(kBvhWidth) + " boxes visited and " + std::to_string(c.triangles) +
-                          " ray/triangle tests in all.",
+                      "Done: " + std::to_string(c.hits) +
+                          " pixels show their ray's nearest polygon; " + std::to_string(c.nodes) +
+                          " nodes of up to " + std::to_string(kBvhWidth) + " boxes visited and " +
+                          std::to_string(c.triangles) + " ray/triangle tests in all.",
                       &frame,
                       {}});
   frame.stats.fragments_tested += c.hits + fragments.tested;
@@ -386,7 +407,8 @@ void drawRaycast(const AlgorithmInput& in, Frame& frame) {
   frame.stats.addCounter("raycast: hits", c.hits);
   frame.stats.addCounter("raycast: nodes visited", c.nodes);
   frame.stats.addCounter("raycast: ray/triangle tests", c.triangles);
-  frame.stats.addCounter("raycast: pixels with hits in one depth band, settled by float depth", c.tie_sets);
+  frame.stats.addCounter("raycast: pixels with hits in one depth band, settled by float depth",
+                         c.tie_sets);
   frame.stats.addCounter("raycast: hits shaded without a screen triangle", unshaded.load());
 }
 

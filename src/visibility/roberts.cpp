@@ -452,20 +452,21 @@ class RobertsRun {
   }
 
   RobertsDrawing run() {
-    findSolids();            // 1.
-    removeBackFaces();       // 2., keeping the faces and volumes the tests use
+    findSolids();       // 1.
+    removeBackFaces();  // 2., keeping the faces and volumes the tests use
     makeVolumes();
     traceSolidsAndBackFaces();
-    sectionFaces();          // 3. the sections of each face's plane by the volumes in front
+    sectionFaces();  // 3. the sections of each face's plane by the volumes in front
     listEdges();
-    findJunctionLines();     // 4.
+    findJunctionLines();  // 4.
     // 3. (the edges) and 5., face by face in id order (the z-buffer's order among equal
     // depths): the visible segments of the face's edges and junction lines, then what the
     // sections leave of the face, filled through the shared routine.
     std::vector<std::uint32_t> by_id(faces_.size());
     for (std::uint32_t i = 0; i < faces_.size(); ++i) by_id[i] = i;
-    std::stable_sort(by_id.begin(), by_id.end(),
-                     [&](std::uint32_t l, std::uint32_t r) { return faces_[l].w->id < faces_[r].w->id; });
+    std::stable_sort(by_id.begin(), by_id.end(), [&](std::uint32_t l, std::uint32_t r) {
+      return faces_[l].w->id < faces_[r].w->id;
+    });
     if (frame_) fb_.emplace(*frame_);
     std::uint64_t step = 0;
     for (std::uint32_t fi : by_id) {
@@ -525,7 +526,8 @@ class RobertsRun {
       for (const WindowPolygon* w : by_object[o]) {
         cut = cut || seen[w->id - scene_.objects[o].first_polygon]++ || w->piece != 0;
         for (const dvec3& q : w->vertices)
-          cut = cut || !(q.x > kMin && q.x < xmax_ && q.y > kMin && q.y < ymax_ && q.z > 0 && q.z < 1);
+          cut = cut ||
+                !(q.x > kMin && q.x < xmax_ && q.y > kMin && q.y < ymax_ && q.z > 0 && q.z < 1);
       }
       if (why.empty() && cut) why = "cut by the view volume";
       RobertsObject& ro = out_.objects.emplace_back();
@@ -565,7 +567,8 @@ class RobertsRun {
         f.v.emplace_back(static_cast<double>(g.x), static_cast<double>(g.y), q.z * sc_.zs);
         xy.emplace_back(static_cast<double>(g.x), static_cast<double>(g.y));
       }
-      while (f.ring.size() > 1 && f.ring.front() == f.ring.back()) f.ring.pop_back(), f.v.pop_back(), xy.pop_back();
+      while (f.ring.size() > 1 && f.ring.front() == f.ring.back())
+        f.ring.pop_back(), f.v.pop_back(), xy.pop_back();
       if (f.ring.size() < 3) continue;
       if (trace_) all_outlines_.push_back(outlineOf(xy));
       // The notes' test after the perspective transformation, as the pipeline's facing: the
@@ -611,8 +614,10 @@ class RobertsRun {
     // plane its section tests use): a triangle of a concave face then lies exactly in it.
     for (const std::vector<dvec2>& piece : f.pieces) {
       Volume& vol = volumes_.emplace_back();
-      for (const dvec2& q : piece) vol.vertices.emplace_back(q.x, q.y, sc_.depth(f.w->depth, q.x, q.y));
-      for (std::uint32_t i = 0; i < piece.size(); ++i) vol.edges.emplace_back(i, (i + 1) % piece.size());
+      for (const dvec2& q : piece)
+        vol.vertices.emplace_back(q.x, q.y, sc_.depth(f.w->depth, q.x, q.y));
+      for (std::uint32_t i = 0; i < piece.size(); ++i)
+        vol.edges.emplace_back(i, (i + 1) % piece.size());
       vol.faces.push_back(fi);
       vol.object = f.object, vol.face = static_cast<int>(fi);
     }
@@ -621,14 +626,17 @@ class RobertsRun {
   // The volumes finished: a solid lists each corner once and each edge once (its faces share
   // them); each volume's box and screen outline.
   void makeVolumes() {
-    const auto less = [](const dvec3& l, const dvec3& r) { return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z); };
+    const auto less = [](const dvec3& l, const dvec3& r) {
+      return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z);
+    };
     for (Volume& v : volumes_) {
       if (v.solid >= 0) {
         std::vector<dvec3> corners = v.vertices;
         std::sort(corners.begin(), corners.end(), less);
         corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
         auto index = [&](const dvec3& q) {
-          return static_cast<std::uint32_t>(std::lower_bound(corners.begin(), corners.end(), q, less) - corners.begin());
+          return static_cast<std::uint32_t>(
+              std::lower_bound(corners.begin(), corners.end(), q, less) - corners.begin());
         };
         for (auto& [a, b] : v.edges) {
           std::uint32_t ia = index(v.vertices[a]), ib = index(v.vertices[b]);
@@ -651,18 +659,21 @@ class RobertsRun {
   void traceSolidsAndBackFaces() {
     if (trace_ && trace_->wants(kStepSolids, 0, 1)) {
       std::string caption = "Solids: " + std::to_string(out_.solids) + " of the " +
-                            std::to_string(out_.objects.size()) + " objects in view are convex polyhedra";
+                            std::to_string(out_.objects.size()) +
+                            " objects in view are convex polyhedra";
       for (const RobertsObject& ro : out_.objects)
         if (!ro.solid)
-          caption += "; \"" + scene_.objects[ro.object].name + "\" is taken face by face (" + ro.reason + ")";
+          caption += "; \"" + scene_.objects[ro.object].name + "\" is taken face by face (" +
+                     ro.reason + ")";
       trace_->record({kStepSolids, caption + ".", frame_, std::move(all_outlines_)});
     }
     if (trace_ && trace_->wants(kStepBackFaces, 0, 1))
-      trace_->record({kStepBackFaces,
-                      "Remove the back faces of each solid (outlined: " + std::to_string(out_.back_faces) +
-                          "), whose outward normal points away from the eye: the solid's own front faces hide "
-                          "them.",
-                      frame_, back_outlines_});
+      trace_->record(
+          {kStepBackFaces,
+           "Remove the back faces of each solid (outlined: " + std::to_string(out_.back_faces) +
+               "), whose outward normal points away from the eye: the solid's own front faces hide "
+               "them.",
+           frame_, back_outlines_});
   }
 
   // ---- 3. Sections of each face's plane by the volumes that may hide some of it, found
@@ -684,8 +695,10 @@ class RobertsRun {
           if (seen[vi] == stamp) continue;
           seen[vi] = stamp;
           const Volume& v = volumes_[vi];
-          if ((v.solid >= 0 && v.solid == f.solid) || v.face == static_cast<int>(fi)) continue;  // its own solid
-          if (v.x1 <= f.x0 || v.x0 >= f.x1 || v.y1 <= f.y0 || v.y0 >= f.y1 || v.zmin >= f.zmax) continue;
+          if ((v.solid >= 0 && v.solid == f.solid) || v.face == static_cast<int>(fi))
+            continue;  // its own solid
+          if (v.x1 <= f.x0 || v.x0 >= f.x1 || v.y1 <= f.y0 || v.y0 >= f.y1 || v.zmin >= f.zmax)
+            continue;
           out_.tests++;
           Section sec;
           sec.volume = vi;
@@ -695,7 +708,8 @@ class RobertsRun {
           // towards the eye is never more than what the volume hides, and what it leaves (where
           // the two are as good as equal in depth) goes to the depth test, as in the z-buffer.
           const DepthPlane& p = f.w->depth;
-          const double lift = sc_.zs * 1e-12 + sc_.zs * (std::abs(p.dzdx) + std::abs(p.dzdy)) / kGrid;
+          const double lift =
+              sc_.zs * 1e-12 + sc_.zs * (std::abs(p.dzdx) + std::abs(p.dzdy)) / kGrid;
           section(f, v, sc_, lift, s, sec.shown);
           // A face that one section covers with room to spare (its corners inside the section
           // taken for the picture) is hidden whole: nothing more is asked of it.
@@ -707,8 +721,8 @@ class RobertsRun {
           sec.area = hullArea(sec.hull);
           sec.x0 = sec.y0 = INFINITY, sec.x1 = sec.y1 = -INFINITY;
           for (const dvec2& q : sec.hull)
-            sec.x0 = std::min(sec.x0, q.x), sec.x1 = std::max(sec.x1, q.x), sec.y0 = std::min(sec.y0, q.y),
-            sec.y1 = std::max(sec.y1, q.y);
+            sec.x0 = std::min(sec.x0, q.x), sec.x1 = std::max(sec.x1, q.x),
+            sec.y0 = std::min(sec.y0, q.y), sec.y1 = std::max(sec.y1, q.y);
           sections_[fi].push_back(std::move(sec));
         }
       });
@@ -721,7 +735,8 @@ class RobertsRun {
     if (hull.size() < 3) return false;
     for (const GridPoint& g : ring)
       for (std::size_t i = 0; i < hull.size(); ++i)
-        if (cross(hull[(i + 1) % hull.size()] - hull[i], dvec2(g.x, g.y) - hull[i]) <= 0) return false;
+        if (cross(hull[(i + 1) % hull.size()] - hull[i], dvec2(g.x, g.y) - hull[i]) <= 0)
+          return false;
     return true;
   }
 
@@ -780,7 +795,8 @@ class RobertsRun {
     for (std::uint32_t fi = 0; fi < faces_.size(); ++fi)
       for (const Section& sec : sections_[fi])
         for (std::uint32_t gi : volumes_[sec.volume].faces)
-          if (!hidden_whole_[gi] && (faces_[gi].object != faces_[fi].object || !shareCorner(faces_[fi], faces_[gi])))
+          if (!hidden_whole_[gi] &&
+              (faces_[gi].object != faces_[fi].object || !shareCorner(faces_[fi], faces_[gi])))
             pairs.emplace_back(std::min(fi, gi), std::max(fi, gi));
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
@@ -790,7 +806,8 @@ class RobertsRun {
       const Face &f = faces_[fi], &g = faces_[gi];
       // Where the planes meet: depth(f) - depth(g) = 0, a line in x, y (grid units).
       const DepthPlane &pf = f.w->depth, &pg = g.w->depth;
-      const double A = (pf.dzdx - pg.dzdx) / kGrid, B = (pf.dzdy - pg.dzdy) / kGrid, C = pf.z0 - pg.z0;
+      const double A = (pf.dzdx - pg.dzdx) / kGrid, B = (pf.dzdy - pg.dzdy) / kGrid,
+                   C = pf.z0 - pg.z0;
       const double norm = std::hypot(A, B);
       if (!(norm > 0) || !std::isfinite(norm)) continue;  // parallel planes
       const dvec2 p0(-A * C / (norm * norm), -B * C / (norm * norm)), d(-B / norm, A / norm);
@@ -813,14 +830,16 @@ class RobertsRun {
     if (hidden_parts_) {
       for (const auto& [key, ref] : edges_of_[fi])
         addHidden({key[1], key[2]}, {key[4], key[5]}, f.w->id, ref.other, ref.neighbour, false);
-      for (const Junction& j : junctions_[fi]) addHidden(j.a, j.b, f.w->id, faces_[j.g].w->id, kNoPolygon, true);
+      for (const Junction& j : junctions_[fi])
+        addHidden(j.a, j.b, f.w->id, faces_[j.g].w->id, kNoPolygon, true);
     }
     if (show)
-      trace_->record({kStepFace,
-                      "Face " + std::to_string(f.w->id) +
-                          " lies wholly inside the section of a volume in front of it: hidden, edges and all.",
-                      frame_,
-                      {}});
+      trace_->record(
+          {kStepFace,
+           "Face " + std::to_string(f.w->id) +
+               " lies wholly inside the section of a volume in front of it: hidden, edges and all.",
+           frame_,
+           {}});
   }
 
   // ---- 3. (the edges) The visible segments of a face's edges and junction lines: what no
@@ -832,27 +851,33 @@ class RobertsRun {
       addVisible(j.a, j.b, fi, faces_[j.g].w->id, kNoPolygon, static_cast<int>(j.g), o);
   }
 
-  void addHidden(dvec2 a, dvec2 b, PolygonId face, PolygonId other, PolygonId neighbour, bool junction) {
-    out_.hidden.push_back({a.x / kGrid, a.y / kGrid, b.x / kGrid, b.y / kGrid, face, other, junction, neighbour});
+  void addHidden(dvec2 a, dvec2 b, PolygonId face, PolygonId other, PolygonId neighbour,
+                 bool junction) {
+    out_.hidden.push_back(
+        {a.x / kGrid, a.y / kGrid, b.x / kGrid, b.y / kGrid, face, other, junction, neighbour});
   }
 
   // Segment ab of face fi: the stretches the sections hide taken out, the rest kept. `meets`:
   // for a junction line, the face g it lies on too: g's own volume is not tested (the line is
   // on its section's border, where g's plane and f's meet).
-  void addVisible(dvec2 a, dvec2 b, std::uint32_t fi, PolygonId other, PolygonId neighbour, int meets,
-                  std::vector<TraceOutline>* o) {
+  void addVisible(dvec2 a, dvec2 b, std::uint32_t fi, PolygonId other, PolygonId neighbour,
+                  int meets, std::vector<TraceOutline>* o) {
     const bool junction = meets >= 0;
     out_.edges += !junction;
     std::vector<std::pair<double, double>>& hidden = hidden_stretches_;
     hidden.clear();
     const PolygonId id = faces_[fi].w->id;
-    const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
+    const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y),
+                 y1 = std::max(a.y, b.y);
     for (const Section& sec : sections_[fi]) {  // the largest first: most often one hides it all
       if (sec.x1 <= x0 || sec.x0 >= x1 || sec.y1 <= y0 || sec.y0 >= y1) {
-        if (!(x0 == x1 && sec.x0 < x0 && x0 < sec.x1) && !(y0 == y1 && sec.y0 < y0 && y0 < sec.y1)) continue;
+        if (!(x0 == x1 && sec.x0 < x0 && x0 < sec.x1) && !(y0 == y1 && sec.y0 < y0 && y0 < sec.y1))
+          continue;
       }
       const std::vector<std::uint32_t>& of = volumes_[sec.volume].faces;
-      if (junction && std::find(of.begin(), of.end(), static_cast<std::uint32_t>(meets)) != of.end()) continue;
+      if (junction &&
+          std::find(of.begin(), of.end(), static_cast<std::uint32_t>(meets)) != of.end())
+        continue;
       double t0, t1;
       if (!insideStretch(a, b, sec.hull, &t0, &t1)) continue;
       if (t0 <= 0 && t1 >= 1) {  // hidden all along
@@ -868,7 +893,8 @@ class RobertsRun {
       if ((u1 - u0) * len <= kTiny) return;
       const dvec2 p = a + (b - a) * u0, q = a + (b - a) * u1;
       if (!shown) return addHidden(p, q, id, other, neighbour, junction);
-      out_.segments.push_back({p.x / kGrid, p.y / kGrid, q.x / kGrid, q.y / kGrid, id, other, junction, neighbour});
+      out_.segments.push_back(
+          {p.x / kGrid, p.y / kGrid, q.x / kGrid, q.y / kGrid, id, other, junction, neighbour});
       if (o) o->push_back(outlineOf({p, q}));
     };
     for (const auto& [h0, h1] : hidden) {
@@ -901,7 +927,8 @@ class RobertsRun {
     } else {  // snapping folded it (a sliver): its fan, as the Weiler-Atherton list takes it
       for (std::size_t k = 1; k + 1 < f.ring.size(); ++k) {
         const GridRegion tri{{{f.ring[0], f.ring[k], f.ring[k + 1]}, {}}};
-        if (invalidRegionReason(tri).empty()) region = booleanOp(region, exactRegion(tri), BooleanOp::Union);
+        if (invalidRegionReason(tri).empty())
+          region = booleanOp(region, exactRegion(tri), BooleanOp::Union);
       }
     }
     for (const Section& sec : sections_[fi]) {
@@ -916,13 +943,14 @@ class RobertsRun {
     if (!show) return;
     const std::size_t kept = o.size();
     for (const Section& sec : sections_[fi]) o.push_back(outlineOf(sec.hull));
-    trace_->record({kStepFace,
-                    "Face " + std::to_string(f.w->id) + ": " + std::to_string(sections_[fi].size()) +
-                        " volumes come in front of its plane; each hides the section of its shadow by the "
-                        "plane (outlined). Its edges keep " +
-                        std::to_string(kept) +
-                        " visible segments (outlined), and what the sections leave of the face is filled.",
-                    frame_, std::move(o)});
+    trace_->record(
+        {kStepFace,
+         "Face " + std::to_string(f.w->id) + ": " + std::to_string(sections_[fi].size()) +
+             " volumes come in front of its plane; each hides the section of its shadow by the "
+             "plane (outlined). Its edges keep " +
+             std::to_string(kept) +
+             " visible segments (outlined), and what the sections leave of the face is filled.",
+         frame_, std::move(o)});
   }
 
   static constexpr double kMin = -0.5;  // the view's left and top border (pixel-centre coordinates)
@@ -941,8 +969,8 @@ class RobertsRun {
   std::vector<Volume> volumes_;
   std::vector<BackFace> back_faces_;
   std::vector<TraceOutline> back_outlines_, all_outlines_;
-  std::vector<std::vector<Section>> sections_;  // per face
-  std::vector<std::uint8_t> hidden_whole_;      // per face
+  std::vector<std::vector<Section>> sections_;                      // per face
+  std::vector<std::uint8_t> hidden_whole_;                          // per face
   std::vector<std::vector<std::pair<EdgeKey, EdgeRef>>> edges_of_;  // per face
   std::map<EdgeKey, std::pair<PolygonId, PolygonId>> back_edges_;
   std::vector<std::vector<Junction>> junctions_;  // per face: the lines it meets others on

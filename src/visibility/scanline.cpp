@@ -121,7 +121,8 @@ Sides sidesOf(const ScreenTriangle& t) {
   }
   // Upper edge first: the one whose higher end is the triangle's top.
   auto upperFirst = [&](std::int8_t* e, int n) {
-    if (n == 2 && std::min(t.y[e[1]], t.y[(e[1] + 1) % 3]) < std::min(t.y[e[0]], t.y[(e[0] + 1) % 3]))
+    if (n == 2 &&
+        std::min(t.y[e[1]], t.y[(e[1] + 1) % 3]) < std::min(t.y[e[0]], t.y[(e[0] + 1) % 3]))
       std::swap(e[0], e[1]);
   };
   upperFirst(s.entering, ne);
@@ -138,14 +139,14 @@ Sides sidesOf(const ScreenTriangle& t) {
 // reads the list's order (Crossing) rather than the edges.
 struct ActiveEdge {
   std::int32_t x;
-  std::uint32_t polygon;        // the polygon table's number
+  std::uint32_t polygon;  // the polygon table's number
   std::uint32_t triangle;
-  std::int32_t last_row;        // the last row of the current edge
+  std::int32_t last_row;               // the last row of the current edge
   std::int64_t q, rem, den, dq, drem;  // floor(E / den), E mod den, and their steps per row
-  std::int16_t x_min, x_max;    // the triangle's columns, [x0, x1 + 1]
-  std::int8_t flip;             // +1 entering, -1 leaving
-  bool transparent;             // its polygon's
-  std::int8_t next_edge;        // a bent side's second edge, or -1
+  std::int16_t x_min, x_max;           // the triangle's columns, [x0, x1 + 1]
+  std::int8_t flip;                    // +1 entering, -1 leaving
+  bool transparent;                    // its polygon's
+  std::int8_t next_edge;               // a bent side's second edge, or -1
 };
 static_assert(sizeof(ActiveEdge) == 64, "an active edge fills one cache line");
 
@@ -166,9 +167,11 @@ int flipColumn(const ActiveEdge& e) {
 void startEdge(const ScreenTriangle& t, std::uint32_t tri, std::uint32_t polygon, int k, int y,
                std::int8_t next_edge, ActiveEdge& e) {
   const std::int64_t ax = t.x[k], ay = t.y[k];
-  const std::int64_t dx = std::int64_t{t.x[(k + 1) % 3]} - ax, dy = std::int64_t{t.y[(k + 1) % 3]} - ay;
+  const std::int64_t dx = std::int64_t{t.x[(k + 1) % 3]} - ax,
+                     dy = std::int64_t{t.y[(k + 1) % 3]} - ay;
   const bool owns_centres = dy < 0 || (dy == 0 && dx < 0);  // the fill rule, as setupTriangle
-  const std::int64_t value = dx * (std::int64_t{y} * kSubpixelOne - ay) + dy * ax + (owns_centres ? 0 : -1);
+  const std::int64_t value =
+      dx * (std::int64_t{y} * kSubpixelOne - ay) + dy * ax + (owns_centres ? 0 : -1);
   e.polygon = polygon;
   e.triangle = tri;
   e.flip = dy < 0 ? 1 : -1;
@@ -216,7 +219,13 @@ void enterTriangle(const ScreenTriangles& tris, std::uint32_t tri, std::uint32_t
 // The edge table's bucket of a row lists its triangles in increasing order, each as the
 // difference from the one before in 7-bit groups (LEB128: most take two bytes where an index
 // would take four), so the table stays a small part of the frame's memory.
-int deltaBytes(std::uint32_t delta) { return delta < (1u << 7) ? 1 : delta < (1u << 14) ? 2 : delta < (1u << 21) ? 3 : delta < (1u << 28) ? 4 : 5; }
+int deltaBytes(std::uint32_t delta) {
+  return delta < (1u << 7)    ? 1
+         : delta < (1u << 14) ? 2
+         : delta < (1u << 21) ? 3
+         : delta < (1u << 28) ? 4
+                              : 5;
+}
 
 std::uint8_t* putDelta(std::uint8_t* out, std::uint32_t delta) {
   for (; delta >= 0x80; delta >>= 7) *out++ = static_cast<std::uint8_t>(delta | 0x80);
@@ -253,7 +262,8 @@ struct Tables {
     return {buckets.data() + bucket_start[y], buckets.data() + bucket_start[y + 1]};
   }
   std::size_t bytes() const {
-    return polygon_starts.bytes() + bucket_start.capacity() * sizeof(std::size_t) + buckets.capacity();
+    return polygon_starts.bytes() + bucket_start.capacity() * sizeof(std::size_t) +
+           buckets.capacity();
   }
 };
 
@@ -286,7 +296,8 @@ void buildTables(const ScreenTriangles& tris, int height, int band_rows, Tables&
   std::vector<std::size_t> fill(tb.bucket_start.begin(), tb.bucket_start.end() - 1);
   std::fill(last.begin(), last.end(), 0);
   forEachEntry([&](int row, std::size_t i) {
-    const std::uint8_t* end = putDelta(tb.buckets.data() + fill[row], static_cast<std::uint32_t>(i) - last[row]);
+    const std::uint8_t* end =
+        putDelta(tb.buckets.data() + fill[row], static_cast<std::uint32_t>(i) - last[row]);
     fill[row] = static_cast<std::size_t>(end - tb.buckets.data());
     last[row] = static_cast<std::uint32_t>(i);
   });
@@ -301,7 +312,8 @@ struct Counts {
   std::uint64_t order_reused = 0, decided_at_ends = 0, pixel_by_pixel = 0, short_spans = 0;
   FragmentCounts fragments;
   void add(const Counts& o) {
-    rows += o.rows, edges_entered += o.edges_entered, edge_rows += o.edge_rows, max_active = std::max(max_active, o.max_active);
+    rows += o.rows, edges_entered += o.edges_entered, edge_rows += o.edge_rows,
+        max_active = std::max(max_active, o.max_active);
     spans += o.spans, spans_one += o.spans_one, spans_several += o.spans_several;
     order_reused += o.order_reused, decided_at_ends += o.decided_at_ends,
         pixel_by_pixel += o.pixel_by_pixel, short_spans += o.short_spans;
@@ -317,14 +329,15 @@ struct Inside {
 };
 
 struct BandState {
-  std::vector<ActiveEdge> ael;     // the active edges, in order of x when there are few
-  std::vector<Crossing> crossings;  // the list's order: the edges' crossings of the row, by x
+  std::vector<ActiveEdge> ael;           // the active edges, in order of x when there are few
+  std::vector<Crossing> crossings;       // the list's order: the edges' crossings of the row, by x
   std::vector<std::uint32_t> key_start;  // the counting sort's buckets: O(width)
   std::vector<Inside> opaque, transparent;  // the walk's flags
-  std::vector<std::uint32_t> order;          // see-through polygons in submission order
+  std::vector<std::uint32_t> order;         // see-through polygons in submission order
   std::vector<double> near_a, near_b;
   std::size_t bytes() const {
-    return ael.capacity() * sizeof(ActiveEdge) + crossings.capacity() * sizeof(Crossing) + key_start.capacity() * 4 +
+    return ael.capacity() * sizeof(ActiveEdge) + crossings.capacity() * sizeof(Crossing) +
+           key_start.capacity() * 4 +
            (opaque.capacity() + transparent.capacity()) * sizeof(Inside) + order.capacity() * 4 +
            (near_a.capacity() + near_b.capacity()) * 8;
   }
@@ -343,8 +356,15 @@ class BandPass {
  public:
   BandPass(const Tables& tb, const FrameView& fb, SpanFn span, BandState& st, Counts& c,
            ScanlineObserver* observer, const AlgorithmInput& in, Frame& frame)
-      : tb_(tb), tris_(*tb.tris), fb_(fb), span_(span), st_(st), c_(c), observer_(observer),
-        in_(in), frame_(frame) {}
+      : tb_(tb),
+        tris_(*tb.tris),
+        fb_(fb),
+        span_(span),
+        st_(st),
+        c_(c),
+        observer_(observer),
+        in_(in),
+        frame_(frame) {}
 
   void run(int first_row, int end_row) {
     std::vector<ActiveEdge>& ael = st_.ael;
@@ -355,7 +375,8 @@ class BandPass {
       // The triangles are scattered in memory: a second reader runs ahead, asking for them early.
       BucketReader bucket = tb_.bucket(y), ahead = tb_.bucket(y);
       std::uint32_t tri = 0, next = 0;
-      for (std::uint32_t k = 0; k < kPrefetch && ahead.next(next); ++k) __builtin_prefetch(&tris_[next]);
+      for (std::uint32_t k = 0; k < kPrefetch && ahead.next(next); ++k)
+        __builtin_prefetch(&tris_[next]);
       while (bucket.next(tri)) {
         if (ahead.next(next)) __builtin_prefetch(&tris_[next]);
         const std::size_t before = ael.size();
@@ -368,9 +389,10 @@ class BandPass {
       c_.rows++;
 
       // 2. The walk along the row.
-      const bool show = in_.trace && y >= trace_rows_.first && y <= trace_rows_.last &&
-                        in_.trace->wants(kStepRow, static_cast<std::uint64_t>(y - trace_rows_.first),
-                                         static_cast<std::uint64_t>(trace_rows_.last - trace_rows_.first + 1));
+      const bool show =
+          in_.trace && y >= trace_rows_.first && y <= trace_rows_.last &&
+          in_.trace->wants(kStepRow, static_cast<std::uint64_t>(y - trace_rows_.first),
+                           static_cast<std::uint64_t>(trace_rows_.last - trace_rows_.first + 1));
       notes_.clear();
       notes_shown_ = 0;
       noting_ = show;
@@ -415,7 +437,9 @@ class BandPass {
   void sortByX() {
     std::vector<ActiveEdge>& ael = st_.ael;
     std::vector<Crossing>& out = st_.crossings;
-    auto crossing = [](const ActiveEdge& e) { return Crossing{e.x, e.polygon, e.flip, e.transparent}; };
+    auto crossing = [](const ActiveEdge& e) {
+      return Crossing{e.x, e.polygon, e.flip, e.transparent};
+    };
     out.resize(ael.size());
     if (ael.size() < 64) {
       for (std::size_t i = 1; i < ael.size(); ++i) {
@@ -463,7 +487,7 @@ class BandPass {
           x = at;
         }
         if (!in) {
-          inside.push_back({e.polygon, e.flip});  // -1 only for a moment: an exit before
+          inside.push_back({e.polygon, e.flip});        // -1 only for a moment: an exit before
         } else if ((inside[k].count += e.flip) == 0) {  // its entry at one x
           inside[k] = inside.back();
           inside.pop_back();
@@ -620,8 +644,10 @@ class BandPass {
   void traceRow(int y) {
     std::vector<TraceOutline> outlines;
     const float fy = static_cast<float>(y);
-    outlines.push_back({{-0.5f, fy - 0.5f}, {fb_.width - 0.5f, fy - 0.5f},
-                        {fb_.width - 0.5f, fy + 0.5f}, {-0.5f, fy + 0.5f}});
+    outlines.push_back({{-0.5f, fy - 0.5f},
+                        {fb_.width - 0.5f, fy - 0.5f},
+                        {fb_.width - 0.5f, fy + 0.5f},
+                        {-0.5f, fy + 0.5f}});
     std::string list;
     int shown = 0;
     for (const Crossing& e : st_.crossings) {
@@ -629,21 +655,24 @@ class BandPass {
       outlines.push_back({{fx, fy - 6.0f}, {fx, fy + 6.0f}});
       if (shown++ < 12) {
         if (!list.empty()) list += ", ";
-        list += "x=" + std::to_string(e.x) + (e.flip > 0 ? " in " : " out ") + std::to_string(tris_[e.polygon].id);
+        list += "x=" + std::to_string(e.x) + (e.flip > 0 ? " in " : " out ") +
+                std::to_string(tris_[e.polygon].id);
       }
     }
     if (shown > 12) list += ", ... (" + std::to_string(shown - 12) + " more)";
     if (notes_shown_ > 8) notes_ += "; ... (" + std::to_string(notes_shown_ - 8) + " more)";
-    in_.trace->record({kStepRow,
-                       "Row " + std::to_string(y) + ": the active edge list holds " +
-                           std::to_string(st_.ael.size()) +
-                           " edges, sorted by x; walking it left to right flips each polygon's "
-                           "in/out flag (x = the first column inside, or the first past it; the "
-                           "number is the polygon id): " +
-                           (list.empty() ? std::string("(empty: the row is background)") : list) +
-                           (notes_.empty() ? std::string() : ". The spans and the polygons whose flag is in: " + notes_) +
-                           ". Rows above are finished; the rows below are still empty.",
-                       &frame_, std::move(outlines)});
+    in_.trace->record(
+        {kStepRow,
+         "Row " + std::to_string(y) + ": the active edge list holds " +
+             std::to_string(st_.ael.size()) +
+             " edges, sorted by x; walking it left to right flips each polygon's "
+             "in/out flag (x = the first column inside, or the first past it; the "
+             "number is the polygon id): " +
+             (list.empty() ? std::string("(empty: the row is background)") : list) +
+             (notes_.empty() ? std::string()
+                             : ". The spans and the polygons whose flag is in: " + notes_) +
+             ". Rows above are finished; the rows below are still empty.",
+         &frame_, std::move(outlines)});
   }
 
   const Tables& tb_;
@@ -722,7 +751,8 @@ void drawScanlineObserved(const AlgorithmInput& in, Frame& frame, ScanlineObserv
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
     in.trace->record({kStepDone,
                       "Done: " + std::to_string(c.spans) + " spans inside polygons; " +
-                          std::to_string(c.spans_one) + " inside one polygon (no depth compared), " +
+                          std::to_string(c.spans_one) +
+                          " inside one polygon (no depth compared), " +
                           std::to_string(c.spans_several) + " inside several: " +
                           std::to_string(c.order_reused) + " kept the previous row's order, " +
                           std::to_string(c.decided_at_ends) + " were decided at their ends, " +
@@ -750,6 +780,8 @@ void drawScanlineObserved(const AlgorithmInput& in, Frame& frame, ScanlineObserv
   frame.stats.addStage("scan lines", watch.ms());
 }
 
-void drawScanline(const AlgorithmInput& in, Frame& frame) { drawScanlineObserved(in, frame, nullptr); }
+void drawScanline(const AlgorithmInput& in, Frame& frame) {
+  drawScanlineObserved(in, frame, nullptr);
+}
 
 }  // namespace hsr::detail

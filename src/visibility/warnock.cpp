@@ -70,7 +70,8 @@ struct Item {
 // How triangle t stands to `area`.
 Relation relationOf(const ScreenTriangle& t, const PixelBox& area) {
   // Bounding boxes first.
-  if (t.x1 < area.x0 || t.x0 > area.x1 || t.y1 < area.y0 || t.y0 > area.y1) return Relation::kOutside;
+  if (t.x1 < area.x0 || t.x0 > area.x1 || t.y1 < area.y0 || t.y0 > area.y1)
+    return Relation::kOutside;
   // Then exactly: each edge function E(i, j) = step_x i + step_y j + E(0, 0) at the corners.
   const TriangleSetup s = setupTriangle(t, 0);
   bool covers_all = true;
@@ -83,7 +84,8 @@ Relation relationOf(const ScreenTriangle& t, const PixelBox& area) {
     covers_all = covers_all && least >= 0;
   }
   if (covers_all) return Relation::kSurrounding;
-  if (t.x0 >= area.x0 && t.x1 <= area.x1 && t.y0 >= area.y0 && t.y1 <= area.y1) return Relation::kInside;
+  if (t.x0 >= area.x0 && t.x1 <= area.x1 && t.y0 >= area.y0 && t.y1 <= area.y1)
+    return Relation::kInside;
   return Relation::kOverlapping;
 }
 
@@ -106,10 +108,10 @@ bool cornerDepths(const DepthPlane& p, const PixelBox& a, std::array<double, 4>&
 }
 
 struct Counts {
-  std::array<std::uint64_t, 16> areas{};              // visited, per level
-  std::array<std::uint64_t, kWarnockStops> stops{};   // leaves, by why they stopped
-  std::uint64_t handed_down = 0;                      // triangles handed to areas, in all
-  std::uint64_t list_bytes = 0;                       // the lists' memory, all workers'
+  std::array<std::uint64_t, 16> areas{};             // visited, per level
+  std::array<std::uint64_t, kWarnockStops> stops{};  // leaves, by why they stopped
+  std::uint64_t handed_down = 0;                     // triangles handed to areas, in all
+  std::uint64_t list_bytes = 0;                      // the lists' memory, all workers'
   int deepest = 0;
   FragmentCounts fragments;
   void add(const Counts& o) {
@@ -219,12 +221,13 @@ class Subdivision {
 
   // The items of from[first, first + count) not outside `area`, appended to `to` (which may
   // be `from` itself: the source is read by index).
-  void handDown(const std::vector<Item>& from, std::size_t first, std::size_t count, const PixelBox& area,
-                std::vector<Item>& to) {
+  void handDown(const std::vector<Item>& from, std::size_t first, std::size_t count,
+                const PixelBox& area, std::vector<Item>& to) {
     for (std::size_t k = first; k < first + count; ++k) {
       const Item it = from[k];
-      const Relation r =
-          it.relation == Relation::kSurrounding ? Relation::kSurrounding : relationOf(sh_.tris[it.triangle], area);
+      const Relation r = it.relation == Relation::kSurrounding
+                             ? Relation::kSurrounding
+                             : relationOf(sh_.tris[it.triangle], area);
       if (r != Relation::kOutside) to.push_back({it.triangle, r});
     }
   }
@@ -312,10 +315,12 @@ const char* stopName(WarnockStop why) {
 // areas still to subdivide dark, and the areas that stopped at this level outlined.
 void traceLevels(const AlgorithmInput& in, const Frame& frame, const std::vector<Leaf>& leaves,
                  const Counts& c) {
-  static constexpr std::uint32_t kTint[kWarnockStops] = {0xFF808080u, 0xFF40C040u, 0xFFE08030u, 0xFF3030E0u};
+  static constexpr std::uint32_t kTint[kWarnockStops] = {0xFF808080u, 0xFF40C040u, 0xFFE08030u,
+                                                         0xFF3030E0u};
   const int levels = c.deepest + 1;
   for (int level = 0; level < levels; ++level) {
-    if (!in.trace->wants(kStepLevel, static_cast<std::uint64_t>(level), static_cast<std::uint64_t>(levels)))
+    if (!in.trace->wants(kStepLevel, static_cast<std::uint64_t>(level),
+                         static_cast<std::uint64_t>(levels)))
       continue;
     Frame pic = frame;
     std::fill(pic.color.begin(), pic.color.end(), 0xFF303030u);
@@ -327,8 +332,10 @@ void traceLevels(const AlgorithmInput& in, const Frame& frame, const std::vector
       if (l.level == level) {
         at_level[static_cast<int>(l.why)]++;
         if (outlines.size() < 4000 && (l.area.x1 > l.area.x0 || l.area.y1 > l.area.y0))
-          outlines.push_back({{l.area.x0 - 0.5f, l.area.y0 - 0.5f}, {l.area.x1 + 0.5f, l.area.y0 - 0.5f},
-                              {l.area.x1 + 0.5f, l.area.y1 + 0.5f}, {l.area.x0 - 0.5f, l.area.y1 + 0.5f}});
+          outlines.push_back({{l.area.x0 - 0.5f, l.area.y0 - 0.5f},
+                              {l.area.x1 + 0.5f, l.area.y0 - 0.5f},
+                              {l.area.x1 + 0.5f, l.area.y1 + 0.5f},
+                              {l.area.x0 - 0.5f, l.area.y1 + 0.5f}});
       }
       const std::uint32_t tint = kTint[static_cast<int>(l.why)];
       for (int y = l.area.y0; y <= l.area.y1; ++y)
@@ -338,15 +345,16 @@ void traceLevels(const AlgorithmInput& in, const Frame& frame, const std::vector
           pic.depth[k] = frame.depth[k];
         }
     }
-    in.trace->record({kStepLevel,
-                      "Level " + std::to_string(level) + ": " + std::to_string(c.areas[level]) +
-                          " areas looked at; " + std::to_string(at_level[0]) + " show nothing (grey), " +
-                          std::to_string(at_level[1]) + " one polygon alone (green), " +
-                          std::to_string(at_level[2]) + " a surrounding polygon in front of all (blue), " +
-                          std::to_string(at_level[3]) +
-                          " are single pixels (red). The dark rest is cut into quadrants for the next "
-                          "level.",
-                      &pic, std::move(outlines)});
+    in.trace->record(
+        {kStepLevel,
+         "Level " + std::to_string(level) + ": " + std::to_string(c.areas[level]) +
+             " areas looked at; " + std::to_string(at_level[0]) + " show nothing (grey), " +
+             std::to_string(at_level[1]) + " one polygon alone (green), " +
+             std::to_string(at_level[2]) + " a surrounding polygon in front of all (blue), " +
+             std::to_string(at_level[3]) +
+             " are single pixels (red). The dark rest is cut into quadrants for the next "
+             "level.",
+         &pic, std::move(outlines)});
   }
 }
 
@@ -364,8 +372,13 @@ void drawWarnockObserved(const AlgorithmInput& in, Frame& frame, WarnockObserver
   std::vector<std::uint32_t> polygon_of;
   const std::uint64_t polygons = numberPolygons(tris, polygon_of);
   std::vector<Leaf> leaves;
-  const Shared sh{tris, polygon_of, fb, spanFunction(DepthFunc::Less), observer,
-                  in.trace ? &leaves : nullptr, warnockDeepestLevel(frame.width, frame.height)};
+  const Shared sh{tris,
+                  polygon_of,
+                  fb,
+                  spanFunction(DepthFunc::Less),
+                  observer,
+                  in.trace ? &leaves : nullptr,
+                  warnockDeepestLevel(frame.width, frame.height)};
   HSR_CHECK_LT(sh.deepest_allowed, 16);
 
   // The whole viewport, with every opaque polygon (see-through ones are blended afterwards).
@@ -388,15 +401,16 @@ void drawWarnockObserved(const AlgorithmInput& in, Frame& frame, WarnockObserver
   if (in.trace) {
     traceLevels(in, frame, leaves, c);
     if (in.trace->wants(kStepDone, 0, 1))
-      in.trace->record({kStepDone,
-                        "Done: " + std::to_string(c.stops[0] + c.stops[1] + c.stops[2] + c.stops[3]) +
-                            " areas needed no further cut: " + std::to_string(c.stops[0]) + " nothing there, " +
-                            std::to_string(c.stops[1]) + " one polygon, " + std::to_string(c.stops[2]) +
-                            " a surrounder in front, " + std::to_string(c.stops[3]) + " single pixels; " +
-                            std::to_string(c.deepest + 1) + " levels (at most " +
-                            std::to_string(sh.deepest_allowed + 1) + " for this viewport).",
-                        &frame,
-                        {}});
+      in.trace->record(
+          {kStepDone,
+           "Done: " + std::to_string(c.stops[0] + c.stops[1] + c.stops[2] + c.stops[3]) +
+               " areas needed no further cut: " + std::to_string(c.stops[0]) + " nothing there, " +
+               std::to_string(c.stops[1]) + " one polygon, " + std::to_string(c.stops[2]) +
+               " a surrounder in front, " + std::to_string(c.stops[3]) + " single pixels; " +
+               std::to_string(c.deepest + 1) + " levels (at most " +
+               std::to_string(sh.deepest_allowed + 1) + " for this viewport).",
+           &frame,
+           {}});
   }
 
   frame.stats.state_bytes += c.list_bytes + polygon_of.capacity() * 4;
@@ -406,13 +420,14 @@ void drawWarnockObserved(const AlgorithmInput& in, Frame& frame, WarnockObserver
   for (int level = 0; level <= c.deepest; ++level)
     frame.stats.addCounter("warnock: areas at level " + std::to_string(level), c.areas[level]);
   for (int k = 0; k < kWarnockStops; ++k)
-    frame.stats.addCounter(std::string("warnock: stop, ") + stopName(static_cast<WarnockStop>(k)), c.stops[k]);
+    frame.stats.addCounter(std::string("warnock: stop, ") + stopName(static_cast<WarnockStop>(k)),
+                           c.stops[k]);
   frame.stats.addCounter("warnock: triangles handed down", c.handed_down);
-  frame.stats.addStage(
-      "subdivide",
-      t0.ms());
+  frame.stats.addStage("subdivide", t0.ms());
 }
 
-void drawWarnock(const AlgorithmInput& in, Frame& frame) { drawWarnockObserved(in, frame, nullptr); }
+void drawWarnock(const AlgorithmInput& in, Frame& frame) {
+  drawWarnockObserved(in, frame, nullptr);
+}
 
 }  // namespace hsr::detail

@@ -11,10 +11,10 @@ namespace hsr::detail {
 
 // Why an area needed no further subdivision.
 enum class WarnockStop : std::uint8_t {
-  kNothing,           // every polygon lies outside it: background
-  kOnePolygon,        // one polygon alone is not outside: drawn within the area
-  kSurrounderInFront, // a surrounding polygon is in front of every other: drawn on the area
-  kPixel,             // one pixel: the polygon nearest at its centre
+  kNothing,            // every polygon lies outside it: background
+  kOnePolygon,         // one polygon alone is not outside: drawn within the area
+  kSurrounderInFront,  // a surrounding polygon is in front of every other: drawn on the area
+  kPixel,              // one pixel: the polygon nearest at its centre
 };
 inline constexpr int kWarnockStops = 4;
 

@@ -80,7 +80,8 @@ constexpr double kTermError = 1e-14;
 // The work limit: edges handed to the clipper, kWorkPerPolygon per polygon plus kWorkAtLeast.
 // Meshes need 24-410 per polygon (spheres:100000: 26; the 2CylinderEngine: 408), soup:5000
 // 285; a soup of large triangles all overlapping one another in a small picture needs
-// thousands, each polygon cut to pieces by the others. Past the limit the polygons left are drawn with a depth test (reported).
+// thousands, each polygon cut to pieces by the others. Past the limit the polygons left are drawn
+// with a depth test (reported).
 constexpr std::uint64_t kWorkPerPolygon = 1024;
 constexpr std::uint64_t kWorkAtLeast = std::uint64_t{1} << 18;
 // The split line's two grid points lie this far (grid units, 2^16 pixels) either side of the
@@ -88,17 +89,17 @@ constexpr std::uint64_t kWorkAtLeast = std::uint64_t{1} << 18;
 constexpr double kSplitReach = 16777216.0;
 
 struct Entry {
-  ExactRegion region;        // what is left of the polygon
-  ExactRegion whole;         // the whole snapped polygon
+  ExactRegion region;  // what is left of the polygon
+  ExactRegion whole;   // the whole snapped polygon
   DepthPlane plane;
   PolygonId id = kNoPolygon;
   std::uint32_t rgba = 0;
-  double zmin = 0, zmax = 0;  // depth extent of the whole polygon
-  double terms = 0;           // size of its plane's terms over the picture
+  double zmin = 0, zmax = 0;              // depth extent of the whole polygon
+  double terms = 0;                       // size of its plane's terms over the picture
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // box of what is left, grid units
-  std::vector<GridPoint> hull; // the whole polygon counter-clockwise, when it is convex
-  bool pristine = false;      // the region is still that whole convex polygon
-  bool done = false;          // output (or emptied)
+  std::vector<GridPoint> hull;            // the whole polygon counter-clockwise, when it is convex
+  bool pristine = false;                  // the region is still that whole convex polygon
+  bool done = false;                      // output (or emptied)
 };
 
 double depthAt(const DepthPlane& p, double gx, double gy) {
@@ -111,7 +112,8 @@ void updateBox(Entry& e) {
     for (const ExactPoint& v : poly.outer) {
       const double x = v.xd(), y = v.yd();
       if (!any) e.x0 = e.x1 = x, e.y0 = e.y1 = y, any = true;
-      e.x0 = std::min(e.x0, x), e.x1 = std::max(e.x1, x), e.y0 = std::min(e.y0, y), e.y1 = std::max(e.y1, y);
+      e.x0 = std::min(e.x0, x), e.x1 = std::max(e.x1, x), e.y0 = std::min(e.y0, y),
+      e.y1 = std::max(e.y1, y);
     }
   if (!any) e.done = true;  // nothing left
 }
@@ -182,19 +184,21 @@ Verdict compare(const ExactPolygon& piece, const Entry& p, const Entry& q, doubl
 // equal snapped to the grid (see the top of this file), as a quad around the piece.
 GridRegion deeperSide(const ExactPolygon& piece, const Entry& p, const Entry& q) {
   // z_Q - z_P = A gx + B gy + C in grid units
-  const double A = (q.plane.dzdx - p.plane.dzdx) / kSubpixelOne, B = (q.plane.dzdy - p.plane.dzdy) / kSubpixelOne;
+  const double A = (q.plane.dzdx - p.plane.dzdx) / kSubpixelOne,
+               B = (q.plane.dzdy - p.plane.dzdy) / kSubpixelOne;
   const double C = q.plane.z0 - p.plane.z0;
   double cx = 0, cy = 0;
   for (const ExactPoint& v : piece.outer) cx += v.xd(), cy += v.yd();
   cx /= static_cast<double>(piece.outer.size()), cy /= static_cast<double>(piece.outer.size());
   const double len = std::hypot(A, B);
-  const double nx = A / len, ny = B / len;  // towards Q deeper
-  const double off = (A * cx + B * cy + C) / len;  // the centre's distance from the line
+  const double nx = A / len, ny = B / len;              // towards Q deeper
+  const double off = (A * cx + B * cy + C) / len;       // the centre's distance from the line
   const double px = cx - nx * off, py = cy - ny * off;  // its foot on the line
   const double r = kSplitReach;
   if (!(len > 0) || !(std::abs(px) < 2 * r && std::abs(py) < 2 * r)) return {};
   auto at = [](double x, double y) { return GridPoint{std::llround(x), std::llround(y)}; };
-  return {{{at(px - ny * r, py + nx * r), at(px + ny * r, py - nx * r), at(px + ny * r + nx * r, py - nx * r + ny * r),
+  return {{{at(px - ny * r, py + nx * r), at(px + ny * r, py - nx * r),
+            at(px + ny * r + nx * r, py - nx * r + ny * r),
             at(px - ny * r + nx * r, py + nx * r + ny * r)},
            {}}};
 }
@@ -260,22 +264,27 @@ bool clipPair(Entry& p, Entry& q, Counts& c, PairEvent* event) {
   ExactRegion hidden_q, hidden_p;  // pieces behind P, pieces in front of it
   for (const ExactPolygon& piece : inside) {
     const Verdict v = compare(piece, p, q, &closest);
-    if (v == Verdict::Behind) hidden_q.push_back(piece);
-    else if (v == Verdict::InFront) hidden_p.push_back(piece);
+    if (v == Verdict::Behind)
+      hidden_q.push_back(piece);
+    else if (v == Verdict::InFront)
+      hidden_p.push_back(piece);
     else {
       crossing = true;
       const GridRegion side = deeperSide(piece, p, q);
-      if (side.empty() || !invalidRegionReason(side).empty()) {  // planes all but parallel: no line to cut along
+      if (side.empty() ||
+          !invalidRegionReason(side).empty()) {  // planes all but parallel: no line to cut along
         (p.id < q.id ? hidden_q : hidden_p).push_back(piece);
         continue;
       }
       c.splits++;
       const ExactRegion one{piece}, deeper = exactRegion(side);
-      for (const ExactPolygon& s : clip(one, deeper, BooleanOp::Intersection, c)) hidden_q.push_back(s);
+      for (const ExactPolygon& s : clip(one, deeper, BooleanOp::Intersection, c))
+        hidden_q.push_back(s);
       for (const ExactPolygon& s : clip(one, deeper, BooleanOp::AMinusB, c)) hidden_p.push_back(s);
     }
   }
-  auto remove = [&](Entry& e, const ExactRegion& pieces, const ExactRegion& rest, const ExactRegion& whole_other) {
+  auto remove = [&](Entry& e, const ExactRegion& pieces, const ExactRegion& rest,
+                    const ExactRegion& whole_other) {
     if (pieces.empty()) return;
     e.pristine = false;
     if (rest.empty()) {
@@ -315,7 +324,8 @@ class Cells {
     const int c0 = col(e.x0), c1 = col(e.x1), r0 = row(e.y0), r1 = row(e.y1);
     for (int r = r0; r <= r1; ++r)
       for (int c = c0; c <= c1; ++c)
-        if (!e.pristine || (c0 == c1 && r0 == r1) || meets(e.hull, c, r)) fn(cells_[static_cast<std::size_t>(r) * cols_ + c]);
+        if (!e.pristine || (c0 == c1 && r0 == r1) || meets(e.hull, c, r))
+          fn(cells_[static_cast<std::size_t>(r) * cols_ + c]);
   }
   std::size_t bytes() const {
     std::size_t b = cells_.capacity() * sizeof(cells_[0]);
@@ -331,13 +341,19 @@ class Cells {
     for (std::size_t i = 0, n = hull.size(); i < n; ++i) {
       const GridPoint p = hull[i], q = hull[(i + 1) % n];
       const double dx = static_cast<double>(q.x - p.x), dy = static_cast<double>(q.y - p.y);
-      auto left = [&](double x, double y) { return dx * (y - static_cast<double>(p.y)) - dy * (x - static_cast<double>(p.x)) >= 0; };
+      auto left = [&](double x, double y) {
+        return dx * (y - static_cast<double>(p.y)) - dy * (x - static_cast<double>(p.x)) >= 0;
+      };
       if (!left(x0, y0) && !left(x1, y0) && !left(x0, y1) && !left(x1, y1)) return false;
     }
     return true;
   }
-  int col(double x) const { return std::clamp(static_cast<int>(std::floor(x / side_)), 0, cols_ - 1); }
-  int row(double y) const { return std::clamp(static_cast<int>(std::floor(y / side_)), 0, rows_ - 1); }
+  int col(double x) const {
+    return std::clamp(static_cast<int>(std::floor(x / side_)), 0, cols_ - 1);
+  }
+  int row(double y) const {
+    return std::clamp(static_cast<int>(std::floor(y / side_)), 0, rows_ - 1);
+  }
   double side_ = 1;
   int cols_ = 1, rows_ = 1;
   std::vector<std::vector<std::uint32_t>> cells_;
@@ -355,7 +371,8 @@ std::vector<Entry> makeEntries(const std::vector<WindowPolygon>& polygons, int w
     e.region = exactRegion(region);
     e.whole = e.region;
     e.plane = w.depth;
-    e.terms = std::abs(w.depth.z0) + std::abs(w.depth.dzdx) * (width + 1) + std::abs(w.depth.dzdy) * (height + 1);
+    e.terms = std::abs(w.depth.z0) + std::abs(w.depth.dzdx) * (width + 1) +
+              std::abs(w.depth.dzdy) * (height + 1);
     e.id = w.id;
     e.rgba = w.rgba;
     e.zmin = INFINITY, e.zmax = -INFINITY;
@@ -388,7 +405,8 @@ std::vector<Entry> makeEntries(const std::vector<WindowPolygon>& polygons, int w
     bool in_range = true;
     for (const glm::dvec3& v : w.vertices) {
       in_range = in_range && std::abs(v.x) < 4194304.0 && std::abs(v.y) < 4194304.0;  // 2^22 pixels
-      if (in_range) ring.push_back({std::llrint(v.x * kSubpixelOne), std::llrint(v.y * kSubpixelOne)});
+      if (in_range)
+        ring.push_back({std::llrint(v.x * kSubpixelOne), std::llrint(v.y * kSubpixelOne)});
     }
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
     while (ring.size() > 1 && ring.front() == ring.back()) ring.pop_back();
@@ -398,7 +416,6 @@ std::vector<Entry> makeEntries(const std::vector<WindowPolygon>& polygons, int w
   }
   return entries;
 }
-
 
 // Step names: what `hsr explain weiler-atherton` shows.
 constexpr std::string_view kStepSort = "sort";
@@ -410,7 +427,9 @@ constexpr std::string_view kStepDone = "done";
 void addOutlines(const ExactRegion& r, std::vector<TraceOutline>& out) {
   auto ring = [&](const ExactRing& g) {
     TraceOutline o;
-    for (const ExactPoint& v : g) o.emplace_back(static_cast<float>(v.xd() / kSubpixelOne), static_cast<float>(v.yd() / kSubpixelOne));
+    for (const ExactPoint& v : g)
+      o.emplace_back(static_cast<float>(v.xd() / kSubpixelOne),
+                     static_cast<float>(v.yd() / kSubpixelOne));
     out.push_back(std::move(o));
   };
   for (const ExactPolygon& p : r) {
@@ -432,9 +451,9 @@ struct ClosePair {
 };
 // With `frame`, each visible region is painted into it as it is found; with `trace`, the steps
 // are recorded (`hsr explain`).
-VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width, int height,
-                                    std::size_t* state_bytes, std::vector<ClosePair>* close, Frame* frame,
-                                    Trace* trace) {
+VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, int width,
+                                    int height, std::size_t* state_bytes,
+                                    std::vector<ClosePair>* close, Frame* frame, Trace* trace) {
   std::optional<FrameView> fb;
   if (frame) fb.emplace(*frame);
   FragmentCounts fragments;
@@ -442,8 +461,8 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
   VisibleSet out;
   out.width = width, out.height = height;
   out.polygons_in = entries.size();
-  out.see_through = static_cast<std::uint64_t>(
-      std::count_if(polygons.begin(), polygons.end(), [](const WindowPolygon& w) { return w.transparent; }));
+  out.see_through = static_cast<std::uint64_t>(std::count_if(
+      polygons.begin(), polygons.end(), [](const WindowPolygon& w) { return w.transparent; }));
   // 1. Sort by nearest depth (ties: lower id first, the z-buffer's winner among equals).
   std::vector<std::uint32_t> order(entries.size());
   std::iota(order.begin(), order.end(), 0u);
@@ -454,10 +473,12 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
   Cells cells(entries, width, height);
   Counts c;
   if (trace && frame && trace->wants(kStepSort, 0, 1))
-    trace->record({kStepSort,
-                   "Sort the " + std::to_string(entries.size()) +
-                       " polygons by their nearest depth. The front one will be the first clip polygon.",
-                   frame, {}});
+    trace->record(
+        {kStepSort,
+         "Sort the " + std::to_string(entries.size()) +
+             " polygons by their nearest depth. The front one will be the first clip polygon.",
+         frame,
+         {}});
   std::uint64_t taken = 0, reported = 0;
   std::uint32_t stamp = 0;
   std::vector<std::uint32_t> seen(entries.size(), 0);  // the last candidate search that met each
@@ -479,11 +500,12 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
     if (trace && frame && trace->wants(kStepClipPolygon, taken, entries.size())) {
       std::vector<TraceOutline> o;
       addOutlines(p.region, o);
-      trace->record({kStepClipPolygon,
-                     "Take the front polygon of the list, " + std::to_string(p.id) +
-                         " (outlined), as the clip polygon: every polygon still in the list that it may "
-                         "overlap is clipped against it.",
-                     frame, std::move(o)});
+      trace->record(
+          {kStepClipPolygon,
+           "Take the front polygon of the list, " + std::to_string(p.id) +
+               " (outlined), as the clip polygon: every polygon still in the list that it may "
+               "overlap is clipped against it.",
+           frame, std::move(o)});
     }
     ++taken;
     ++stamp;
@@ -504,23 +526,30 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
         PairEvent event;
         if (clipPair(p, q, c, trace ? &event : nullptr) && close)
           close->push_back({p.whole, q.whole, p.plane, q.plane, p.id, q.id, p.rgba, q.rgba});
-        if (trace && frame && event.kind == PairEvent::kInside && trace->wants(kStepInside, reported++, entries.size())) {
+        if (trace && frame && event.kind == PairEvent::kInside &&
+            trace->wants(kStepInside, reported++, entries.size())) {
           std::vector<TraceOutline> o;
           addOutlines(p.region, o);
           addOutlines(event.behind, o);
           addOutlines(event.in_front, o);
-          std::string caption = "Clip polygon " + std::to_string(q.id) + " against " + std::to_string(p.id) +
-                                ": its part outside goes to the outside list. Of its part inside (outlined), ";
-          if (event.in_front.empty()) caption += "all lies behind " + std::to_string(p.id) + ": removed.";
+          std::string caption =
+              "Clip polygon " + std::to_string(q.id) + " against " + std::to_string(p.id) +
+              ": its part outside goes to the outside list. Of its part inside (outlined), ";
+          if (event.in_front.empty())
+            caption += "all lies behind " + std::to_string(p.id) + ": removed.";
           else if (event.behind.empty())
             caption += "all lies in front of " + std::to_string(p.id) +
-                       ": the notes recurse with it as the clip polygon, and " + std::to_string(p.id) +
+                       ": the notes recurse with it as the clip polygon, and " +
+                       std::to_string(p.id) +
                        " loses what lies under it; the piece stays in the list.";
           else
-            caption += std::string(event.split ? "it crosses " + std::to_string(p.id) +
-                                                     " and was split along the line where their planes meet: "
-                                               : "some lies behind, some in front: ") +
-                       "the part behind is removed, " + std::to_string(p.id) + " loses the part under the one in front.";
+            caption +=
+                std::string(event.split
+                                ? "it crosses " + std::to_string(p.id) +
+                                      " and was split along the line where their planes meet: "
+                                : "some lies behind, some in front: ") +
+                "the part behind is removed, " + std::to_string(p.id) +
+                " loses the part under the one in front.";
           trace->record({kStepInside, std::move(caption), frame, std::move(o)});
         }
       }
@@ -534,14 +563,17 @@ VisibleSet weilerAthertonVisibleSet(const std::vector<WindowPolygon>& polygons, 
     v.dzdx = p.plane.dzdx, v.dzdy = p.plane.dzdy, v.z0 = p.plane.z0;
     v.area = area(p.region) / (double{kSubpixelOne} * kSubpixelOne);
     v.region = std::move(p.region);
-    if (fb) paintExactRegion(v.region, p.plane, v.id, v.rgba, *fb, fragments);  // nothing is nearer there
+    if (fb)
+      paintExactRegion(v.region, p.plane, v.id, v.rgba, *fb, fragments);  // nothing is nearer there
     if (trace && frame && trace->wants(kStepVisible, out.polygons.size() - 1, entries.size())) {
       std::vector<TraceOutline> o;
       addOutlines(v.region, o);
-      trace->record({kStepVisible,
-                     "What is left of " + std::to_string(v.id) + " (outlined, " + std::to_string(static_cast<int>(v.area)) +
-                         " square pixels) is visible: nothing still in the list lies in front of it there.",
-                     frame, std::move(o)});
+      trace->record(
+          {kStepVisible,
+           "What is left of " + std::to_string(v.id) + " (outlined, " +
+               std::to_string(static_cast<int>(v.area)) +
+               " square pixels) is visible: nothing still in the list lies in front of it there.",
+           frame, std::move(o)});
     }
   }
   if (frame) {
@@ -557,8 +589,8 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   detail::Stopwatch watch;
   std::size_t bytes = 0;
   std::vector<ClosePair> close;
-  const VisibleSet set =
-      weilerAthertonVisibleSet(in.prepared.polygons, frame.width, frame.height, &bytes, &close, &frame, in.trace);
+  const VisibleSet set = weilerAthertonVisibleSet(in.prepared.polygons, frame.width, frame.height,
+                                                  &bytes, &close, &frame, in.trace);
   const double visible_set_ms = watch.lap();
   const FrameView fb(frame);
   FragmentCounts fragments;
@@ -567,9 +599,11 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   std::vector<const VisiblePolygon*> left;
   for (const VisiblePolygon& v : set.polygons)
     if (!v.resolved) left.push_back(&v);
-  std::stable_sort(left.begin(), left.end(), [](const VisiblePolygon* l, const VisiblePolygon* r) { return l->id < r->id; });
+  std::stable_sort(left.begin(), left.end(),
+                   [](const VisiblePolygon* l, const VisiblePolygon* r) { return l->id < r->id; });
   for (const VisiblePolygon* v : left)
-    paintExactRegion(v->region, {v->dzdx, v->dzdy, v->z0}, v->id, v->rgba, fb, fragments, DepthFunc::Less);
+    paintExactRegion(v->region, {v->dzdx, v->dzdy, v->z0}, v->id, v->rgba, fb, fragments,
+                     DepthFunc::Less);
   // Close pairs: where the exact answer and a float depth buffer may differ (two depths within
   // a float step, or a crossing line snapped to the grid), their shared pixels show what GL_LESS
   // shows: the nearest float depth, the first submitted among equals, of the pixel's polygon
@@ -603,11 +637,13 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
   const PixelBox viewport{0, 0, frame.width - 1, frame.height - 1};
   for (const ScreenLine& o : in.prepared.outline) drawOutlinePen(o, viewport, fb);
   if (in.trace && in.trace->wants(kStepDone, 0, 1))
-    in.trace->record({kStepDone,
-                      "Done: " + std::to_string(set.polygons.size()) + " polygons are visible, after " +
-                          std::to_string(set.clips) + " clips and " + std::to_string(set.splits) +
-                          " splits; every pixel shows the polygon whose visible part covers its centre.",
-                      &frame, {}});
+    in.trace->record(
+        {kStepDone,
+         "Done: " + std::to_string(set.polygons.size()) + " polygons are visible, after " +
+             std::to_string(set.clips) + " clips and " + std::to_string(set.splits) +
+             " splits; every pixel shows the polygon whose visible part covers its centre.",
+         &frame,
+         {}});
   frame.stats.fragments_tested += fragments.tested;
   frame.stats.fragments_written += fragments.written;
   frame.stats.state_bytes += frameBufferBytes(frame) + bytes;
@@ -629,9 +665,12 @@ void drawWeilerAtherton(const AlgorithmInput& in, Frame& frame) {
 namespace hsr {
 
 VisibleSet visibleSet(const Scene& scene, const Camera& camera, const RenderOptions& options) {
-  if (options.polygon_mode != PolygonMode::Fill) throw Error("visibleSet: the polygon mode must be fill");
-  const detail::PreparedScene ps = detail::prepare(scene, camera, options, {.window_polygons = true});
-  return detail::weilerAthertonVisibleSet(ps.polygons, ps.width, ps.height, nullptr, nullptr, nullptr, nullptr);
+  if (options.polygon_mode != PolygonMode::Fill)
+    throw Error("visibleSet: the polygon mode must be fill");
+  const detail::PreparedScene ps =
+      detail::prepare(scene, camera, options, {.window_polygons = true});
+  return detail::weilerAthertonVisibleSet(ps.polygons, ps.width, ps.height, nullptr, nullptr,
+                                          nullptr, nullptr);
 }
 
 }  // namespace hsr

@@ -164,9 +164,7 @@ void drawZBufferTextbook(const AlgorithmInput& in, Frame& frame) {
   // glDepthFunc (LESS by default: "if the depth is smaller, overwrite"); with the depth test
   // disabled every fragment passes.
   withDepthFunc(effectiveDepthFunc(in.options), [&]<DepthFunc F>() { drawPolygons<F>(in, frame); });
-  frame.stats.addStage(
-      "scan convert",
-      t0.ms());
+  frame.stats.addStage("scan convert", t0.ms());
 }
 
 }  // namespace hsr::detail

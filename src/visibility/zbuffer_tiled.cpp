@@ -111,7 +111,8 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
   Scratch& z = algorithmScratch(in, own);
   binPrimitives(ps.triangles, w, h, z.tri_bins, z.counts);
   binPrimitives(ps.lines, w, h, z.line_bins, z.counts);
-  binPrimitives(ps.points, w, h, z.point_bins, z.counts, std::max(1.0f, 0.5f * in.options.point_size + 1.0f));
+  binPrimitives(ps.points, w, h, z.point_bins, z.counts,
+                std::max(1.0f, 0.5f * in.options.point_size + 1.0f));
   binPrimitives(ps.outline, w, h, z.outline_bins, z.counts);
   frame.stats.addStage("bin", t0.ms());
   const std::size_t tiles = z.tri_bins.tiles();
@@ -135,7 +136,8 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
   t0.restart();
   const FrameView fb(frame);
   const DepthFunc func = effectiveDepthFunc(in.options);
-  const TileJob job{ps, z, fb, func, depthWrites(in.options), spanFunction(func), in.options.point_size};
+  const TileJob job{
+      ps, z, fb, func, depthWrites(in.options), spanFunction(func), in.options.point_size};
   using TileFn = FragmentCounts (*)(const TileJob&, std::size_t);
   const TileFn fill = withDepthFunc(func, []<DepthFunc F>() -> TileFn { return &fillTile<F>; });
   z.per_tile.assign(tiles, FragmentCounts{});

@@ -1,10 +1,10 @@
 // Weiler-Atherton clipping (docs/testing.md row 12) against CGAL's exact Boolean operations
-// (Polygon_set_2 on the exact-constructions kernel, tests/agreement/cgal_oracle.cpp): the areas of A∩B, A∪B, A−B and B−A must
-// be equal as exact rationals, on seeded random pairs (star-shaped, comb-shaped, with holes,
-// 4 to 256 vertices, on integer grids up to the coordinate limit) and on every case of the
-// degenerate catalogue (clip_cases.txt) in 16 placements; the area identities hold exactly; every
-// result ring is simple (CGAL's is_simple on the exact vertices), outer rings counter-clockwise
-// and holes clockwise; and invalid input is refused with a reason.
+// (Polygon_set_2 on the exact-constructions kernel, tests/agreement/cgal_oracle.cpp): the areas of
+// A∩B, A∪B, A−B and B−A must be equal as exact rationals, on seeded random pairs (star-shaped,
+// comb-shaped, with holes, 4 to 256 vertices, on integer grids up to the coordinate limit) and on
+// every case of the degenerate catalogue (clip_cases.txt) in 16 placements; the area identities
+// hold exactly; every result ring is simple (CGAL's is_simple on the exact vertices), outer rings
+// counter-clockwise and holes clockwise; and invalid input is refused with a reason.
 
 // (Moved here from tests/geometry/weiler_atherton_test.cpp with the other peers: CGAL is an
 // oracle, so these run once, in the Release suite, not again under the sanitizers.)
@@ -45,7 +45,8 @@ std::string describe(const GridRegion& r) {
   std::string s;
   for (const GridPolygon& p : r) {
     auto ring = [&](const GridRing& g) {
-      for (std::size_t i = 0; i < g.size(); ++i) s += (i ? ", " : "") + std::to_string(g[i].x) + " " + std::to_string(g[i].y);
+      for (std::size_t i = 0; i < g.size(); ++i)
+        s += (i ? ", " : "") + std::to_string(g[i].x) + " " + std::to_string(g[i].y);
     };
     s += "\n  ";
     ring(p.outer);
@@ -66,11 +67,12 @@ void checkPair(const GridRegion& a, const GridRegion& b, const std::string& what
     c->operations++;
     if (got[k] != want) {
       if (c->mismatches++ < 5)
-        ADD_FAILURE() << what << " " << booleanOpName(op) << ": area " << got[k] << ", CGAL " << want << "\nA:" << describe(a)
-                      << "\nB:" << describe(b);
+        ADD_FAILURE() << what << " " << booleanOpName(op) << ": area " << got[k] << ", CGAL "
+                      << want << "\nA:" << describe(a) << "\nB:" << describe(b);
     }
     const std::string problem = testing::cgalRingProblems(r);
-    EXPECT_EQ(problem, "") << what << " " << booleanOpName(op) << "\nA:" << describe(a) << "\nB:" << describe(b);
+    EXPECT_EQ(problem, "") << what << " " << booleanOpName(op) << "\nA:" << describe(a)
+                           << "\nB:" << describe(b);
     if (counts != nullptr) {
       std::size_t holes = 0;
       for (const ExactPolygon& p : r) holes += p.holes.size();
@@ -81,7 +83,8 @@ void checkPair(const GridRegion& a, const GridRegion& b, const std::string& what
   const mpq_class area_a = exactAreaOf(a), area_b = exactAreaOf(b);
   EXPECT_EQ(got[0] + got[2], area_a) << what << ": area(A∩B) + area(A−B) = area(A)";
   EXPECT_EQ(got[0] + got[3], area_b) << what << ": area(A∩B) + area(B−A) = area(B)";
-  EXPECT_EQ(got[1], area_a + area_b - got[0]) << what << ": area(A∪B) = area(A) + area(B) − area(A∩B)";
+  EXPECT_EQ(got[1], area_a + area_b - got[0])
+      << what << ": area(A∪B) = area(A) + area(B) − area(A∩B)";
 }
 
 TEST(WeilerAtherton, AgreesWithCgalExactlyOnRandomPairs) {
@@ -93,13 +96,17 @@ TEST(WeilerAtherton, AgreesWithCgalExactlyOnRandomPairs) {
   // Under the sanitizers (this test ran 15 times slower there) a fifth of the pairs; Release
   // checks them all.
   const int k = testing::countScale();
-  const Family families[] = {{"star", 4, 600 * k, 1000},   {"star", 16, 400 * k, 1000},
-                             {"star", 64, 150 * k, 1000},  {"star", 256, 30 * k, 1000},
+  const Family families[] = {{"star", 4, 600 * k, 1000},
+                             {"star", 16, 400 * k, 1000},
+                             {"star", 64, 150 * k, 1000},
+                             {"star", 256, 30 * k, 1000},
                              {"star near the coordinate limit", 16, 100 * k, 2.6e8},
                              {"star on a coarse grid", 16, 200 * k, 12},
-                             {"comb", 10, 200 * k, 1000},  {"comb", 66, 60 * k, 1000},
+                             {"comb", 10, 200 * k, 1000},
+                             {"comb", 66, 60 * k, 1000},
                              {"comb on a coarse grid", 18, 150 * k, 40},
-                             {"star with a hole", 16, 200 * k, 1000}, {"star with a hole", 64, 60 * k, 1000}};
+                             {"star with a hole", 16, 200 * k, 1000},
+                             {"star with a hole", 64, 60 * k, 1000}};
   std::string figures = "row 12 weiler-atherton against CGAL (exact areas of A∩B, A∪B, A−B, B−A):";
   Checked total;
   testing::Rng rng(12);
@@ -131,16 +138,17 @@ TEST(WeilerAtherton, AgreesWithCgalExactlyOnRandomPairs) {
       }
       checkPair(a, b, name + " " + std::to_string(f.vertices) + " pair " + std::to_string(i), &c);
     }
-    EXPECT_LT(refused, std::max(2, f.pairs / 4)) << f.name << ": too many invalid pairs to prove anything";
+    EXPECT_LT(refused, std::max(2, f.pairs / 4))
+        << f.name << ": too many invalid pairs to prove anything";
     figures += ' ';
-    figures += std::string(f.name) + " " + std::to_string(f.vertices) + ": " + grouped(c.operations) + " ops, " +
-               grouped(c.mismatches) + " differ;";
+    figures += std::string(f.name) + " " + std::to_string(f.vertices) + ": " +
+               grouped(c.operations) + " ops, " + grouped(c.mismatches) + " differ;";
     total.operations += c.operations, total.mismatches += c.mismatches;
   }
   EXPECT_EQ(total.mismatches, 0u);
   EXPECT_GE(total.operations, 4 * 1500u);
-  testing::printFigures(figures + " in all " + grouped(total.operations) + " operations, " + grouped(total.mismatches) +
-                        " with an area different from CGAL's");
+  testing::printFigures(figures + " in all " + grouped(total.operations) + " operations, " +
+                        grouped(total.mismatches) + " with an area different from CGAL's");
 }
 
 // The degenerate catalogue
@@ -175,8 +183,10 @@ std::vector<Case> readCases() {
       std::string ring;
       bool first = true;
       while (std::getline(rings, ring, '/')) {
-        if (first) poly.outer = parseRing(ring);
-        else poly.holes.push_back(parseRing(ring));
+        if (first)
+          poly.outer = parseRing(ring);
+        else
+          poly.holes.push_back(parseRing(ring));
         first = false;
       }
       (line[0] == 'A' ? cases.back().a : cases.back().b).push_back(poly);
@@ -223,8 +233,9 @@ TEST(WeilerAtherton, DegenerateCatalogueMatchesCgalAndTheFile) {
     }
   }
   EXPECT_EQ(c.mismatches, 0u);
-  testing::printFigures("row 12 weiler-atherton degenerate catalogue: " + grouped(cases.size()) + " cases x 16 placements, " +
-                        grouped(c.operations) + " operations, " + grouped(c.mismatches) + " with an area different from CGAL's");
+  testing::printFigures("row 12 weiler-atherton degenerate catalogue: " + grouped(cases.size()) +
+                        " cases x 16 placements, " + grouped(c.operations) + " operations, " +
+                        grouped(c.mismatches) + " with an area different from CGAL's");
 }
 
 // fuzz_clip's findings, as literal inputs (fuzz/seeds/clip/finding_*.bin)
@@ -254,7 +265,8 @@ TEST(WeilerAtherton, FuzzFindingsKeepTheIdentities) {
   const GridRegion b2{{{{3, -1}, {9, -5}, {3, 6}}, {}}};
   const GridRegion outer{{a[0].outer, {}}}, hole{{a[0].holes[0], {}}};
   const mpq_class b_and_hole(testing::cgalArea(b2, hole, BooleanOp::Intersection));
-  const mpq_class both = mpq_class(testing::cgalArea(b2, outer, BooleanOp::Intersection)) - b_and_hole;
+  const mpq_class both =
+      mpq_class(testing::cgalArea(b2, outer, BooleanOp::Intersection)) - b_and_hole;
   const mpq_class b_only = mpq_class(testing::cgalArea(b2, outer, BooleanOp::AMinusB)) + b_and_hole;
   EXPECT_GT(b_and_hole, 0);
   EXPECT_EQ(exactAreaOf(booleanOp(a, b2, BooleanOp::Intersection)), both);
@@ -277,8 +289,11 @@ TEST(WeilerAtherton, ResultsClipAgainExactly) {
     const int n = i % 3 == 0 ? 24 : 6;
     std::vector<GridRegion> regions;
     for (int k = 0; k < 4; ++k)
-      regions.push_back({{testing::starRing(rng, n, s * (0.2 * k - 0.3), s * 0.1 * (k % 2), 0.2 * s, 0.9 * s), {}}});
-    if (std::any_of(regions.begin(), regions.end(), [](const GridRegion& r) { return !invalidRegionReason(r).empty(); })) {
+      regions.push_back(
+          {{testing::starRing(rng, n, s * (0.2 * k - 0.3), s * 0.1 * (k % 2), 0.2 * s, 0.9 * s),
+            {}}});
+    if (std::any_of(regions.begin(), regions.end(),
+                    [](const GridRegion& r) { return !invalidRegionReason(r).empty(); })) {
       ++refused;
       continue;
     }
@@ -289,15 +304,19 @@ TEST(WeilerAtherton, ResultsClipAgainExactly) {
       ops.push_back(op);
       const ExactRegion c2 = exactRegion(regions[k]);
       const ExactRegion r = booleanOp(x, c2, op);
-      const std::string what = "chain " + std::to_string(i) + " step " + std::to_string(k) + " " + booleanOpName(op);
+      const std::string what =
+          "chain " + std::to_string(i) + " step " + std::to_string(k) + " " + booleanOpName(op);
       ++c.operations;
-      const mpq_class want(testing::cgalChainArea(std::vector<GridRegion>(regions.begin(), regions.begin() + k + 1), ops));
-      if (exactAreaOf(r) != want && c.mismatches++ < 5) ADD_FAILURE() << what << ": area " << exactAreaOf(r) << ", CGAL " << want;
+      const mpq_class want(testing::cgalChainArea(
+          std::vector<GridRegion>(regions.begin(), regions.begin() + k + 1), ops));
+      if (exactAreaOf(r) != want && c.mismatches++ < 5)
+        ADD_FAILURE() << what << ": area " << exactAreaOf(r) << ", CGAL " << want;
       EXPECT_EQ(invalidRegionReason(r), "") << what;
       EXPECT_EQ(testing::cgalRingProblems(r), "") << what;
       // the identity on a rational A
       const mpq_class both = exactAreaOf(booleanOp(x, c2, BooleanOp::Intersection));
-      EXPECT_EQ(both + exactAreaOf(booleanOp(x, c2, BooleanOp::AMinusB)), exactAreaOf(x)) << what << ": area(A∩B) + area(A−B) = area(A)";
+      EXPECT_EQ(both + exactAreaOf(booleanOp(x, c2, BooleanOp::AMinusB)), exactAreaOf(x))
+          << what << ": area(A∩B) + area(A−B) = area(A)";
       x = r;
     }
   }
@@ -305,7 +324,8 @@ TEST(WeilerAtherton, ResultsClipAgainExactly) {
   EXPECT_LT(refused, chains / 4);
   EXPECT_GE(c.operations, 3u * chains / 2);
   testing::printFigures("row 12 weiler-atherton results clipped again: " + grouped(c.operations) +
-                        " chained operations on exact (rational) regions, " + grouped(c.mismatches) + " with an area different from CGAL's");
+                        " chained operations on exact (rational) regions, " +
+                        grouped(c.mismatches) + " with an area different from CGAL's");
 }
 
 }  // namespace

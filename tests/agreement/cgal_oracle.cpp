@@ -19,7 +19,8 @@ using CgalSet = CGAL::Polygon_set_2<K>;
 
 CgalPolygon cgalRing(const GridRing& r, CGAL::Orientation want) {
   CgalPolygon p;
-  for (const GridPoint& v : r) p.push_back(K::Point_2(static_cast<double>(v.x), static_cast<double>(v.y)));
+  for (const GridPoint& v : r)
+    p.push_back(K::Point_2(static_cast<double>(v.x), static_cast<double>(v.y)));
   if (p.orientation() != want) p.reverse_orientation();
   return p;
 }
@@ -36,7 +37,8 @@ CgalSet cgalSet(const GridRegion& region) {
 
 K::FT exactCoordinate(__int128 v, std::int64_t d) {
   const bool negative = v < 0;
-  const unsigned __int128 m = negative ? -static_cast<unsigned __int128>(v) : static_cast<unsigned __int128>(v);
+  const unsigned __int128 m =
+      negative ? -static_cast<unsigned __int128>(v) : static_cast<unsigned __int128>(v);
   mpz_class z(static_cast<unsigned long>(static_cast<std::uint64_t>(m >> 64)));
   z <<= 64;
   z += mpz_class(static_cast<unsigned long>(static_cast<std::uint64_t>(m)));
@@ -45,12 +47,17 @@ K::FT exactCoordinate(__int128 v, std::int64_t d) {
   return K::FT(K::FT::ET(q.get_mpq_t()));
 }
 
-
 void apply(CgalSet& a, const CgalSet& b, BooleanOp op) {
   switch (op) {
-    case BooleanOp::Intersection: a.intersection(b); break;
-    case BooleanOp::Union: a.join(b); break;
-    case BooleanOp::AMinusB: a.difference(b); break;
+    case BooleanOp::Intersection:
+      a.intersection(b);
+      break;
+    case BooleanOp::Union:
+      a.join(b);
+      break;
+    case BooleanOp::AMinusB:
+      a.difference(b);
+      break;
     case BooleanOp::BMinusA: {
       CgalSet r = b;
       r.difference(a);
@@ -83,7 +90,8 @@ std::string cgalArea(const GridRegion& a, const GridRegion& b, BooleanOp op) {
   return areaOf(out);
 }
 
-std::string cgalChainArea(const std::vector<GridRegion>& regions, const std::vector<BooleanOp>& ops) {
+std::string cgalChainArea(const std::vector<GridRegion>& regions,
+                          const std::vector<BooleanOp>& ops) {
   CgalSet out = cgalSet(regions.at(0));
   for (std::size_t i = 0; i < ops.size(); ++i) apply(out, cgalSet(regions.at(i + 1)), ops[i]);
   return areaOf(out);
@@ -92,10 +100,13 @@ std::string cgalChainArea(const std::vector<GridRegion>& regions, const std::vec
 std::string cgalRingProblems(const ExactRegion& region) {
   auto check = [](const ExactRing& ring, CGAL::Orientation want) -> std::string {
     CgalPolygon p;
-    for (const ExactPoint& v : ring) p.push_back(K::Point_2(exactCoordinate(v.x, v.d), exactCoordinate(v.y, v.d)));
+    for (const ExactPoint& v : ring)
+      p.push_back(K::Point_2(exactCoordinate(v.x, v.d), exactCoordinate(v.y, v.d)));
     if (p.size() < 3) return "a ring of fewer than 3 vertices";
     if (!p.is_simple()) return "a ring that is not simple";
-    if (p.orientation() != want) return want == CGAL::COUNTERCLOCKWISE ? "an outer ring clockwise" : "a hole counter-clockwise";
+    if (p.orientation() != want)
+      return want == CGAL::COUNTERCLOCKWISE ? "an outer ring clockwise"
+                                            : "a hole counter-clockwise";
     return "";
   };
   for (const ExactPolygon& poly : region) {

@@ -18,7 +18,8 @@ std::string cgalArea(const GridRegion& a, const GridRegion& b, BooleanOp op);
 
 // The exact area of ((R0 op0 R1) op1 R2) ... by CGAL: a chain of operations, each result the
 // next one's A (ops.size() == regions.size() - 1).
-std::string cgalChainArea(const std::vector<GridRegion>& regions, const std::vector<BooleanOp>& ops);
+std::string cgalChainArea(const std::vector<GridRegion>& regions,
+                          const std::vector<BooleanOp>& ops);
 
 // "" when every ring of `region` is simple (CGAL's is_simple on the exact vertices), outer
 // rings counter-clockwise and holes clockwise; otherwise what is wrong.

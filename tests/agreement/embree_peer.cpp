@@ -19,10 +19,10 @@ EmbreeScene::EmbreeScene(const RayScene& rays, int threads, bool robust, EmbreeQ
   const std::size_t n = rays.triangleCount();
   // The same triangles, unshared vertices: triangle i is primID i
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(
-      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-  auto* indices = static_cast<unsigned*>(
-      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
   RayHit probe;
   for (std::size_t i = 0; i < n; ++i) {
     probe.triangle = static_cast<std::uint32_t>(i);
@@ -30,7 +30,8 @@ EmbreeScene::EmbreeScene(const RayScene& rays, int threads, bool robust, EmbreeQ
     rays.triangleOf(probe, &v[0], &v[1], &v[2]);
     for (int k = 0; k < 3; ++k) {
       // A non-finite triangle (left out of hsr's hierarchy) becomes a point at the origin
-      const bool finite = std::isfinite(v[0].x + v[0].y + v[0].z + v[1].x + v[1].y + v[1].z + v[2].x + v[2].y + v[2].z);
+      const bool finite = std::isfinite(v[0].x + v[0].y + v[0].z + v[1].x + v[1].y + v[1].z +
+                                        v[2].x + v[2].y + v[2].z);
       for (int a = 0; a < 3; ++a) vertices[9 * i + 3 * k + a] = finite ? v[k][a] : 0.0f;
       indices[3 * i + k] = static_cast<unsigned>(3 * i + k);
     }
@@ -38,14 +39,15 @@ EmbreeScene::EmbreeScene(const RayScene& rays, int threads, bool robust, EmbreeQ
   rtcCommitGeometry(geom);
   RTCScene scene = rtcNewScene(device);
   rtcSetSceneFlags(scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-  rtcSetSceneBuildQuality(scene, quality == EmbreeQuality::kLow      ? RTC_BUILD_QUALITY_LOW
-                                 : quality == EmbreeQuality::kHigh   ? RTC_BUILD_QUALITY_HIGH
-                                                                     : RTC_BUILD_QUALITY_MEDIUM);
+  rtcSetSceneBuildQuality(scene, quality == EmbreeQuality::kLow    ? RTC_BUILD_QUALITY_LOW
+                                 : quality == EmbreeQuality::kHigh ? RTC_BUILD_QUALITY_HIGH
+                                                                   : RTC_BUILD_QUALITY_MEDIUM);
   rtcAttachGeometry(scene, geom);
   rtcReleaseGeometry(geom);
   const auto t0 = std::chrono::steady_clock::now();
   rtcCommitScene(scene);
-  build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  build_ms_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   scene_ = scene;
 }
 
@@ -54,7 +56,8 @@ EmbreeScene::~EmbreeScene() {
   if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
 }
 
-EmbreeHit EmbreeScene::intersect1(const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax) const {
+EmbreeHit EmbreeScene::intersect1(const glm::vec3& org, const glm::vec3& dir, float tmin,
+                                  float tmax) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh{};
@@ -64,12 +67,13 @@ EmbreeHit EmbreeScene::intersect1(const glm::vec3& org, const glm::vec3& dir, fl
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(static_cast<RTCScene>(scene_), &context, &rh);
   EmbreeHit h;
-  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) h = {rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v};
+  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
+    h = {rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v};
   return h;
 }
 
-void EmbreeScene::intersect8(const glm::vec3* org, const glm::vec3* dir, int n, float tmin, float tmax,
-                             EmbreeHit* out) const {
+void EmbreeScene::intersect8(const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
+                             float tmax, EmbreeHit* out) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -80,18 +84,20 @@ void EmbreeScene::intersect8(const glm::vec3* org, const glm::vec3* dir, int n, 
     valid[i] = i < n ? -1 : 0;
     rh.ray.org_x[i] = org[k].x, rh.ray.org_y[i] = org[k].y, rh.ray.org_z[i] = org[k].z;
     rh.ray.dir_x[i] = dir[k].x, rh.ray.dir_y[i] = dir[k].y, rh.ray.dir_z[i] = dir[k].z;
-    rh.ray.tnear[i] = tmin, rh.ray.tfar[i] = tmax, rh.ray.mask[i] = 0xFFFFFFFFu, rh.ray.flags[i] = 0;
+    rh.ray.tnear[i] = tmin, rh.ray.tfar[i] = tmax, rh.ray.mask[i] = 0xFFFFFFFFu,
+    rh.ray.flags[i] = 0;
     rh.ray.time[i] = 0, rh.ray.id[i] = 0;
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
   }
   rtcIntersect8(valid, static_cast<RTCScene>(scene_), &context, &rh);
   for (int i = 0; i < n; ++i)
-    out[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? EmbreeHit{rh.ray.tfar[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]}
-                                                         : EmbreeHit{};
+    out[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID
+                 ? EmbreeHit{rh.ray.tfar[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]}
+                 : EmbreeHit{};
 }
 
-void EmbreeScene::intersect1M(const glm::vec3* org, const glm::vec3* dir, int n, float tmin, float tmax,
-                              EmbreeHit* out) const {
+void EmbreeScene::intersect1M(const glm::vec3* org, const glm::vec3* dir, int n, float tmin,
+                              float tmax, EmbreeHit* out) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -104,10 +110,13 @@ void EmbreeScene::intersect1M(const glm::vec3* org, const glm::vec3* dir, int n,
     r.ray.tnear = tmin, r.ray.tfar = tmax, r.ray.mask = 0xFFFFFFFFu;
     r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   }
-  rtcIntersect1M(static_cast<RTCScene>(scene_), &context, rh.data(), static_cast<unsigned>(n), sizeof(RTCRayHit));
+  rtcIntersect1M(static_cast<RTCScene>(scene_), &context, rh.data(), static_cast<unsigned>(n),
+                 sizeof(RTCRayHit));
   for (int i = 0; i < n; ++i) {
     const RTCRayHit& r = rh[static_cast<std::size_t>(i)];
-    out[i] = r.hit.geomID != RTC_INVALID_GEOMETRY_ID ? EmbreeHit{r.ray.tfar, r.hit.primID, r.hit.u, r.hit.v} : EmbreeHit{};
+    out[i] = r.hit.geomID != RTC_INVALID_GEOMETRY_ID
+                 ? EmbreeHit{r.ray.tfar, r.hit.primID, r.hit.u, r.hit.v}
+                 : EmbreeHit{};
   }
 }
 

@@ -22,7 +22,11 @@ struct EmbreeHit {
   bool hit() const { return triangle != 0xFFFFFFFFu; }
 };
 
-enum class EmbreeQuality { kLow, kMedium, kHigh };  // RTC_BUILD_QUALITY_*: medium is Embree's default
+enum class EmbreeQuality {
+  kLow,
+  kMedium,
+  kHigh
+};  // RTC_BUILD_QUALITY_*: medium is Embree's default
 
 class EmbreeScene {
  public:
@@ -37,9 +41,11 @@ class EmbreeScene {
   // rtcIntersect1, one ray at a time, on the calling thread.
   EmbreeHit intersect1(const glm::vec3& org, const glm::vec3& dir, float tmin, float tmax) const;
   // rtcIntersect8 over rays [i, i + 8) (fewer at the end), on the calling thread.
-  void intersect8(const glm::vec3* org, const glm::vec3* dir, int n, float tmin, float tmax, EmbreeHit* out) const;
+  void intersect8(const glm::vec3* org, const glm::vec3* dir, int n, float tmin, float tmax,
+                  EmbreeHit* out) const;
   // rtcIntersect1M over a stream of rays, on the calling thread.
-  void intersect1M(const glm::vec3* org, const glm::vec3* dir, int n, float tmin, float tmax, EmbreeHit* out) const;
+  void intersect1M(const glm::vec3* org, const glm::vec3* dir, int n, float tmin, float tmax,
+                   EmbreeHit* out) const;
 
   static std::string version();
 

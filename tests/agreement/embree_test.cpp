@@ -38,8 +38,8 @@ struct RayTally {
 // hit is nearer than that (a ray starting next to a triangle: both t are then tiny and carry
 // the absolute error of coordinates of the scene's magnitude).
 RayTally compareWithEmbree(const RayScene& ours, const std::vector<glm::vec3>& org,
-                           const std::vector<glm::vec3>& dir, float tmin, float tmax, float scene_size,
-                           double dt_bound = 1e-5) {
+                           const std::vector<glm::vec3>& dir, float tmin, float tmax,
+                           float scene_size, double dt_bound = 1e-5) {
   const testing::EmbreeScene embree(ours, 0, /*robust=*/true);
   const std::vector<RayHit> hits = ours.intersect(org, dir, tmax, tmin);
   RayTally t;
@@ -61,8 +61,9 @@ RayTally compareWithEmbree(const RayScene& ours, const std::vector<glm::vec3>& o
 }
 
 std::string describe(const RayTally& t) {
-  return grouped(t.rays) + " rays, " + grouped(t.hits) + " hits; hit triangle differs on " + grouped(t.differ) +
-         " (" + testing::percent(t.rays - t.differ, t.rays) + " identical); worst relative |dt| (to max(t, 1/1000 of the scene)) " +
+  return grouped(t.rays) + " rays, " + grouped(t.hits) + " hits; hit triangle differs on " +
+         grouped(t.differ) + " (" + testing::percent(t.rays - t.differ, t.rays) +
+         " identical); worst relative |dt| (to max(t, 1/1000 of the scene)) " +
          std::to_string(t.worst_dt) + ", " + grouped(t.t_off) + " above the bound";
 }
 
@@ -78,11 +79,12 @@ TEST(EmbreeAgreement, PrimaryRaysOnTheAgreementScenes) {
     const Scene scene = testing::agreementScene(seed);
     const Camera camera = testing::agreementCamera(seed);
     const CameraRays rays = cameraRays(camera);
-    total.add(compareWithEmbree(RayScene(scene), rays.origins, rays.directions, rays.tmin, rays.tmax,
-                                2 * scene.bounds().radius()));
+    total.add(compareWithEmbree(RayScene(scene), rays.origins, rays.directions, rays.tmin,
+                                rays.tmax, 2 * scene.bounds().radius()));
   }
   testing::printFigures("Embree " + testing::EmbreeScene::version() + ", primary rays, " +
-                        std::to_string(20 * testing::countScale()) + " agreement scenes: " + describe(total));
+                        std::to_string(20 * testing::countScale()) +
+                        " agreement scenes: " + describe(total));
   expectAgreement(total);
 }
 
@@ -91,9 +93,10 @@ TEST(EmbreeAgreement, PrimaryRaysOnTheRealModels) {
     SCOPED_TRACE(model);
     const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
     const CameraRays rays = cameraRays(frameScene(scene, 640, 480));
-    const RayTally t = compareWithEmbree(RayScene(scene), rays.origins, rays.directions, rays.tmin, rays.tmax,
-                                         2 * scene.bounds().radius());
-    testing::printFigures(std::string("Embree, primary rays, ") + model + " 640x480: " + describe(t));
+    const RayTally t = compareWithEmbree(RayScene(scene), rays.origins, rays.directions, rays.tmin,
+                                         rays.tmax, 2 * scene.bounds().radius());
+    testing::printFigures(std::string("Embree, primary rays, ") + model +
+                          " 640x480: " + describe(t));
     expectAgreement(t);
   }
 }
@@ -104,18 +107,23 @@ TEST(EmbreeAgreement, IncoherentRaysInsideClosedModels) {
   for (const char* name : {"spheres:2000", "PLY/Wuson.ply"}) {
     SCOPED_TRACE(name);
     const std::string path = (std::filesystem::path(HSR_TEST_MODELS) / name).string();
-    const Scene scene = std::string(name).starts_with("spheres") ? makeBuiltinScene(name) : loadScene(path);
+    const Scene scene =
+        std::string(name).starts_with("spheres") ? makeBuiltinScene(name) : loadScene(path);
     const Bounds b = scene.bounds();
     detail::SplitMix64 rng(42);
-    auto uniform = [&] { return static_cast<float>(rng.next() >> 40) / static_cast<float>(1u << 24); };
-    std::vector<glm::vec3> org(100000 * static_cast<std::size_t>(testing::countScale())), dir(org.size());
+    auto uniform = [&] {
+      return static_cast<float>(rng.next() >> 40) / static_cast<float>(1u << 24);
+    };
+    std::vector<glm::vec3> org(100000 * static_cast<std::size_t>(testing::countScale())),
+        dir(org.size());
     for (std::size_t i = 0; i < org.size(); ++i) {
       org[i] = b.lo + (b.hi - b.lo) * glm::vec3(uniform(), uniform(), uniform());
       dir[i] = glm::vec3(uniform() - 0.5f, uniform() - 0.5f, uniform() - 0.5f);
     }
     // 2e-5 here: one ray of Wuson's 100,000 measured 1.0e-5 to 1.1e-5 (which of the two is
     // nearer the exact distance is not settled yet); primary rays keep 1e-5
-    const RayTally t = compareWithEmbree(RayScene(scene), org, dir, 0.0f, INFINITY, 2 * b.radius(), 2e-5);
+    const RayTally t =
+        compareWithEmbree(RayScene(scene), org, dir, 0.0f, INFINITY, 2 * b.radius(), 2e-5);
     testing::printFigures(std::string("Embree, incoherent rays, ") + name + ": " + describe(t));
     expectAgreement(t);
   }

@@ -88,14 +88,22 @@ MesaContext& makeCurrent(int width, int height) {
 
 GLenum glDepthFuncOf(DepthFunc f) {
   switch (f) {
-    case DepthFunc::Never: return GL_NEVER;
-    case DepthFunc::Less: return GL_LESS;
-    case DepthFunc::Equal: return GL_EQUAL;
-    case DepthFunc::LEqual: return GL_LEQUAL;
-    case DepthFunc::Greater: return GL_GREATER;
-    case DepthFunc::NotEqual: return GL_NOTEQUAL;
-    case DepthFunc::GEqual: return GL_GEQUAL;
-    case DepthFunc::Always: return GL_ALWAYS;
+    case DepthFunc::Never:
+      return GL_NEVER;
+    case DepthFunc::Less:
+      return GL_LESS;
+    case DepthFunc::Equal:
+      return GL_EQUAL;
+    case DepthFunc::LEqual:
+      return GL_LEQUAL;
+    case DepthFunc::Greater:
+      return GL_GREATER;
+    case DepthFunc::NotEqual:
+      return GL_NOTEQUAL;
+    case DepthFunc::GEqual:
+      return GL_GEQUAL;
+    case DepthFunc::Always:
+      return GL_ALWAYS;
   }
   return GL_LESS;
 }
@@ -143,7 +151,9 @@ void applyState(const Camera& camera, const RenderOptions& options) {
   // Facing and culling.
   glFrontFace(options.front_face == FrontFace::Ccw ? GL_CCW : GL_CW);
   switch (options.cull) {
-    case CullMode::None: glDisable(GL_CULL_FACE); break;
+    case CullMode::None:
+      glDisable(GL_CULL_FACE);
+      break;
     case CullMode::Back:
       glEnable(GL_CULL_FACE);
       glCullFace(GL_BACK);
@@ -332,7 +342,8 @@ std::string mesaRenderer() {
   return r ? reinterpret_cast<const char*>(r) : "unknown";
 }
 
-MesaScene::MesaScene(const Scene& scene, const Camera& camera, const RenderOptions& options, int msaa_samples)
+MesaScene::MesaScene(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                     int msaa_samples)
     : camera_(camera), options_(options), msaa_samples_(msaa_samples) {
   camera_.validate();
   options_.polygon_mode = PolygonMode::Fill;
@@ -365,10 +376,11 @@ MesaScene::MesaScene(const Scene& scene, const Camera& camera, const RenderOptio
     glGenRenderbuffers(1, &colour_rb_);
     glGenRenderbuffers(1, &depth_rb_);
     glBindRenderbuffer(GL_RENDERBUFFER, colour_rb_);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, msaa_samples_, GL_RGBA8, camera_.width, camera_.height);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, msaa_samples_, GL_DEPTH_COMPONENT24, camera_.width,
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, msaa_samples_, GL_RGBA8, camera_.width,
                                      camera_.height);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, msaa_samples_, GL_DEPTH_COMPONENT24,
+                                     camera_.width, camera_.height);
     glBindRenderbuffer(GL_RENDERBUFFER, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_rb_);
@@ -379,8 +391,9 @@ MesaScene::MesaScene(const Scene& scene, const Camera& camera, const RenderOptio
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlError("MesaScene multisampled framebuffer");
     if (status != GL_FRAMEBUFFER_COMPLETE || samples < msaa_samples_)
-      throw std::runtime_error("OSMesa: no " + std::to_string(msaa_samples_) + "x multisampled framebuffer (status " +
-                               std::to_string(status) + ", " + std::to_string(samples) + " samples)");
+      throw std::runtime_error("OSMesa: no " + std::to_string(msaa_samples_) +
+                               "x multisampled framebuffer (status " + std::to_string(status) +
+                               ", " + std::to_string(samples) + " samples)");
   }
 }
 
@@ -432,8 +445,8 @@ double MesaScene::renderFrameMs() {
   if (fbo_ != 0) {  // resolve: the samples' mean into the window buffer
     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-    glBlitFramebuffer(0, 0, camera_.width, camera_.height, 0, 0, camera_.width, camera_.height, GL_COLOR_BUFFER_BIT,
-                      GL_NEAREST);
+    glBlitFramebuffer(0, 0, camera_.width, camera_.height, 0, 0, camera_.width, camera_.height,
+                      GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_MULTISAMPLE);
   }

@@ -55,7 +55,8 @@ std::string mesaRenderer();
 // A-buffer. Throws std::runtime_error when Mesa cannot make that framebuffer.
 class MesaScene {
  public:
-  MesaScene(const Scene& scene, const Camera& camera, const RenderOptions& options = {}, int msaa_samples = 0);
+  MesaScene(const Scene& scene, const Camera& camera, const RenderOptions& options = {},
+            int msaa_samples = 0);
   ~MesaScene();
   MesaScene(const MesaScene&) = delete;
   MesaScene& operator=(const MesaScene&) = delete;

@@ -348,17 +348,24 @@ TEST(ZBufferMesaAgreement, RandomSoups) {
     o.cull = culls[seed % 4];
     o.front_face = (seed / 4) % 2 ? FrontFace::Cw : FrontFace::Ccw;
     switch (seed % 7) {
-      case 3: o.depth_func = DepthFunc::LEqual; break;
+      case 3:
+        o.depth_func = DepthFunc::LEqual;
+        break;
       case 4:
         o.depth_func = DepthFunc::Greater;
         o.clear_depth = 0.0f;
         break;
-      case 5: o.depth_test = false; break;  // the last drawn wins everywhere
-      case 6: o.depth_func = DepthFunc::Always; break;
-      default: break;
+      case 5:
+        o.depth_test = false;
+        break;  // the last drawn wins everywhere
+      case 6:
+        o.depth_func = DepthFunc::Always;
+        break;
+      default:
+        break;
     }
     if (seed % 11 == 10) {
-      o.depth_mask = false;  // tested against the clear depth only: the last drawn wins
+      o.depth_mask = false;   // tested against the clear depth only: the last drawn wins
       o.clear_depth = 0.75f;  // ... where it is nearer than 0.75
     }
     const Agreement a =
@@ -451,8 +458,10 @@ TEST(ZBufferMesaAgreement, EdgesThroughPixelCentresOwnTheirCentresAsMesaDoes) {
     for (const bool reversed : {false, true}) {
       Scene s;
       const std::uint32_t m = s.addMaterial({});
-      if (reversed) s.addPolygonVertices({c.a, c.c, c.b}, m);
-      else s.addPolygonVertices({c.a, c.b, c.c}, m);
+      if (reversed)
+        s.addPolygonVertices({c.a, c.c, c.b}, m);
+      else
+        s.addPolygonVertices({c.a, c.b, c.c}, m);
       const Frame ours = render(s, cam, {});
       const MesaFrame mesa = renderWithMesa(s, cam, {});
       int ours_row = 0, ours_column = 0, mesa_row = 0, mesa_column = 0;

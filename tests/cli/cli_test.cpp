@@ -65,9 +65,7 @@ TEST(Cli, BadFilesGiveOneLineAndExit2) {
     f << "this is not a mesh\njust some words\n";
   }
   expectCleanError("render " + (d / "text.obj").string() + " " + out, "text.obj");
-  {
-    std::ofstream f(d / "empty.obj");
-  }
+  { std::ofstream f(d / "empty.obj"); }
   expectCleanError("render " + (d / "empty.obj").string() + " " + out, "empty.obj");
   {
     std::ofstream f(d / "nan.obj");
@@ -104,8 +102,8 @@ TEST(Cli, RendersDemoWithEveryOutput) {
   const ScratchDir scratch("hsr_cli_test");
   const fs::path d = scratch.path() / "demo";
   const CliRun r = runCli("render demo --size 160x120 --output color,depth,ids,overdraw -o " +
-                       (d / "demo.png").string() + " --raw " + (d / "raw").string() +
-                       " --stats " + (d / "stats.json").string());
+                          (d / "demo.png").string() + " --raw " + (d / "raw").string() +
+                          " --stats " + (d / "stats.json").string());
   ASSERT_EQ(r.code, 0) << r.err;
   for (const char* f : {"demo-color.png", "demo-depth.png", "demo-ids.png", "demo-overdraw.png",
                         "raw/depth.npy", "raw/ids.npy", "raw/overdraw.npy", "stats.json"})
@@ -122,17 +120,20 @@ TEST(Cli, ABufferSamplesMemoryAndCoverage) {
   const std::string out = "-o " + (scratch.path() / "x.png").string();
   expectCleanError("render demo --algorithm abuffer --samples 3 " + out, "samples");
   expectCleanError("render demo --algorithm abuffer --samples 128 " + out, "samples");
-  expectCleanError("render demo --samples 4 " + out, "samples");  // the z-buffer has one, at the centre
+  expectCleanError("render demo --samples 4 " + out,
+                   "samples");  // the z-buffer has one, at the centre
   expectCleanError("render demo --algorithm abuffer --fragment-memory 0 " + out, "fragment-memory");
-  expectCleanError("render spheres:20000 --size 400x300 --algorithm abuffer --fragment-memory 0.5 " + out,
-                   "fragment memory");
+  expectCleanError(
+      "render spheres:20000 --size 400x300 --algorithm abuffer --fragment-memory 0.5 " + out,
+      "fragment memory");
   const fs::path raw = scratch.path() / "raw";
-  const CliRun r = runCli("render demo --size 160x120 --algorithm abuffer --samples 16 " + out + " --raw " +
-                          raw.string());
+  const CliRun r = runCli("render demo --size 160x120 --algorithm abuffer --samples 16 " + out +
+                          " --raw " + raw.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_GE(fs::file_size(raw / "coverage.npy"), 160u * 120u * 4u);
   std::ifstream manifest(raw / "manifest.json");
-  const std::string text((std::istreambuf_iterator<char>(manifest)), std::istreambuf_iterator<char>());
+  const std::string text((std::istreambuf_iterator<char>(manifest)),
+                         std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("coverage.npy"), std::string::npos) << text;
   // The z-buffer's raw output into the same directory has no coverage buffer
   ASSERT_EQ(runCli("render demo --size 160x120 " + out + " --raw " + raw.string()).code, 0);
@@ -163,13 +164,15 @@ TEST(Cli, BspBuildInfoRenderAndOrbit) {
   ASSERT_EQ(r.code, 0) << r.err;
   for (const char* f : {"ids.npy", "depth.npy"}) {
     std::ifstream a(d / "tree" / f, std::ios::binary), b(d / "fresh" / f, std::ios::binary);
-    const std::string x((std::istreambuf_iterator<char>(a)), {}), y((std::istreambuf_iterator<char>(b)), {});
+    const std::string x((std::istreambuf_iterator<char>(a)), {}),
+        y((std::istreambuf_iterator<char>(b)), {});
     EXPECT_FALSE(x.empty());
     EXPECT_TRUE(x == y) << f << " differs between the saved tree and a fresh build";
   }
   r = runCli("bsp render " + tree + " --size 80x60 --orbit 5 -o " + (d / "orbit").string());
   ASSERT_EQ(r.code, 0) << r.err;
-  for (int k = 0; k < 5; ++k) EXPECT_TRUE(fs::exists(d / "orbit" / ("view-000" + std::to_string(k) + ".png")));
+  for (int k = 0; k < 5; ++k)
+    EXPECT_TRUE(fs::exists(d / "orbit" / ("view-000" + std::to_string(k) + ".png")));
   expectCleanError("bsp render " + tree + " --bsp-splitter first", "applies when a tree is built");
   expectCleanError("bsp render " + (d / "fresh.png").string(), "not an hsr BSP file");
   expectCleanError("bsp info " + (d / "missing.bsp").string(), "no such file");
@@ -201,15 +204,17 @@ TEST(Cli, RawDepthInSceneUnitsAndTheCameraUsed) {
   // (scene units, beyond the near plane) elsewhere
   const std::string npy = slurp(fs::path(raw) / "depth.npy");
   ASSERT_GT(npy.size(), 10u);
-  const std::size_t header = 10 + (static_cast<unsigned char>(npy[8]) |
-                                   static_cast<unsigned char>(npy[9]) << 8);
+  const std::size_t header =
+      10 + (static_cast<unsigned char>(npy[8]) | static_cast<unsigned char>(npy[9]) << 8);
   ASSERT_EQ(npy.size(), header + 160u * 120u * 4u);
   int inf = 0, finite = 0;
   for (std::size_t i = header; i < npy.size(); i += 4) {
     float v;
     std::memcpy(&v, npy.data() + i, 4);
-    if (std::isinf(v)) ++inf;
-    else if (std::isfinite(v) && v > 0.0f) ++finite;
+    if (std::isinf(v))
+      ++inf;
+    else if (std::isfinite(v) && v > 0.0f)
+      ++finite;
   }
   EXPECT_GT(inf, 0);
   EXPECT_GT(finite, 0);
@@ -247,25 +252,31 @@ TEST(Cli, CamerasInReproduceTheView) {
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   };
   auto spit = [](const fs::path& p, const std::string& text) { std::ofstream(p) << text; };
-  const std::string a = (d / "a.png").string(), b = (d / "b.png").string(), stats = (d / "s.json").string();
-  ASSERT_EQ(runCli("render solids --size 160x120 --eye 3,4,9 --fov 30 -q -o " + a + " --stats " + stats).code, 0);
+  const std::string a = (d / "a.png").string(), b = (d / "b.png").string(),
+                    stats = (d / "s.json").string();
+  ASSERT_EQ(
+      runCli("render solids --size 160x120 --eye 3,4,9 --fov 30 -q -o " + a + " --stats " + stats)
+          .code,
+      0);
   const CliRun again = runCli("render solids --camera " + stats + " -q -o " + b);
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_EQ(slurp(a), slurp(b)) << "the same view from the camera it wrote";
   // A manifest.json holds the same camera; --size on a camera without intrinsics is allowed
   const std::string raw = (d / "raw").string();
   ASSERT_EQ(runCli("render solids --camera " + stats + " -q --output none --raw " + raw).code, 0);
-  const CliRun from_manifest = runCli("render solids --camera " + (fs::path(raw) / "manifest.json").string() +
-                                      " --size 80x60 -q -o " + b);
+  const CliRun from_manifest =
+      runCli("render solids --camera " + (fs::path(raw) / "manifest.json").string() +
+             " --size 80x60 -q -o " + b);
   ASSERT_EQ(from_manifest.code, 0) << from_manifest.err;
   // Intrinsics and a pose: the eye at (0, 0, 9) looking at the origin, as OpenCV and as OpenGL
   // write it (OpenCV's y and z axes are OpenGL's turned), give the same picture
   const fs::path cv = d / "pose_cv.txt", gl = d / "pose_gl.txt";
   spit(cv, "1 0 0 0\n0 -1 0 0\n0 0 -1 9\n0 0 0 1\n");
   spit(gl, "[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 9], [0, 0, 0, 1]]");
-  const std::string c1 = (d / "c1.png").string(), c2 = (d / "c2.png").string(), c3 = (d / "c3.png").string();
-  const CliRun r1 = runCli("render solids --size 160x120 --intrinsics 150,140,70.5,66 --pose " + cv.string() +
-                           " -o " + c1 + " --stats " + stats);
+  const std::string c1 = (d / "c1.png").string(), c2 = (d / "c2.png").string(),
+                    c3 = (d / "c3.png").string();
+  const CliRun r1 = runCli("render solids --size 160x120 --intrinsics 150,140,70.5,66 --pose " +
+                           cv.string() + " -o " + c1 + " --stats " + stats);
   ASSERT_EQ(r1.code, 0) << r1.err;
   EXPECT_NE(r1.out.find("fx 150.000 fy 140.000 cx 70.5 cy 66"), std::string::npos) << r1.out;
   // The field of view reported is the one the intrinsics give, never the unused default 45
@@ -273,7 +284,8 @@ TEST(Cli, CamerasInReproduceTheView) {
   const double fov_x = (std::atan(71.0 / 150) + std::atan((160 - 0.5 - 70.5) / 150)) * deg;
   const double fov_y = (std::atan(66.5 / 140) + std::atan((120 - 0.5 - 66) / 140)) * deg;
   EXPECT_EQ(r1.out.find("fov 45"), std::string::npos) << r1.out;
-  EXPECT_NE(r1.out.find(fmt::format("fov {:.4g} x {:.4g} deg (from the intrinsics)", fov_x, fov_y)), std::string::npos)
+  EXPECT_NE(r1.out.find(fmt::format("fov {:.4g} x {:.4g} deg (from the intrinsics)", fov_x, fov_y)),
+            std::string::npos)
       << r1.out;
   {
     const nlohmann::json camera = nlohmann::json::parse(slurp(stats))["camera"];
@@ -281,17 +293,19 @@ TEST(Cli, CamerasInReproduceTheView) {
     EXPECT_NEAR(camera["fov_x_deg"].get<double>(), fov_x, 1e-9);
     EXPECT_NEAR(camera["fov_y_deg"].get<double>(), fov_y, 1e-9);
   }
-  const CliRun r2 = runCli("render solids --size 160x120 --intrinsics 150,140,70.5,66 --pose " + gl.string() +
-                           " --pose-convention opengl -q -o " + c2);
+  const CliRun r2 = runCli("render solids --size 160x120 --intrinsics 150,140,70.5,66 --pose " +
+                           gl.string() + " --pose-convention opengl -q -o " + c2);
   ASSERT_EQ(r2.code, 0) << r2.err;
   EXPECT_EQ(slurp(c1), slurp(c2));
   EXPECT_NE(slurp(stats).find("\"projection_from\": \"intrinsics\""), std::string::npos);
   ASSERT_EQ(runCli("render solids --camera " + stats + " -q -o " + c3).code, 0);
   EXPECT_EQ(slurp(c1), slurp(c3)) << "a calibrated camera read back";
-  expectCleanError("render solids --camera " + stats + " --size 320x240", "intrinsics are for 160x120");
+  expectCleanError("render solids --camera " + stats + " --size 320x240",
+                   "intrinsics are for 160x120");
   expectCleanError("render solids --camera " + stats + " --eye 1,2,3", "--eye and --camera");
   expectCleanError("render solids --intrinsics 150,140,70 -q", "fx,fy,cx,cy");
-  expectCleanError("render solids --intrinsics 150,140,70,60 --fov 30 -q", "--fov and --intrinsics");
+  expectCleanError("render solids --intrinsics 150,140,70,60 --fov 30 -q",
+                   "--fov and --intrinsics");
   expectCleanError("render solids --intrinsics 0,140,70,60 -q", "focal lengths");
   expectCleanError("render solids --intrinsics 150,140,70,60 --ortho -q", "pinhole");
   spit(d / "scaled.txt", "2 0 0 0\n0 -1 0 0\n0 0 -1 9\n0 0 0 1\n");
@@ -299,9 +313,11 @@ TEST(Cli, CamerasInReproduceTheView) {
   spit(d / "short.txt", "1 0 0 0 0 1");
   expectCleanError("render solids --pose " + (d / "short.txt").string() + " -q", "6 numbers");
   expectCleanError("render solids --pose " + (d / "none.txt").string() + " -q", "no such file");
-  expectCleanError("render solids --pose " + cv.string() + " --pose-convention colmap -q", "opencv or opengl");
+  expectCleanError("render solids --pose " + cv.string() + " --pose-convention colmap -q",
+                   "opencv or opengl");
   spit(d / "bad.json", "{\"eye\": [0, 0, 5]}");
-  expectCleanError("render solids --camera " + (d / "bad.json").string() + " -q", "\"width\" is missing");
+  expectCleanError("render solids --camera " + (d / "bad.json").string() + " -q",
+                   "\"width\" is missing");
   expectCleanError("render solids --camera-index two -q", "--camera-index");
   expectCleanError("render solids --camera-index 2 -q", "has 0 cameras");
 }
@@ -314,14 +330,17 @@ TEST(Cli, ManyViewsFromOneImport) {
     std::ifstream in(p, std::ios::binary);
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   };
-  const std::string out = (d / "o.png").string(), raw = (d / "raw").string(), stats = (d / "s.json").string();
-  const CliRun orbit = runCli("render solids --size 96x72 --algorithm bsp --orbit 3 -o " + out + " --raw " + raw +
-                              " --stats " + stats);
+  const std::string out = (d / "o.png").string(), raw = (d / "raw").string(),
+                    stats = (d / "s.json").string();
+  const CliRun orbit = runCli("render solids --size 96x72 --algorithm bsp --orbit 3 -o " + out +
+                              " --raw " + raw + " --stats " + stats);
   ASSERT_EQ(orbit.code, 0) << orbit.err;
   EXPECT_NE(orbit.out.find("3 views"), std::string::npos) << orbit.out;
-  for (const char* n : {"o-0000.png", "o-0001.png", "o-0002.png"}) EXPECT_TRUE(fs::exists(d / n)) << n;
+  for (const char* n : {"o-0000.png", "o-0001.png", "o-0002.png"})
+    EXPECT_TRUE(fs::exists(d / n)) << n;
   EXPECT_FALSE(fs::exists(d / "o-0003.png"));
-  for (const char* n : {"0000", "0001", "0002"}) EXPECT_TRUE(fs::exists(fs::path(raw) / n / "ids.npy")) << n;
+  for (const char* n : {"0000", "0001", "0002"})
+    EXPECT_TRUE(fs::exists(fs::path(raw) / n / "ids.npy")) << n;
   // The stats hold every view's camera: fed back as --views, the same pictures
   const nlohmann::json s = nlohmann::json::parse(slurp(stats));
   ASSERT_EQ(s.at("views").size(), 3u);
@@ -329,17 +348,25 @@ TEST(Cli, ManyViewsFromOneImport) {
   for (const auto& v : s.at("views")) list.push_back(v.at("camera"));
   std::ofstream(d / "views.json") << list.dump();
   const std::string again = (d / "v.png").string();
-  const CliRun views = runCli("render solids --views " + (d / "views.json").string() + " -q -o " + again);
+  const CliRun views =
+      runCli("render solids --views " + (d / "views.json").string() + " -q -o " + again);
   ASSERT_EQ(views.code, 0) << views.err;
   for (const char* k : {"0000", "0001", "0002"})
-    EXPECT_EQ(slurp(d / ("o-" + std::string(k) + ".png")), slurp(d / ("v-" + std::string(k) + ".png"))) << k;
+    EXPECT_EQ(slurp(d / ("o-" + std::string(k) + ".png")),
+              slurp(d / ("v-" + std::string(k) + ".png")))
+        << k;
   // View 1 of the orbit is the picture its camera gives alone (the algorithm's tree reused)
   std::ofstream(d / "one.json") << list.at(1).dump();
   const std::string one = (d / "one.png").string();
-  ASSERT_EQ(runCli("render solids --algorithm bsp --camera " + (d / "one.json").string() + " -q -o " + one).code, 0);
+  ASSERT_EQ(runCli("render solids --algorithm bsp --camera " + (d / "one.json").string() +
+                   " -q -o " + one)
+                .code,
+            0);
   EXPECT_EQ(slurp(one), slurp(d / "o-0001.png"));
-  expectCleanError("render solids --views " + (d / "views.json").string() + " --eye 1,2,3", "--eye and --views");
-  expectCleanError("render solids --views " + (d / "views.json").string() + " --orbit 2", "give one");
+  expectCleanError("render solids --views " + (d / "views.json").string() + " --eye 1,2,3",
+                   "--eye and --views");
+  expectCleanError("render solids --views " + (d / "views.json").string() + " --orbit 2",
+                   "give one");
   expectCleanError("render solids --orbit 0", "--orbit must be");
   std::ofstream(d / "empty.json") << "[]";
   expectCleanError("render solids --views " + (d / "empty.json").string(), "empty");
@@ -357,8 +384,8 @@ TEST(Cli, ViewsWrittenByHandNeedOnlyEyeAndTarget) {
   std::ofstream(d / "views.json") << R"([{"eye": [3, 2, 4], "target": [0, 0, 0]},
                                          {"eye": [-3, 1, 4], "target": [0, 0.5, 0], "fov_deg": 30}])";
   const std::string out = (d / "v.png").string(), stats = (d / "s.json").string();
-  const CliRun r = runCli("render solids --views " + (d / "views.json").string() + " --size 64x48 -q -o " + out +
-                          " --stats " + stats);
+  const CliRun r = runCli("render solids --views " + (d / "views.json").string() +
+                          " --size 64x48 -q -o " + out + " --stats " + stats);
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json s = nlohmann::json::parse(slurp(stats));
   ASSERT_EQ(s.at("views").size(), 2u);
@@ -370,7 +397,8 @@ TEST(Cli, ViewsWrittenByHandNeedOnlyEyeAndTarget) {
     EXPECT_EQ(c.at("up"), nlohmann::json({0.0, 1.0, 0.0}));
     EXPECT_GT(c.at("near").get<double>(), 0.0);
     EXPECT_GT(c.at("far").get<double>(), c.at("near").get<double>());
-    EXPECT_GT(v.at("fragments_written").get<long>(), 0) << "the fitted planes clipped the scene away";
+    EXPECT_GT(v.at("fragments_written").get<long>(), 0)
+        << "the fitted planes clipped the scene away";
   }
   EXPECT_EQ(s.at("views")[0].at("camera").at("fov_deg"), 45.0);
   EXPECT_EQ(s.at("views")[1].at("camera").at("fov_deg"), 30.0);
@@ -378,7 +406,8 @@ TEST(Cli, ViewsWrittenByHandNeedOnlyEyeAndTarget) {
   nlohmann::json whole = s.at("views")[0].at("camera");
   std::ofstream(d / "whole.json") << nlohmann::json::array({whole}).dump();
   const std::string again = (d / "w.png").string();
-  ASSERT_EQ(runCli("render solids --views " + (d / "whole.json").string() + " -q -o " + again).code, 0);
+  ASSERT_EQ(runCli("render solids --views " + (d / "whole.json").string() + " -q -o " + again).code,
+            0);
   EXPECT_EQ(slurp(d / "v-0000.png"), slurp(d / "w-0000.png"));
   // Every wrong field named in one message, with the view it belongs to
   std::ofstream(d / "bad.json") << R"([{"eye": [3, 2, 4], "target": [0, 0, 0]},
@@ -425,34 +454,41 @@ TEST(Cli, NewUserPapercuts) {
   // a PDF in a .svg were written as asked
   for (const char* name : {"model.pdf", "x.png", "x.SVG.txt"}) {
     SCOPED_TRACE(name);
-    expectCleanError("svg demo -o " + (d / name).string(), "hsr writes an SVG drawing there; name the file .svg");
+    expectCleanError("svg demo -o " + (d / name).string(),
+                     "hsr writes an SVG drawing there; name the file .svg");
     EXPECT_FALSE(fs::exists(d / name));
   }
-  expectCleanError("svg demo -o " + (d / "ok.svg").string() + " --pdf " + (d / "x.svg").string(),
-                   "--pdf " + (d / "x.svg").string() + ": hsr writes a PDF drawing there; name the file .pdf");
+  expectCleanError(
+      "svg demo -o " + (d / "ok.svg").string() + " --pdf " + (d / "x.svg").string(),
+      "--pdf " + (d / "x.svg").string() + ": hsr writes a PDF drawing there; name the file .pdf");
   EXPECT_FALSE(fs::exists(d / "ok.svg"));
   EXPECT_FALSE(fs::exists(d / "x.svg"));
   // Upper-case extensions are the same format
-  const CliRun upper_case = runCli("svg demo --size 64x48 -q -o " + (d / "UP.SVG").string() + " --pdf " +
-                                   (d / "UP.PDF").string());
+  const CliRun upper_case = runCli("svg demo --size 64x48 -q -o " + (d / "UP.SVG").string() +
+                                   " --pdf " + (d / "UP.PDF").string());
   EXPECT_EQ(upper_case.code, 0) << upper_case.err;
   EXPECT_TRUE(fs::exists(d / "UP.SVG") && fs::exists(d / "UP.PDF"));
   expectCleanError("render demo --size 20000x10", "over the limit of 16384 pixels per side");
   // A verb mistyped is not taken for a scene's name; a vector's coordinates without commas, a
   // camera looking along its up vector, get the hint that fixes them
-  expectCleanError("rendr demo", "rendr: no such verb, file or built-in scene; did you mean render?");
+  expectCleanError("rendr demo",
+                   "rendr: no such verb, file or built-in scene; did you mean render?");
   expectCleanError("explian demo", "did you mean explain?");
-  expectCleanError("render demo --eye 1 2 3 -o " + png, "--eye takes x,y,z joined by commas, such as --eye 1,2,3");
+  expectCleanError("render demo --eye 1 2 3 -o " + png,
+                   "--eye takes x,y,z joined by commas, such as --eye 1,2,3");
   expectCleanError("render demo --eye 0,5,0 --target 0,0,0 -o " + png,
                    "parallel to the view direction: give another up vector (--up), such as 1,0,0");
   // An option given twice is named with the count, in words and not the parser's
   const CliRun twice = runCli("render demo --size 10x10 --size 20x20 -o " + png);
   EXPECT_EQ(twice.code, 2);
-  EXPECT_NE(twice.err.find("--size is given 2 times; give it once"), std::string::npos) << twice.err;
+  EXPECT_NE(twice.err.find("--size is given 2 times; give it once"), std::string::npos)
+      << twice.err;
   EXPECT_EQ(twice.err.find("At Most"), std::string::npos) << twice.err;
   // --cull both: the warning says both faces go, and does not suggest the winding
   const CliRun both = runCli("render demo --size 32x24 --cull both -o " + png);
-  EXPECT_NE(both.err.find("--cull both removes every polygon, front and back faces alike"), std::string::npos) << both.err;
+  EXPECT_NE(both.err.find("--cull both removes every polygon, front and back faces alike"),
+            std::string::npos)
+      << both.err;
   EXPECT_EQ(both.err.find("--front-face"), std::string::npos) << both.err;
   // --eye with a negative value is still a value
   EXPECT_EQ(runCli("render demo --size 32x24 -q -o " + png + " --eye -3,2,5").code, 0);
@@ -465,14 +501,20 @@ TEST(Cli, NewUserPapercuts) {
   // --depth-func greater draws nothing against the clear depth 1, and everything against 0
   const CliRun greater = runCli("render demo --size 32x24 --depth-func greater -o " + png);
   EXPECT_EQ(greater.code, 0);
-  EXPECT_NE(greater.err.find("nothing was drawn: no fragment passed the depth test"), std::string::npos) << greater.err;
-  const CliRun cleared = runCli("render demo --size 32x24 --depth-func greater --clear-depth 0 -o " + png);
+  EXPECT_NE(greater.err.find("nothing was drawn: no fragment passed the depth test"),
+            std::string::npos)
+      << greater.err;
+  const CliRun cleared =
+      runCli("render demo --size 32x24 --depth-func greater --clear-depth 0 -o " + png);
   EXPECT_EQ(cleared.code, 0);
   EXPECT_EQ(cleared.err.find("nothing was drawn"), std::string::npos) << cleared.err;
   expectCleanError("render demo --clear-depth 2", "--clear-depth must be in [0, 1]");
-  EXPECT_EQ(runCli("render demo --size 32x24 -q --polygon-mode point --point-size 3 -o " + png).code, 0);
-  expectCleanError("render demo --polygon-mode point --point-size 100", "point size must be from 1 to 64");
-  const CliRun away = runCli("render demo --size 32x24 --eye 0,0,-1000 --target 0,0,-2000 -q -o " + png);
+  EXPECT_EQ(
+      runCli("render demo --size 32x24 -q --polygon-mode point --point-size 3 -o " + png).code, 0);
+  expectCleanError("render demo --polygon-mode point --point-size 100",
+                   "point size must be from 1 to 64");
+  const CliRun away =
+      runCli("render demo --size 32x24 --eye 0,0,-1000 --target 0,0,-2000 -q -o " + png);
   EXPECT_NE(away.err.find("outside the view"), std::string::npos) << away.err;
   // Names in any case, as OpenGL's: the same picture
   auto slurp = [](const fs::path& p) {
@@ -480,8 +522,12 @@ TEST(Cli, NewUserPapercuts) {
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   };
   const std::string lower = (d / "lower.png").string(), upper = (d / "upper.png").string();
-  ASSERT_EQ(runCli("render demo --size 32x24 -q --algorithm scanline --cull back --output ids -o " + lower).code, 0);
-  const CliRun mixed = runCli("render demo --size 32x24 -q --algorithm ScanLine --cull BACK --output IDS -o " + upper);
+  ASSERT_EQ(runCli("render demo --size 32x24 -q --algorithm scanline --cull back --output ids -o " +
+                   lower)
+                .code,
+            0);
+  const CliRun mixed = runCli(
+      "render demo --size 32x24 -q --algorithm ScanLine --cull BACK --output IDS -o " + upper);
   ASSERT_EQ(mixed.code, 0) << mixed.err;
   EXPECT_EQ(slurp(lower), slurp(upper));
 }
@@ -489,8 +535,8 @@ TEST(Cli, NewUserPapercuts) {
 TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {
   const ScratchDir d("hsr_cli_svg");
   const std::string out = (d / "solids.svg").string(), stats = (d / "s.json").string();
-  const CliRun r = runCli("svg solids --size 200x150 --hidden dashed --page A4-landscape -o " + out +
-                          " --stats " + stats);
+  const CliRun r = runCli("svg solids --size 200x150 --hidden dashed --page A4-landscape -o " +
+                          out + " --stats " + stats);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("strokes"), std::string::npos) << r.out;
   std::ifstream in(out);
@@ -508,17 +554,20 @@ TEST(Cli, SvgDrawsLayersOnAPageAndRefusesBadOptions) {
   expectCleanError("svg solids --style sketch -o " + out, "--style");
   expectCleanError("svg solids --lines outline,hatching -o " + out, "--lines");
   expectCleanError("svg solids --engine warnock -o " + out, "--engine");
-  const CliRun s = runCli("svg solids --size 200x150 --lines outline --engine roberts -q -o " + out);
+  const CliRun s =
+      runCli("svg solids --size 200x150 --lines outline --engine roberts -q -o " + out);
   EXPECT_EQ(s.code, 0) << s.err;
   expectCleanError("svg solids --fallback raster -o " + out, "--time-limit");
   expectCleanError("svg solids --time-limit 0.000000001 -o " + out, "time limit");
-  const CliRun t = runCli("svg solids --size 200x150 --time-limit 0.000000001 --fallback raster -o " + out);
+  const CliRun t =
+      runCli("svg solids --size 200x150 --time-limit 0.000000001 --fallback raster -o " + out);
   EXPECT_EQ(t.code, 0) << t.err;
   EXPECT_NE(t.out.find("NOT exact"), std::string::npos) << t.out;
   expectCleanError("svg solids --style filled --hidden dashed -o " + out, "--hidden");
   // Filled, with a PDF beside
   const std::string pdf = (d / "solids.pdf").string();
-  const CliRun f = runCli("svg solids --size 200x150 --style filled -q -o " + out + " --pdf " + pdf);
+  const CliRun f =
+      runCli("svg solids --size 200x150 --style filled -q -o " + out + " --pdf " + pdf);
   ASSERT_EQ(f.code, 0) << f.err;
   std::ifstream fin(out);
   const std::string fsvg((std::istreambuf_iterator<char>(fin)), std::istreambuf_iterator<char>());
@@ -559,9 +608,11 @@ TEST(Cli, CompareWritesTableAndSheet) {
   const auto png = hsr::testing::decodePng(big);
   EXPECT_LE(png.width, hsr::kMaxSheetWidth);
   EXPECT_GE(png.width, 4 * 800) << "as many cells a row as fit";
-  const int ran = static_cast<int>(std::count(b.out.begin(), b.out.end(), '%'));  // one per algorithm run
+  // one per algorithm run
+  const int ran = static_cast<int>(std::count(b.out.begin(), b.out.end(), '%'));
   const int rows = (ran + png.width / 808 - 1) / (png.width / 808);
-  EXPECT_EQ(png.height, rows * (3 * (24 + 600) + 2 * 8) + (rows + 1) * 8 + 48) << ran << " algorithms";
+  EXPECT_EQ(png.height, rows * (3 * (24 + 600) + 2 * 8) + (rows + 1) * 8 + 48)
+      << ran << " algorithms";
 }
 
 // An orbit of views: each algorithm keeps its frame (and the octree its tree) from view to
@@ -581,12 +632,14 @@ TEST(Cli, CompareOrbitsTheTargetWithViews) {
   expectCleanError("compare demo --views 100000", "--views");
   // The library: three views each, the bit-exact algorithms equal on all of them.
   const hsr::Scene scene = hsr::makeBuiltinScene("spheres:2000");
-  const std::vector<hsr::ComparisonRow> rows = hsr::compareAlgorithms(scene, hsr::frameScene(scene, 80, 60), {}, 3);
+  const std::vector<hsr::ComparisonRow> rows =
+      hsr::compareAlgorithms(scene, hsr::frameScene(scene, 80, 60), {}, 3);
   for (const hsr::ComparisonRow& row : rows) {
     if (!row.not_run.empty()) continue;
     EXPECT_EQ(row.views, 3) << row.algorithm;
     EXPECT_GT(row.view_ms, 0.0) << row.algorithm;
-    if (row.algorithm == "zbuffer-textbook" || row.algorithm == "scanline" || row.algorithm == "warnock") {
+    if (row.algorithm == "zbuffer-textbook" || row.algorithm == "scanline" ||
+        row.algorithm == "warnock") {
       EXPECT_EQ(row.differing_pixels, 0u) << row.algorithm;
     }
   }
@@ -619,8 +672,8 @@ TEST(Cli, CameraInsideModelStillRenders) {
          "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
   }
   const CliRun r = runCli("render " + (d / "cube.obj").string() +
-                       " --eye 0,0,0.2 --target 0,0,-1 --near 0.01 --far 10 --size 64x64 -o " +
-                       (d / "inside.png").string());
+                          " --eye 0,0,0.2 --target 0,0,-1 --near 0.01 --far 10 --size 64x64 -o " +
+                          (d / "inside.png").string());
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("inside"), std::string::npos) << r.err;
 }
@@ -642,13 +695,14 @@ TEST(CliDoom, BuildMapViewAndExplain) {
   EXPECT_NE(text.find("<svg"), std::string::npos);
   EXPECT_NE(text.find("subsector 0"), std::string::npos);
   EXPECT_NE(text.find("node depth 0"), std::string::npos);
-  r = runCli("doom view " + wad + " --map MAP02 --size 160x100 -o " + (d / "view.png").string() + " --raw " +
-             (d / "raw").string());
+  r = runCli("doom view " + wad + " --map MAP02 --size 160x100 -o " + (d / "view.png").string() +
+             " --raw " + (d / "raw").string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("0 differ away from an edge"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(d / "view.png"));
   EXPECT_TRUE(fs::exists(d / "raw" / "ids.npy"));
-  r = runCli("explain bsp2d " + wad + " --map MAP02 --size 160x100 -q -o " + (d / "explain").string());
+  r = runCli("explain bsp2d " + wad + " --map MAP02 --size 160x100 -q -o " +
+             (d / "explain").string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(d / "explain" / "sheet.png"));
   EXPECT_TRUE(fs::exists(d / "explain" / "steps.md"));
@@ -667,8 +721,10 @@ TEST(CliDoom, BadInputIsOneLine) {
   expectCleanError("doom build " + (d / "missing.wad").string(), "no such file");
   const std::string wad = std::string(HSR_DOOM_WADS) + "/freedoom2.wad";
   expectCleanError("doom build " + wad + " --map MAP77", "no map MAP77");
-  expectCleanError("doom view " + wad + " --map MAP01 --from 1,2 -o " + (d / "v.png").string(), "--from");
-  expectCleanError("doom map " + wad + " --map MAP01 --split-cost -3 --svg " + (d / "m.svg").string(), "split");
+  expectCleanError("doom view " + wad + " --map MAP01 --from 1,2 -o " + (d / "v.png").string(),
+                   "--from");
+  expectCleanError(
+      "doom map " + wad + " --map MAP01 --split-cost -3 --svg " + (d / "m.svg").string(), "split");
   expectCleanError("explain bsp2d " + wad + " -o " + (d / "e").string(), "--map");
   expectCleanError("explain zbuffer demo --map MAP01 -o " + (d / "e2").string(), "--map");
 }

@@ -27,14 +27,14 @@ using testing::ReferenceFrame;
 
 constexpr double kAmbiguousCap = 0.005;  // of the pixels of a scene (docs/testing.md row 4)
 constexpr std::uint64_t kFirstSeed = 1;
-constexpr int kReportsPerScene = 5;      // unambiguous mismatches spelled out per scene ...
+constexpr int kReportsPerScene = 5;          // unambiguous mismatches spelled out per scene ...
 constexpr std::uint64_t kReportsInAll = 40;  // ... and per algorithm
 
 struct Tally {
   std::uint64_t scenes = 0, triangles = 0, pixels = 0, unambiguous = 0, mismatches = 0;
   std::uint64_t ambiguous = 0, ambiguous_differ = 0;
   std::uint64_t differ_edge = 0, differ_tie = 0, differ_intersection = 0;  // by reason (bits)
-  std::uint64_t worst_differ = 0, worst_seed = 0;                         // per scene
+  std::uint64_t worst_differ = 0, worst_seed = 0;                          // per scene
   std::uint64_t reported = 0;
 };
 
@@ -117,19 +117,20 @@ TEST_P(Agreement, MatchesTheReferenceZBuffer) {
   }
   // The reference must leave most pixels decidable, or the test proves little.
   EXPECT_GT(t.unambiguous, t.pixels / 2);
-  testing::printFigures(
-      "row 4 " + std::string(algo.name) + ": " + testing::grouped(t.scenes) + " scenes (" +
-      testing::grouped(t.triangles) + " triangles), " + testing::grouped(t.pixels) + " pixels, " +
-      testing::grouped(t.unambiguous) + " unambiguous, " + testing::grouped(t.mismatches) +
-      " mismatches; " + testing::grouped(t.ambiguous) + " ambiguous, " +
-      testing::grouped(t.ambiguous_differ) + " differ (" +
-      testing::percent(t.ambiguous_differ, t.pixels) + " of pixels)");
-  std::printf("  ambiguous differences by reason: edge %s, depth tie %s, intersection %s; "
-              "worst scene: seed %llu, %s px (%s)\n",
-              testing::grouped(t.differ_edge).c_str(), testing::grouped(t.differ_tie).c_str(),
-              testing::grouped(t.differ_intersection).c_str(),
-              static_cast<unsigned long long>(t.worst_seed), testing::grouped(t.worst_differ).c_str(),
-              testing::percent(t.worst_differ, t.scenes ? t.pixels / t.scenes : 0).c_str());
+  testing::printFigures("row 4 " + std::string(algo.name) + ": " + testing::grouped(t.scenes) +
+                        " scenes (" + testing::grouped(t.triangles) + " triangles), " +
+                        testing::grouped(t.pixels) + " pixels, " + testing::grouped(t.unambiguous) +
+                        " unambiguous, " + testing::grouped(t.mismatches) + " mismatches; " +
+                        testing::grouped(t.ambiguous) + " ambiguous, " +
+                        testing::grouped(t.ambiguous_differ) + " differ (" +
+                        testing::percent(t.ambiguous_differ, t.pixels) + " of pixels)");
+  std::printf(
+      "  ambiguous differences by reason: edge %s, depth tie %s, intersection %s; "
+      "worst scene: seed %llu, %s px (%s)\n",
+      testing::grouped(t.differ_edge).c_str(), testing::grouped(t.differ_tie).c_str(),
+      testing::grouped(t.differ_intersection).c_str(),
+      static_cast<unsigned long long>(t.worst_seed), testing::grouped(t.worst_differ).c_str(),
+      testing::percent(t.worst_differ, t.scenes ? t.pixels / t.scenes : 0).c_str());
 }
 
 HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(Agreement);

@@ -63,16 +63,16 @@ inline Comparison compareFrames(const Frame& z, const Frame& p, const std::strin
                        p.depth[k] > z.depth[k] + kClearlyDeeper + step;
     if (wrong && c.wrong++ == 0)
       c.first_wrong = "pixel (" + std::to_string(k % z.width) + ", " + std::to_string(k / z.width) +
-                      ") [top row 0]: " + algorithm + " shows " + std::to_string(p.ids[k]) + " at " +
-                      std::to_string(p.depth[k]) + ", the z-buffer " + std::to_string(z.ids[k]) +
-                      " at " + std::to_string(z.depth[k]);
+                      ") [top row 0]: " + algorithm + " shows " + std::to_string(p.ids[k]) +
+                      " at " + std::to_string(p.depth[k]) + ", the z-buffer " +
+                      std::to_string(z.ids[k]) + " at " + std::to_string(z.depth[k]);
   }
   return c;
 }
 
 // The frame `algorithm` renders with options `o` against the z-buffer's with the same options.
-inline Comparison compareWithZBuffer(const Scene& scene, const Camera& camera, const std::string& algorithm,
-                                     RenderOptions o = {}) {
+inline Comparison compareWithZBuffer(const Scene& scene, const Camera& camera,
+                                     const std::string& algorithm, RenderOptions o = {}) {
   o.algorithm = "zbuffer";
   const Frame z = render(scene, camera, o);
   o.algorithm = algorithm;
@@ -81,12 +81,14 @@ inline Comparison compareWithZBuffer(const Scene& scene, const Camera& camera, c
 
 inline std::string describe(const Comparison& c) {
   return grouped(c.ids_differ) + " of " + grouped(c.drawn) +
-         " drawn pixels show another polygon than the z-buffer, " + grouped(c.wrong) + " clearly wrong";
+         " drawn pixels show another polygon than the z-buffer, " + grouped(c.wrong) +
+         " clearly wrong";
 }
 
 // The real models of the Mesa test, under HSR_TEST_MODELS.
-inline constexpr const char* kMesaTestModels[] = {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl",
-                                                  "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"};
+inline constexpr const char* kMesaTestModels[] = {
+    "OBJ/spider.obj", "PLY/Wuson.ply", "STL/Spider_binary.stl",
+    "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"};
 
 // Each real model of the Mesa test at 640x480, cull none and back (the default options
 // otherwise): f(label, scene, camera, options), the label naming model and cull mode. In the
@@ -106,7 +108,8 @@ void forEachMesaModelView(F&& f) {
     for (const CullMode cull : kMesaTestCulls) {
       RenderOptions o;
       o.cull = cull;
-      f(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back"), scene, camera, o);
+      f(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back"), scene, camera,
+        o);
     }
   }
 }
@@ -117,12 +120,13 @@ void forEachMesaModelView(F&& f) {
 // the printed line.
 template <class Draw, class More>
 void expectRealModelsAgreeWithTheZBuffer(const std::string& algorithm, Draw&& draw, More&& more) {
-  forEachMesaModelView([&](const std::string& label, const Scene& scene, const Camera& camera, const RenderOptions& o) {
+  forEachMesaModelView([&](const std::string& label, const Scene& scene, const Camera& camera,
+                           const RenderOptions& o) {
     const Frame z = render(scene, camera, o);
     const Frame f = draw(scene, camera, o);
     const Comparison c = compareFrames(z, f, algorithm);
-    printFigures(label + ": " + algorithm + ": " + describe(c) + " (" + percent(c.drawn - c.ids_differ, c.drawn) +
-                 " agree)" + more(f));
+    printFigures(label + ": " + algorithm + ": " + describe(c) + " (" +
+                 percent(c.drawn - c.ids_differ, c.drawn) + " agree)" + more(f));
     EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
     EXPECT_LE(c.ids_differ, c.drawn / 1000);
     EXPECT_EQ(c.depth_differs_same_id, 0u);
@@ -167,7 +171,7 @@ Comparison expectNoWrongPixelOnRandomScenes(const std::string& algorithm, Each&&
 struct Identity {
   std::uint64_t pixels = 0, differ = 0, ids_differ = 0, depths_differ = 0, colours_differ = 0;
   std::uint64_t unambiguous = 0, unambiguous_differ = 0;  // by the agreement oracle
-  std::string first;                                     // the first differing pixel
+  std::string first;                                      // the first differing pixel
 
   void add(const Identity& o) {
     pixels += o.pixels, differ += o.differ, ids_differ += o.ids_differ;
@@ -179,32 +183,37 @@ struct Identity {
 
 // `p` against the z-buffer's frame `z`; `ambiguous` (the oracle's flags, GL rows: bottom row
 // first) may be null.
-inline Identity compareBitForBit(const Frame& z, const Frame& p, const std::vector<std::uint8_t>* ambiguous,
+inline Identity compareBitForBit(const Frame& z, const Frame& p,
+                                 const std::vector<std::uint8_t>* ambiguous,
                                  const std::string& label) {
   Identity c;
   c.pixels = z.ids.size();
   for (std::size_t k = 0; k < z.ids.size(); ++k) {
     const int x = static_cast<int>(k % z.width), y = static_cast<int>(k / z.width);
-    const bool unambiguous = ambiguous && (*ambiguous)[static_cast<std::size_t>(z.height - 1 - y) * z.width + x] == 0;
+    const bool unambiguous =
+        ambiguous && (*ambiguous)[static_cast<std::size_t>(z.height - 1 - y) * z.width + x] == 0;
     c.unambiguous += unambiguous;
     const bool id = p.ids[k] != z.ids[k];
-    const bool depth = std::bit_cast<std::uint32_t>(p.depth[k]) != std::bit_cast<std::uint32_t>(z.depth[k]);
+    const bool depth =
+        std::bit_cast<std::uint32_t>(p.depth[k]) != std::bit_cast<std::uint32_t>(z.depth[k]);
     const bool colour = p.color[k] != z.color[k];
     if (!id && !depth && !colour) continue;
     c.differ++, c.ids_differ += id, c.depths_differ += depth, c.colours_differ += colour;
     c.unambiguous_differ += unambiguous;
     if (c.first.empty())
-      c.first = label + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") [top row 0] shows " +
-                std::to_string(p.ids[k]) + " at depth " + std::to_string(p.depth[k]) + ", the z-buffer " +
-                std::to_string(z.ids[k]) + " at " + std::to_string(z.depth[k]);
+      c.first = label + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                ") [top row 0] shows " + std::to_string(p.ids[k]) + " at depth " +
+                std::to_string(p.depth[k]) + ", the z-buffer " + std::to_string(z.ids[k]) + " at " +
+                std::to_string(z.depth[k]);
   }
   return c;
 }
 
 inline std::string describe(const Identity& c) {
   return grouped(c.differ) + " of " + grouped(c.pixels) + " pixels differ from the z-buffer (ids " +
-         grouped(c.ids_differ) + ", depths " + grouped(c.depths_differ) + ", colours " + grouped(c.colours_differ) +
-         "); of " + grouped(c.unambiguous) + " unambiguous pixels " + grouped(c.unambiguous_differ) + " differ";
+         grouped(c.ids_differ) + ", depths " + grouped(c.depths_differ) + ", colours " +
+         grouped(c.colours_differ) + "); of " + grouped(c.unambiguous) + " unambiguous pixels " +
+         grouped(c.unambiguous_differ) + " differ";
 }
 
 // The agreement scene set (row 4's seeds and cameras, culling off, 1 and 2 threads) and the
@@ -226,16 +235,17 @@ inline Identity expectBitForBitWithZBuffer(const std::string& algorithm, int sam
     const Frame z = render(scene, camera, o);
     o.algorithm = algorithm;
     o.samples = samples;
-    const Identity c = compareBitForBit(z, render(scene, camera, o), ref.valid ? &ref.ambiguous : nullptr,
-                                        algorithm + ", seed " + std::to_string(seed));
+    const Identity c =
+        compareBitForBit(z, render(scene, camera, o), ref.valid ? &ref.ambiguous : nullptr,
+                         algorithm + ", seed " + std::to_string(seed));
     EXPECT_EQ(c.unambiguous_differ, 0u) << c.first;
     total.add(c);
   }
   return total;
 }
 
-inline Identity expectBitForBitOnRealModels(const std::string& algorithm, int width = 640, int height = 480,
-                                           int samples = 0) {
+inline Identity expectBitForBitOnRealModels(const std::string& algorithm, int width = 640,
+                                            int height = 480, int samples = 0) {
   Identity total;
   for (const char* model : kMesaTestModels) {
     const Scene scene = loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string());
@@ -246,9 +256,10 @@ inline Identity expectBitForBitOnRealModels(const std::string& algorithm, int wi
       const Frame z = render(scene, camera, o);
       o.algorithm = algorithm;
       o.samples = samples;
-      const Identity c = compareBitForBit(z, render(scene, camera, o), nullptr, algorithm + " on " + model);
-      printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") + ": " + algorithm +
-                   ": " + describe(c));
+      const Identity c =
+          compareBitForBit(z, render(scene, camera, o), nullptr, algorithm + " on " + model);
+      printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") +
+                   ": " + algorithm + ": " + describe(c));
       total.add(c);
     }
   }
@@ -283,7 +294,8 @@ inline Frame expectSameFrameAndCountsAtAnyThreadCount(const std::string& algorit
     const Frame many = render(scene, camera, o);
     const Identity c = compareBitForBit(one, many, nullptr, "threads");
     EXPECT_EQ(c.differ, 0u) << c.first;
-    for (const Counter& k : one.stats.counters) EXPECT_EQ(many.stats.counter(k.name), k.value) << k.name;
+    for (const Counter& k : one.stats.counters)
+      EXPECT_EQ(many.stats.counter(k.name), k.value) << k.name;
   }
   return one;
 }

@@ -64,7 +64,8 @@ CullMesh makeCullMesh(std::uint64_t seed, int n) {
   std::vector<glm::vec3> grid((n + 1) * (n + 1));
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i)
-      grid[j * (n + 1) + i] = {-1.6f + 3.2f * i / n, -1.6f + 3.2f * j / n, rng.uniform(-0.15f, 0.15f)};
+      grid[j * (n + 1) + i] = {-1.6f + 3.2f * i / n, -1.6f + 3.2f * j / n,
+                               rng.uniform(-0.15f, 0.15f)};
   CullMesh m;
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
@@ -113,10 +114,14 @@ double windowArea(const Camera& cam, const Tri& t) {
 
 bool ruleCulls(CullMode mode, bool front) {
   switch (mode) {
-    case CullMode::None: return false;
-    case CullMode::Back: return !front;
-    case CullMode::Front: return front;
-    case CullMode::FrontAndBack: return true;
+    case CullMode::None:
+      return false;
+    case CullMode::Back:
+      return !front;
+    case CullMode::Front:
+      return front;
+    case CullMode::FrontAndBack:
+      return true;
   }
   return false;
 }
@@ -127,7 +132,8 @@ TEST_P(ConformanceCulling, Matrix32WithBothFacingTests) {
   const std::uint64_t seed = 0xC0111u;
   const int n = 12;  // 288 triangles, each about 100-200 pixels
   const CullMesh mesh = makeCullMesh(seed, n);
-  const CullMode modes[4] = {CullMode::None, CullMode::Back, CullMode::Front, CullMode::FrontAndBack};
+  const CullMode modes[4] = {CullMode::None, CullMode::Back, CullMode::Front,
+                             CullMode::FrontAndBack};
   const char* mode_names[4] = {"none", "back", "front", "both"};
   int combinations = 0;
   std::uint64_t triangle_checks = 0;
@@ -198,9 +204,10 @@ TEST_P(ConformanceCulling, Matrix32WithBothFacingTests) {
       }
     }
   }
-  std::printf("[conformance culling] %d combinations x 2 facing tests, %zu triangles each, "
-              "%llu triangle checks\n",
-              combinations, mesh.tris.size(), (unsigned long long)triangle_checks);
+  std::printf(
+      "[conformance culling] %d combinations x 2 facing tests, %zu triangles each, "
+      "%llu triangle checks\n",
+      combinations, mesh.tris.size(), (unsigned long long)triangle_checks);
   EXPECT_EQ(combinations, 32);
 }
 
@@ -222,12 +229,12 @@ Camera nearCamera() {
 }
 
 struct NearResult {
-  std::uint64_t drawn = 0;           // pixels with an id
-  std::uint64_t bad_depth = 0;       // NaN or outside [0,1]
-  std::uint64_t overdraw = 0;        // pixels written more than once
-  std::uint64_t compared = 0;        // unambiguous pixels
-  std::uint64_t mismatched = 0;      // unambiguous pixels that disagree with the analytic clip
-  std::string first;                 // first mismatch
+  std::uint64_t drawn = 0;       // pixels with an id
+  std::uint64_t bad_depth = 0;   // NaN or outside [0,1]
+  std::uint64_t overdraw = 0;    // pixels written more than once
+  std::uint64_t compared = 0;    // unambiguous pixels
+  std::uint64_t mismatched = 0;  // unambiguous pixels that disagree with the analytic clip
+  std::string first;             // first mismatch
 };
 
 // Renders one scene (depth test off, so Frame::overdraw counts every fragment; an algorithm
@@ -252,7 +259,8 @@ Frame renderNear(const std::string& algorithm, const Scene& scene, NearResult& r
 std::vector<glm::dvec2> analyticClip(const std::vector<glm::vec3>& poly_world, const Camera& cam) {
   const glm::dmat4 view = glm::dmat4(cam.view());
   std::vector<glm::dvec3> poly;
-  for (const glm::vec3& p : poly_world) poly.push_back(glm::dvec3(view * glm::dvec4(glm::dvec3(p), 1.0)));
+  for (const glm::vec3& p : poly_world)
+    poly.push_back(glm::dvec3(view * glm::dvec4(glm::dvec3(p), 1.0)));
   auto cut = [&](double plane_z, bool keep_below) {  // keep z <= plane_z (or >=)
     std::vector<glm::dvec3> out;
     for (std::size_t i = 0; i < poly.size(); ++i) {
@@ -315,8 +323,9 @@ void compareWithAnalytic(const Frame& f, const std::vector<glm::vec3>& poly, Nea
       if (drawn != (where > 0)) {
         r.mismatched++;
         if (r.first.empty())
-          r.first = ctx + ": pixel col " + std::to_string(col) + " row " + std::to_string(row) +
-                    (drawn ? " drawn, outside the analytic clip" : " missing, inside the analytic clip");
+          r.first =
+              ctx + ": pixel col " + std::to_string(col) + " row " + std::to_string(row) +
+              (drawn ? " drawn, outside the analytic clip" : " missing, inside the analytic clip");
       }
     }
   }
@@ -371,13 +380,14 @@ TEST_P(ConformanceNearPlane, BehindTheEye) {
       }
     }
   }
-  std::printf("[conformance near] behind the eye (seed %llu): %llu triangles, %llu partly-behind "
-              "ones drawing pixels, %llu unambiguous pixels compared, %llu mismatched, %llu "
-              "overdrawn, %llu bad depths, %llu fully-behind ones drawing\n",
-              (unsigned long long)seed, (unsigned long long)cases,
-              (unsigned long long)partly_drawn_cases, (unsigned long long)r.compared,
-              (unsigned long long)r.mismatched, (unsigned long long)r.overdraw,
-              (unsigned long long)r.bad_depth, (unsigned long long)fully_behind_drawn);
+  std::printf(
+      "[conformance near] behind the eye (seed %llu): %llu triangles, %llu partly-behind "
+      "ones drawing pixels, %llu unambiguous pixels compared, %llu mismatched, %llu "
+      "overdrawn, %llu bad depths, %llu fully-behind ones drawing\n",
+      (unsigned long long)seed, (unsigned long long)cases, (unsigned long long)partly_drawn_cases,
+      (unsigned long long)r.compared, (unsigned long long)r.mismatched,
+      (unsigned long long)r.overdraw, (unsigned long long)r.bad_depth,
+      (unsigned long long)fully_behind_drawn);
   EXPECT_EQ(fully_behind_drawn, 0u) << "first: " << first_ghost;
   EXPECT_EQ(r.mismatched, 0u) << "first: " << r.first;
   EXPECT_EQ(r.overdraw, 0u);
@@ -394,16 +404,24 @@ TEST_P(ConformanceNearPlane, HugeQuadsPastAndThroughTheEye) {
   };
   const Case cases[] = {
       {"floor y=-1 from z=+1000 to z=-1000",
-       {{-1000.0f, -1.0f, 1000.0f}, {1000.0f, -1.0f, 1000.0f}, {1000.0f, -1.0f, -1000.0f},
+       {{-1000.0f, -1.0f, 1000.0f},
+        {1000.0f, -1.0f, 1000.0f},
+        {1000.0f, -1.0f, -1000.0f},
         {-1000.0f, -1.0f, -1000.0f}}},
       {"wall x=0.5 from z=+1000 to z=-1000",
-       {{0.5f, -1000.0f, 1000.0f}, {0.5f, -1000.0f, -1000.0f}, {0.5f, 1000.0f, -1000.0f},
+       {{0.5f, -1000.0f, 1000.0f},
+        {0.5f, -1000.0f, -1000.0f},
+        {0.5f, 1000.0f, -1000.0f},
         {0.5f, 1000.0f, 1000.0f}}},
       {"plane y=0 through the eye",
-       {{-1000.0f, 0.0f, 1000.0f}, {1000.0f, 0.0f, 1000.0f}, {1000.0f, 0.0f, -1000.0f},
+       {{-1000.0f, 0.0f, 1000.0f},
+        {1000.0f, 0.0f, 1000.0f},
+        {1000.0f, 0.0f, -1000.0f},
         {-1000.0f, 0.0f, -1000.0f}}},
       {"plane y=z/2 through the eye",
-       {{-1000.0f, 500.0f, 1000.0f}, {1000.0f, 500.0f, 1000.0f}, {1000.0f, -500.0f, -1000.0f},
+       {{-1000.0f, 500.0f, 1000.0f},
+        {1000.0f, 500.0f, 1000.0f},
+        {1000.0f, -500.0f, -1000.0f},
         {-1000.0f, -500.0f, -1000.0f}}},
   };
   NearResult r;
@@ -417,11 +435,12 @@ TEST_P(ConformanceNearPlane, HugeQuadsPastAndThroughTheEye) {
       NearResult one;
       const Frame f = renderNear(GetParam(), scene, one);
       compareWithAnalytic(f, q, one, c.name);
-      std::printf("[conformance near] %s%s: %llu pixels drawn, %llu unambiguous compared, "
-                  "%llu mismatched, %llu overdrawn\n",
-                  c.name, reversed ? " (reversed)" : "", (unsigned long long)one.drawn,
-                  (unsigned long long)one.compared, (unsigned long long)one.mismatched,
-                  (unsigned long long)one.overdraw);
+      std::printf(
+          "[conformance near] %s%s: %llu pixels drawn, %llu unambiguous compared, "
+          "%llu mismatched, %llu overdrawn\n",
+          c.name, reversed ? " (reversed)" : "", (unsigned long long)one.drawn,
+          (unsigned long long)one.compared, (unsigned long long)one.mismatched,
+          (unsigned long long)one.overdraw);
       EXPECT_EQ(one.mismatched, 0u) << one.first;
       EXPECT_EQ(one.overdraw, 0u) << c.name;
       EXPECT_EQ(one.bad_depth, 0u) << c.name;
@@ -514,14 +533,14 @@ TEST_P(ConformanceNearPlane, Far30000Beyond26Directions) {
       run(3, Tri{outside(dirs[rng.next() % 26]), outside(dirs[rng.next() % 26]),
                  outside(dirs[rng.next() % 26])});
   }
-  std::printf("[conformance near] 30000 beyond 26 directions (seed %llu): %llu/%llu/%llu "
-              "triangles with 1/2/3 out, %llu pixels drawn, %llu bad depths, %llu overdrawn, "
-              "%llu must draw nothing, %llu of them drew\n",
-              (unsigned long long)seed, (unsigned long long)cases[1],
-              (unsigned long long)cases[2], (unsigned long long)cases[3],
-              (unsigned long long)r.drawn, (unsigned long long)r.bad_depth,
-              (unsigned long long)r.overdraw, (unsigned long long)must_be_empty,
-              (unsigned long long)empty_but_drawn);
+  std::printf(
+      "[conformance near] 30000 beyond 26 directions (seed %llu): %llu/%llu/%llu "
+      "triangles with 1/2/3 out, %llu pixels drawn, %llu bad depths, %llu overdrawn, "
+      "%llu must draw nothing, %llu of them drew\n",
+      (unsigned long long)seed, (unsigned long long)cases[1], (unsigned long long)cases[2],
+      (unsigned long long)cases[3], (unsigned long long)r.drawn, (unsigned long long)r.bad_depth,
+      (unsigned long long)r.overdraw, (unsigned long long)must_be_empty,
+      (unsigned long long)empty_but_drawn);
   EXPECT_EQ(r.bad_depth, 0u) << first_bad;
   EXPECT_EQ(r.overdraw, 0u) << first_bad;
   EXPECT_EQ(empty_but_drawn, 0u) << first_bad;

@@ -60,7 +60,8 @@ RefVertex refSnap(double x_up, double y_up, int height) {
 bool refCoverage(const GridTri& t, int width, int height, std::vector<std::uint8_t>& cov) {
   RefVertex v[3];
   for (int k = 0; k < 3; ++k) v[k] = refSnap(t.x[k] / 16.0, t.y[k] / 16.0, height);
-  const __int128 area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
+  const __int128 area2 =
+      (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
   if (area2 == 0) return false;
   // For each edge a->b (third vertex c): an inward normal n (n . (c - a) > 0), and whether the
   // edge owns the pixel centres on it: a horizontal edge with the interior above it in the
@@ -134,7 +135,8 @@ std::uint64_t compareBatch(const std::string& algorithm, const std::vector<GridT
   for (std::size_t i = 0; i < tris.size(); ++i) {
     std::fill(cov.begin(), cov.end(), 0);
     const GridTri& t = tris[i];
-    const std::int64_t a = (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.y[1] - t.y[0]) * (t.x[2] - t.x[0]);
+    const std::int64_t a =
+        (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.y[1] - t.y[0]) * (t.x[2] - t.x[0]);
     (a > 0 ? tot.ccw : tot.cw)++;
     tot.triangles++;
     if (!refCoverage(t, kSize, kSize, cov)) continue;
@@ -177,7 +179,9 @@ TEST(ConformanceReference, HandWorkedCases) {
     for (std::uint8_t c : cov) n += c;
     return n;
   };
-  auto at = [&](int col, int gl_y) { return cov[static_cast<std::size_t>(H - 1 - gl_y) * W + col]; };
+  auto at = [&](int col, int gl_y) {
+    return cov[static_cast<std::size_t>(H - 1 - gl_y) * W + col];
+  };
   // A 4x4 square of pixel centres: (0.5..3.5) x (0.5..3.5) split along the diagonal. The lower
   // triangle's left edge (x = 0.5) and its bottom edge (y = 0.5 in GL: the interior lies above
   // it) own their centres; its hypotenuse x + y = 4 runs on the right, and does not.
@@ -238,11 +242,12 @@ TEST_P(ConformanceRaster, FixedCasesBitExact) {
       }
     }
   }
-  std::printf("[conformance raster] fixed: %llu triangles (%llu ccw, %llu cw), %llu pixels "
-              "compared, %llu covered, %llu differing\n",
-              (unsigned long long)tot.triangles, (unsigned long long)tot.ccw,
-              (unsigned long long)tot.cw, (unsigned long long)tot.pixels_compared,
-              (unsigned long long)tot.pixels_covered, (unsigned long long)tot.differing);
+  std::printf(
+      "[conformance raster] fixed: %llu triangles (%llu ccw, %llu cw), %llu pixels "
+      "compared, %llu covered, %llu differing\n",
+      (unsigned long long)tot.triangles, (unsigned long long)tot.ccw, (unsigned long long)tot.cw,
+      (unsigned long long)tot.pixels_compared, (unsigned long long)tot.pixels_covered,
+      (unsigned long long)tot.differing);
   EXPECT_EQ(tot.triangles, 72u);
   EXPECT_EQ(tot.differing, 0u);
 }
@@ -284,7 +289,8 @@ TEST_P(ConformanceRaster, RandomTrianglesBitExact) {
           t.x[v] = ox + static_cast<std::int64_t>(rng.next() % (size * 16 + 1));
           t.y[v] = oy + static_cast<std::int64_t>(rng.next() % (size * 16 + 1));
         }
-        const std::int64_t a = (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.y[1] - t.y[0]) * (t.x[2] - t.x[0]);
+        const std::int64_t a =
+            (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.y[1] - t.y[0]) * (t.x[2] - t.x[0]);
         if (a == 0) {
           degenerate_skipped++;
           continue;  // zero area: draws nothing (row 14's business); draw another
@@ -296,12 +302,13 @@ TEST_P(ConformanceRaster, RandomTrianglesBitExact) {
       compareBatch(GetParam(), batch, tot, ctx, &reports_left);
     }
   }
-  std::printf("[conformance raster] random (seed %llu): %llu triangles (%llu ccw, %llu cw; "
-              "%llu zero-area redrawn), %llu pixels compared, %llu covered, %llu differing\n",
-              (unsigned long long)seed, (unsigned long long)tot.triangles,
-              (unsigned long long)tot.ccw, (unsigned long long)tot.cw,
-              (unsigned long long)degenerate_skipped, (unsigned long long)tot.pixels_compared,
-              (unsigned long long)tot.pixels_covered, (unsigned long long)tot.differing);
+  std::printf(
+      "[conformance raster] random (seed %llu): %llu triangles (%llu ccw, %llu cw; "
+      "%llu zero-area redrawn), %llu pixels compared, %llu covered, %llu differing\n",
+      (unsigned long long)seed, (unsigned long long)tot.triangles, (unsigned long long)tot.ccw,
+      (unsigned long long)tot.cw, (unsigned long long)degenerate_skipped,
+      (unsigned long long)tot.pixels_compared, (unsigned long long)tot.pixels_covered,
+      (unsigned long long)tot.differing);
   EXPECT_EQ(tot.triangles, static_cast<std::uint64_t>(total));
   EXPECT_GT(tot.ccw, 0u);
   EXPECT_GT(tot.cw, 0u);

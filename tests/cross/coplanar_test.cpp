@@ -50,14 +50,14 @@ struct Family {
 
 struct Tally {
   std::uint64_t stacks = 0, permutations = 0, renders = 0;
-  std::uint64_t multi = 0;       // pixel-checks where 2 or more polygons cover the centre
-  std::uint64_t all = 0;         // ... where all of the stack covers it
+  std::uint64_t multi = 0;  // pixel-checks where 2 or more polygons cover the centre
+  std::uint64_t all = 0;    // ... where all of the stack covers it
   std::uint64_t off_less = 0, off_lequal = 0;  // pixels not showing the rule's winner
-  std::uint64_t all_off = 0;     // of the LESS ones, pixels covered by the whole stack
+  std::uint64_t all_off = 0;  // of the LESS ones, pixels covered by the whole stack
   std::uint64_t pictures_off = 0, pictures = 0;  // pictures with any off-rule pixel
   std::uint64_t nondeterministic = 0;            // renders differing from the first of their set
-  float max_spread = 0.0f;  // at off-rule pixels: largest depth difference between the
-                            // covering polygons, each rendered alone (0 = an exact tie)
+  float max_spread = 0.0f;     // at off-rule pixels: largest depth difference between the
+                               // covering polygons, each rendered alone (0 = an exact tie)
   std::uint64_t rounding = 0;  // pixels under 2+ polygons whose own depths are not all equal
   std::string example_less, example_lequal;
 };
@@ -163,7 +163,8 @@ void checkFamily(const Family& fam, const AlgorithmInfo& algo, Tally& t) {
           if (covering >= 2) t.max_spread = std::max(t.max_spread, z_hi - z_lo);
           std::string& example = less ? t.example_less : t.example_lequal;
           if (example.empty()) {
-            const int x = static_cast<int>(k % kSize), y_up = kSize - 1 - static_cast<int>(k / kSize);
+            const int x = static_cast<int>(k % kSize),
+                      y_up = kSize - 1 - static_cast<int>(k / kSize);
             std::string depths = "; depth of each submission drawn alone:";
             for (std::size_t i = 0; i < size; ++i) {
               if (!cover[perm[i]][k]) continue;
@@ -172,11 +173,11 @@ void checkFamily(const Family& fam, const AlgorithmInfo& algo, Tally& t) {
               depths += buf;
             }
             example = "stack of " + std::to_string(size) + " submitted in order " + order +
-                        " (family indices), depth func " + (less ? "LESS" : "LEQUAL") +
-                        ": pixel (" + std::to_string(x) + ", " + std::to_string(y_up) +
-                        ") [y up], covered by " + std::to_string(covering) +
-                        ", expected submission #" + std::to_string(static_cast<int>(expected)) +
-                        ", got #" + std::to_string(static_cast<int>(first.ids[k])) + depths;
+                      " (family indices), depth func " + (less ? "LESS" : "LEQUAL") + ": pixel (" +
+                      std::to_string(x) + ", " + std::to_string(y_up) + ") [y up], covered by " +
+                      std::to_string(covering) + ", expected submission #" +
+                      std::to_string(static_cast<int>(expected)) + ", got #" +
+                      std::to_string(static_cast<int>(first.ids[k])) + depths;
           }
         }
         t.pictures_off += off > 0;
@@ -213,15 +214,16 @@ void checkFamilyFor(const Family& fam, const AlgorithmInfo& algo) {
         " pixels under 2+ polygons (" + testing::grouped(t.all) + " under the whole stack); " +
         "off the tie rule: " + testing::grouped(t.off_less) + " with LESS, " +
         testing::grouped(t.off_lequal) + " with LEQUAL (" + testing::grouped(t.pictures_off) +
-        " of " + testing::grouped(t.pictures) + " pictures; with LESS " + testing::grouped(t.all_off) +
-        " under the whole stack; depth spread there up to " + spreadText(t.max_spread) + "); " +
-        testing::grouped(t.rounding) + " pixels where the polygons' own float depths differ " +
-        "(decided by depth, as GL), " +
+        " of " + testing::grouped(t.pictures) + " pictures; with LESS " +
+        testing::grouped(t.all_off) + " under the whole stack; depth spread there up to " +
+        spreadText(t.max_spread) + "); " + testing::grouped(t.rounding) +
+        " pixels where the polygons' own float depths differ " + "(decided by depth, as GL), " +
         testing::grouped(t.nondeterministic) + " non-identical reruns");
   }
 }
 
-// One test per algorithm and family (Coplanar.Family/ALGORITHM), so that CTest runs them side by side.
+// One test per algorithm and family (Coplanar.Family/ALGORITHM), so that CTest runs them side by
+// side.
 class Coplanar : public testing::EveryAlgorithm {};
 
 // A perspective camera looking at the origin slightly from above and to the side.
@@ -239,19 +241,21 @@ Camera perspectiveCamera() {
 
 // Points on circles in the plane through `origin` spanned by u, v: polygon i has `sides`
 // vertices on a circle of radius r_i around a centre offset by up to `spread`.
-std::vector<std::vector<glm::vec3>> polygonsInPlane(testing::Rng& rng, glm::vec3 origin, glm::vec3 u,
-                                                    glm::vec3 v, int count, float radius,
-                                                    float spread, bool mix_quads) {
+std::vector<std::vector<glm::vec3>> polygonsInPlane(testing::Rng& rng, glm::vec3 origin,
+                                                    glm::vec3 u, glm::vec3 v, int count,
+                                                    float radius, float spread, bool mix_quads) {
   std::vector<std::vector<glm::vec3>> out;
   for (int i = 0; i < count; ++i) {
     const int sides = mix_quads && i % 2 == 1 ? 4 : 3;
-    const glm::vec3 c = origin + rng.uniform(-spread, spread) * u + rng.uniform(-spread, spread) * v;
+    const glm::vec3 c =
+        origin + rng.uniform(-spread, spread) * u + rng.uniform(-spread, spread) * v;
     const float r = radius * rng.uniform(0.85f, 1.0f);
     const double start = rng.uniform() * 2 * kPi;
     std::vector<glm::vec3> p;
     for (int k = 0; k < sides; ++k) {
       const double a = start + (k + rng.uniform(-0.15f, 0.15f)) * (2 * kPi / sides);
-      p.push_back(c + r * static_cast<float>(std::cos(a)) * u + r * static_cast<float>(std::sin(a)) * v);
+      p.push_back(c + r * static_cast<float>(std::cos(a)) * u +
+                  r * static_cast<float>(std::sin(a)) * v);
     }
     out.push_back(p);
   }
@@ -311,12 +315,12 @@ TEST_P(Coplanar, SameTriangleInAnyVertexOrderFirstSubmittedWins) {
   const std::vector<glm::vec3> t = polygonsInPlane(rng, {0, 0, 0}, u, v, 1, 1.2f, 0.0f, false)[0];
   // The 6 orders of the same three points (3 rotations, then the 3 reversed); stacks take
   // the first 2..5 of them.
-  const std::vector<std::vector<glm::vec3>> orders = {
-      {t[0], t[1], t[2]}, {t[1], t[2], t[0]}, {t[2], t[0], t[1]},
-      {t[0], t[2], t[1]}, {t[2], t[1], t[0]}, {t[1], t[0], t[2]}};
-  checkFamilyFor({"one triangle in different vertex orders, tilted, perspective",
-                  perspectiveCamera(), orders},
-                 findAlgorithm(GetParam()));
+  const std::vector<std::vector<glm::vec3>> orders = {{t[0], t[1], t[2]}, {t[1], t[2], t[0]},
+                                                      {t[2], t[0], t[1]}, {t[0], t[2], t[1]},
+                                                      {t[2], t[1], t[0]}, {t[1], t[0], t[2]}};
+  checkFamilyFor(
+      {"one triangle in different vertex orders, tilted, perspective", perspectiveCamera(), orders},
+      findAlgorithm(GetParam()));
 }
 
 HSR_INSTANTIATE_FOR_ALGORITHMS_WITH(Coplanar, kTieRule);

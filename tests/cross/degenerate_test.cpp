@@ -46,9 +46,10 @@ std::vector<const AlgorithmInfo*> lessOnlyAlgorithms();
   std::string less_only;
   for (const AlgorithmInfo* a : lessOnlyAlgorithms())
     less_only += (less_only.empty() ? "" : ", ") + std::string(a->name);
-  std::printf("[ figures ] row 14 degenerate catalogue: %d cases run, %d passed, each on %zu "
-              "algorithm(s) (%s) and, held to the z-buffer's frame with LESS, on %s\n",
-              t.run, t.passed, applicable.size(), names.c_str(), less_only.c_str());
+  std::printf(
+      "[ figures ] row 14 degenerate catalogue: %d cases run, %d passed, each on %zu "
+      "algorithm(s) (%s) and, held to the z-buffer's frame with LESS, on %s\n",
+      t.run, t.passed, applicable.size(), names.c_str(), less_only.c_str());
 });
 
 constexpr int kSize = 256;  // most cases render at kSize x kSize with the pixel camera
@@ -74,7 +75,8 @@ bool addCoverage(const Tri& t, int width, int height, std::vector<int>& count) {
     EXPECT_TRUE(gx == std::floor(gx) && gy == std::floor(gy)) << "off the grid: test bug";
     v[k] = {static_cast<__int128>(gx) - 128, static_cast<__int128>(gy) - 128};
   }
-  const __int128 area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
+  const __int128 area2 =
+      (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
   if (area2 == 0) return false;
   struct Edge {
     __int128 ax, ay, nx, ny;
@@ -131,10 +133,10 @@ Scene flatScene(const std::vector<Tri>& tris, float z = 0.0f) {
   const std::uint32_t m = s.addMaterial({});
   s.beginObject("flat");
   for (const Tri& t : tris)
-    s.addPolygonVertices({glm::vec3(float(t[0].x), float(t[0].y), z),
-                          glm::vec3(float(t[1].x), float(t[1].y), z),
-                          glm::vec3(float(t[2].x), float(t[2].y), z)},
-                         m);
+    s.addPolygonVertices(
+        {glm::vec3(float(t[0].x), float(t[0].y), z), glm::vec3(float(t[1].x), float(t[1].y), z),
+         glm::vec3(float(t[2].x), float(t[2].y), z)},
+        m);
   return s;
 }
 
@@ -153,7 +155,8 @@ RenderOptions countEveryFragment() {
 // LESS and must equal the z-buffer's frame drawn so, bit for bit (ids, depths, colours).
 std::vector<const AlgorithmInfo*> lessOnlyAlgorithms() {
   std::vector<const AlgorithmInfo*> out;
-  for (const AlgorithmInfo* a : testing::algorithmsWith("Degenerate, LESS only", kExactSharedCoverage))
+  for (const AlgorithmInfo* a :
+       testing::algorithmsWith("Degenerate, LESS only", kExactSharedCoverage))
     if (!a->has(kDepthFuncs)) out.push_back(a);
   return out;
 }
@@ -162,7 +165,8 @@ std::vector<const AlgorithmInfo*> lessOnlyAlgorithms() {
 // expectations are exact pixel coverage and counts (drawn with the depth test off). Then the
 // LESS-only algorithms draw the same scene with LESS and are held to the z-buffer's frame.
 template <class Check>
-void forEachAlgorithm(const Scene& scene, const Camera& camera, RenderOptions options, Check check) {
+void forEachAlgorithm(const Scene& scene, const Camera& camera, RenderOptions options,
+                      Check check) {
   for (const AlgorithmInfo* ap :
        testing::algorithmsWith("Degenerate", kExactSharedCoverage | kDepthFuncs)) {
     const AlgorithmInfo& a = *ap;
@@ -249,10 +253,17 @@ TEST(Degenerate, ZeroAreaCollinearTrianglesDrawNothingAndAreCounted) {
       glm::vec3 d(randInt(rng, -4096, 4096) / 256.0f, randInt(rng, -4096, 4096) / 256.0f,
                   randInt(rng, -256, 256) / 256.0f);
       switch (i % 5) {
-        case 0: d.y = d.z = 0; break;           // along a row
-        case 1: d.x = d.z = 0; break;           // along a column
-        case 2: d = glm::vec3(1, 1, 0); break;  // diagonal through pixel centres
-        default: break;                         // anywhere, also in depth
+        case 0:
+          d.y = d.z = 0;
+          break;  // along a row
+        case 1:
+          d.x = d.z = 0;
+          break;  // along a column
+        case 2:
+          d = glm::vec3(1, 1, 0);
+          break;  // diagonal through pixel centres
+        default:
+          break;  // anywhere, also in depth
       }
       const int n = (i % 7 == 0) ? 5 : 3;  // some collinear pentagons
       std::vector<glm::vec3> pts;
@@ -290,7 +301,7 @@ TEST(Degenerate, ZeroAreaRepeatedVertexTrianglesDrawNothingAndAreCounted) {
   const std::uint32_t m = s.addMaterial({});
   s.beginObject("repeats");
   std::uint32_t zero_area = 0;  // triangles
-  std::vector<Tri> spanning;  // the triangles that the non-degenerate polygons span
+  std::vector<Tri> spanning;    // the triangles that the non-degenerate polygons span
   for (int i = 0; i < 100 * testing::countScale(); ++i) {
     const auto point = [&] {
       return glm::vec3(randInt(rng, 256, 65280) / 256.0f, randInt(rng, 256, 65280) / 256.0f,
@@ -300,16 +311,30 @@ TEST(Degenerate, ZeroAreaRepeatedVertexTrianglesDrawNothingAndAreCounted) {
     const std::uint32_t ia = s.addVertex(a), ib = s.addVertex(b), ic = s.addVertex(c);
     const std::uint32_t ia2 = s.addVertex(a);  // same position, another index
     switch (i % 8) {
-      case 0: s.addPolygon({ia, ia2, ib}, m); break;        // two corners at one position
-      case 1: s.addPolygon({ia, ib, ia2}, m); break;
-      case 2: s.addPolygon({ia, ia, ib}, m); break;         // the same index twice
-      case 3: s.addPolygon({ia, ia2, ia}, m); break;        // all three at one position
-      case 4: s.addPolygon({ia, ib, ia2, ib}, m); break;    // a quad folded onto a segment
-      case 5: s.addPolygon({ia, ia2, ib, ib}, m); break;
+      case 0:
+        s.addPolygon({ia, ia2, ib}, m);
+        break;  // two corners at one position
+      case 1:
+        s.addPolygon({ia, ib, ia2}, m);
+        break;
+      case 2:
+        s.addPolygon({ia, ia, ib}, m);
+        break;  // the same index twice
+      case 3:
+        s.addPolygon({ia, ia2, ia}, m);
+        break;  // all three at one position
+      case 4:
+        s.addPolygon({ia, ib, ia2, ib}, m);
+        break;  // a quad folded onto a segment
+      case 5:
+        s.addPolygon({ia, ia2, ib, ib}, m);
+        break;
       default: {
         // a quad with one repeated corner that still spans the triangle (a, b, c)
-        if (i % 8 == 6) s.addPolygon({ia, ib, ib, ic}, m);
-        else s.addPolygon({ia, ia2, ib, ic}, m);
+        if (i % 8 == 6)
+          s.addPolygon({ia, ib, ib, ic}, m);
+        else
+          s.addPolygon({ia, ia2, ib, ic}, m);
         spanning.push_back({glm::dvec2(a.x, a.y), glm::dvec2(b.x, b.y), glm::dvec2(c.x, c.y)});
         ++zero_area;  // its zero-width corner
         continue;
@@ -342,9 +367,8 @@ TEST(Degenerate, EdgeOnTrianglesDrawNothingAndAreNotCountedAsDegenerate) {
     if (i % 3 == 1) d = glm::vec2(1, 0);
     const float t1 = float(randInt(rng, 1, 3)), t2 = float(randInt(rng, -3, -1));
     // z = 0, 2, 3 at t = 0, t1 > 0, t2 < 0: never linear in t, so never collinear in 3D
-    s.addPolygonVertices({glm::vec3(a, 0.0f), glm::vec3(a + t1 * d, 2.0f),
-                          glm::vec3(a + t2 * d, 3.0f)},
-                         m);
+    s.addPolygonVertices(
+        {glm::vec3(a, 0.0f), glm::vec3(a + t1 * d, 2.0f), glm::vec3(a + t2 * d, 3.0f)}, m);
   }
   for (FacingTest facing : {FacingTest::WindowArea, FacingTest::EyePlane}) {
     RenderOptions o;
@@ -396,8 +420,8 @@ TEST(Degenerate, NeedleTrianglesDrawExactlyTheCentresInside) {
       std::int64_t x, y;
       while (extendedGcd(p, q, &x, &y) != 1) ++p;
       const double aspect_target = std::pow(10.0, rng.uniform(5.0f, 8.0f));
-      const std::int64_t m = std::max<std::int64_t>(
-          1, std::llround(double(p * p + q * q) / aspect_target));
+      const std::int64_t m =
+          std::max<std::int64_t>(1, std::llround(double(p * p + q * q) / aspect_target));
       // p*x + q*y = 1, so the offset (r, s) = m (-y, x) has p*s - q*r = m; slide it along the
       // needle to somewhere in its middle
       std::int64_t r = -m * y, s = m * x;
@@ -406,8 +430,10 @@ TEST(Degenerate, NeedleTrianglesDrawExactlyTheCentresInside) {
       r -= k * p;
       s -= k * q;
       // Place it inside the viewport: A such that A, A + (p, q) and A + (r, s) fit
-      const std::int64_t lo_x = -std::min<std::int64_t>({0, p, r}), hi_x = kSize * 256 - std::max<std::int64_t>({0, p, r});
-      const std::int64_t lo_y = -std::min<std::int64_t>({0, q, s}), hi_y = kSize * 256 - std::max<std::int64_t>({0, q, s});
+      const std::int64_t lo_x = -std::min<std::int64_t>({0, p, r}),
+                         hi_x = kSize * 256 - std::max<std::int64_t>({0, p, r});
+      const std::int64_t lo_y = -std::min<std::int64_t>({0, q, s}),
+                         hi_y = kSize * 256 - std::max<std::int64_t>({0, q, s});
       if (lo_x >= hi_x || lo_y >= hi_y) continue;
       const std::int64_t ax = randInt(rng, lo_x, hi_x), ay = randInt(rng, lo_y, hi_y);
       Tri t{grid(ax, ay), grid(ax + p, ay + q), grid(ax + r, ay + s)};
@@ -421,15 +447,22 @@ TEST(Degenerate, NeedleTrianglesDrawExactlyTheCentresInside) {
     // Long edges exactly through pixel centres: a row, a column, a diagonal; the apex one
     // grid step off the line, on either side
     for (int i = 0; i < 24; ++i) {
-      const std::int64_t cx = randInt(rng, 8, 120) * 256 + 128, cy = randInt(rng, 8, 120) * 256 + 128;
+      const std::int64_t cx = randInt(rng, 8, 120) * 256 + 128,
+                         cy = randInt(rng, 8, 120) * 256 + 128;
       const std::int64_t len = randInt(rng, 40, 120) * 256;
       const std::int64_t side = (i & 1) ? 1 : -1;
       const std::int64_t mid = randInt(rng, 1, len / 256 - 1) * 256 + randInt(rng, 0, 255);
       Tri t;
       switch (i % 3) {
-        case 0: t = {grid(cx, cy), grid(cx + len, cy), grid(cx + mid, cy + side)}; break;
-        case 1: t = {grid(cx, cy), grid(cx, cy + len), grid(cx + side, cy + mid)}; break;
-        default: t = {grid(cx, cy), grid(cx + len, cy + len), grid(cx + mid + side, cy + mid)}; break;
+        case 0:
+          t = {grid(cx, cy), grid(cx + len, cy), grid(cx + mid, cy + side)};
+          break;
+        case 1:
+          t = {grid(cx, cy), grid(cx, cy + len), grid(cx + side, cy + mid)};
+          break;
+        default:
+          t = {grid(cx, cy), grid(cx + len, cy + len), grid(cx + mid + side, cy + mid)};
+          break;
       }
       if (i % 4 >= 2) std::swap(t[1], t[2]);
       tris.push_back(t);
@@ -444,11 +477,11 @@ TEST(Degenerate, NeedleTrianglesDrawExactlyTheCentresInside) {
                        EXPECT_EQ(expectCounts(f, want, "needles"), 0u);
                      });
   }
-  std::printf("degenerate: %llu needles (aspect %.2g..%.2g, %llu at 1e6 or more), %llu pixel "
-              "centres covered, all exactly as the reference\n",
-              static_cast<unsigned long long>(needles), min_aspect, max_aspect,
-              static_cast<unsigned long long>(at_least_1e6),
-              static_cast<unsigned long long>(covered));
+  std::printf(
+      "degenerate: %llu needles (aspect %.2g..%.2g, %llu at 1e6 or more), %llu pixel "
+      "centres covered, all exactly as the reference\n",
+      static_cast<unsigned long long>(needles), min_aspect, max_aspect,
+      static_cast<unsigned long long>(at_least_1e6), static_cast<unsigned long long>(covered));
 }
 
 // Documented: a needle a million pixels long and one pixel wide (aspect 1e6), crossing the
@@ -506,10 +539,11 @@ TEST(Degenerate, MillionPixelNeedlesAreClippedExactly) {
       EXPECT_EQ(unjudged, 0u) << "the axis-aligned family is exact";
     }
   }
-  std::printf("degenerate: %d million-pixel needles, %llu pixel centres judged (%llu inside), "
-              "%llu within 0.05 px of an edge\n",
-              count, static_cast<unsigned long long>(judged), static_cast<unsigned long long>(inside),
-              static_cast<unsigned long long>(ambiguous));
+  std::printf(
+      "degenerate: %d million-pixel needles, %llu pixel centres judged (%llu inside), "
+      "%llu within 0.05 px of an edge\n",
+      count, static_cast<unsigned long long>(judged), static_cast<unsigned long long>(inside),
+      static_cast<unsigned long long>(ambiguous));
 }
 
 // Documented: a triangle smaller than a pixel (bounding box under 1 px each way) contains at
@@ -550,7 +584,8 @@ TEST(Degenerate, SubPixelTrianglesDrawZeroOrOnePixelByTheCentreRule) {
                      [&](const Frame& f) {
                        EXPECT_EQ(expectCounts(f, want, "sub-pixel"), 0u);
                        // One triangle per 3x3 cell: no cell may hold more than one fragment
-                       for (std::size_t id = 0; id < tris.size(); ++id) ASSERT_LE(drawnBy(f, PolygonId(id)), 1u);
+                       for (std::size_t id = 0; id < tris.size(); ++id)
+                         ASSERT_LE(drawnBy(f, PolygonId(id)), 1u);
                      });
   }
   std::printf("degenerate: %llu sub-pixel triangles, %llu drew their one pixel, the rest none\n",
@@ -590,8 +625,10 @@ TEST(Degenerate, SubPixelFanCoversEachCentreExactlyOnce) {
           const auto& b = rim[(k + 1) % rim.size()];
           tris.push_back({grid(cx, cy), grid(a[0], a[1]), grid(b[0], b[1])});
         }
-        addCoverage({grid(x0, y0), grid(x0 + w, y0), grid(x0 + w, y0 + h)}, kSize, kSize, inside_rect);
-        addCoverage({grid(x0, y0), grid(x0 + w, y0 + h), grid(x0, y0 + h)}, kSize, kSize, inside_rect);
+        addCoverage({grid(x0, y0), grid(x0 + w, y0), grid(x0 + w, y0 + h)}, kSize, kSize,
+                    inside_rect);
+        addCoverage({grid(x0, y0), grid(x0 + w, y0 + h), grid(x0, y0 + h)}, kSize, kSize,
+                    inside_rect);
       }
     }
     std::vector<int> want(static_cast<std::size_t>(kSize) * kSize, 0);
@@ -600,10 +637,9 @@ TEST(Degenerate, SubPixelFanCoversEachCentreExactlyOnce) {
     EXPECT_EQ(want, inside_rect) << "reference: the fan and its rectangle differ";
     triangles += tris.size();
     centres += static_cast<std::uint64_t>(std::accumulate(want.begin(), want.end(), 0));
-    forEachAlgorithm(flatScene(tris), pixelCamera(kSize, kSize), countEveryFragment(),
-                     [&](const Frame& f) {
-                       EXPECT_EQ(expectCounts(f, inside_rect, "sub-pixel fan"), 0u);
-                     });
+    forEachAlgorithm(
+        flatScene(tris), pixelCamera(kSize, kSize), countEveryFragment(),
+        [&](const Frame& f) { EXPECT_EQ(expectCounts(f, inside_rect, "sub-pixel fan"), 0u); });
   }
   std::printf("degenerate: %llu sub-pixel fan triangles, %llu centres each written exactly once\n",
               static_cast<unsigned long long>(triangles), static_cast<unsigned long long>(centres));
@@ -648,7 +684,8 @@ TEST(Degenerate, HugeCoordinatesNeverCrashOrWriteNaN) {
       };
       const float near_y = rng.uniform(0.0f, 64.0f), near_x = rng.uniform(0.0f, 64.0f);
       const glm::vec3 near_pt(near_x, near_y, 0.0f);
-      s.addPolygonVertices({near_pt, huge(), (i % 3 == 0) ? huge() : near_pt + glm::vec3(9, 1, 0)}, m);
+      s.addPolygonVertices({near_pt, huge(), (i % 3 == 0) ? huge() : near_pt + glm::vec3(9, 1, 0)},
+                           m);
     }
     Camera persp;
     persp.width = persp.height = 64;
@@ -663,8 +700,9 @@ TEST(Degenerate, HugeCoordinatesNeverCrashOrWriteNaN) {
         o.polygon_mode = mode;
         o.frustum_cull = (renders & 1) != 0;
         o.outline = mode == PolygonMode::Fill;
-        SCOPED_TRACE("magnitude " + std::to_string(mag) + (cam.ortho ? ", pixel camera" : ", perspective") +
-                     ", frustum cull " + std::to_string(o.frustum_cull));
+        SCOPED_TRACE("magnitude " + std::to_string(mag) +
+                     (cam.ortho ? ", pixel camera" : ", perspective") + ", frustum cull " +
+                     std::to_string(o.frustum_cull));
         forEachAlgorithm(s, cam, o, [&](const Frame& f) {
           ++frames;
           expectSaneBuffers(f, s.polygonCount());
@@ -709,12 +747,12 @@ TEST(Degenerate, HugeCoordinatesClipCorrectly) {
     const float M = static_cast<float>(mag);
     // Edges pass through the viewport at y = 20.25, x = 40.75 etc.; in GL window coordinates
     const std::vector<Tri> shapes = {
-        {glm::dvec2(-M, 20.25), glm::dvec2(M, 20.25), glm::dvec2(0, M)},      // far ends both sides
+        {glm::dvec2(-M, 20.25), glm::dvec2(M, 20.25), glm::dvec2(0, M)},  // far ends both sides
         {glm::dvec2(40.75, -M), glm::dvec2(40.75, M), glm::dvec2(-M, 0)},
-        {glm::dvec2(-M, -M), glm::dvec2(M, -M), glm::dvec2(0, M)},            // covers everything
+        {glm::dvec2(-M, -M), glm::dvec2(M, -M), glm::dvec2(0, M)},             // covers everything
         {glm::dvec2(10.5, 12.25), glm::dvec2(M, 12.25), glm::dvec2(10.5, M)},  // one vertex in view
         {glm::dvec2(30.25, 30.25), glm::dvec2(-M, 40.5), glm::dvec2(-M, -M)},
-        {glm::dvec2(M, M), glm::dvec2(M + M, M), glm::dvec2(M, M + M)},        // all outside
+        {glm::dvec2(M, M), glm::dvec2(M + M, M), glm::dvec2(M, M + M)},  // all outside
     };
     for (std::size_t k = 0; k < shapes.size(); ++k) {
       const Tri& t = shapes[k];
@@ -741,21 +779,24 @@ TEST(Degenerate, HugeCoordinatesClipCorrectly) {
             }
             if (drawn != (c > 0) && ++wrong <= 2)
               ADD_FAILURE() << "magnitude " << mag << " shape " << k << ": pixel col " << col
-                            << " GL y " << W - 1 - row << (drawn ? " drawn, outside" : " not drawn, inside");
+                            << " GL y " << W - 1 - row
+                            << (drawn ? " drawn, outside" : " not drawn, inside");
           }
         }
         EXPECT_EQ(wrong, 0u) << "magnitude " << mag << " shape " << k << ": " << wrong
                              << " pixels wrong (clipped " << f.stats.clipped << ", away "
-                             << f.stats.clipped_away << ", dropped " << f.stats.degenerate_dropped << ")";
+                             << f.stats.clipped_away << ", dropped " << f.stats.degenerate_dropped
+                             << ")";
         wrong_total += wrong;
       });
       ++cases;
     }
   }
-  std::printf("degenerate: %llu huge-coordinate triangles, %llu counted drops, %llu pixel centres "
-              "judged, %llu wrong\n",
-              static_cast<unsigned long long>(cases), static_cast<unsigned long long>(dropped),
-              static_cast<unsigned long long>(judged), static_cast<unsigned long long>(wrong_total));
+  std::printf(
+      "degenerate: %llu huge-coordinate triangles, %llu counted drops, %llu pixel centres "
+      "judged, %llu wrong\n",
+      static_cast<unsigned long long>(cases), static_cast<unsigned long long>(dropped),
+      static_cast<unsigned long long>(judged), static_cast<unsigned long long>(wrong_total));
 }
 
 // Documented: subnormal coordinates (below FLT_MIN, e.g. 1e-40) are ordinary, tiny numbers.
@@ -768,10 +809,12 @@ TEST(Degenerate, SubnormalCoordinatesAreValidTinyGeometry) {
   for (float v : sub) ASSERT_EQ(std::fpclassify(v), FP_SUBNORMAL) << v;
   Rng rng(0x50B'0009u);
   Scene tiny, with, without;
-  const std::uint32_t m0 = tiny.addMaterial({}), m1 = with.addMaterial({}), m2 = without.addMaterial({});
+  const std::uint32_t m0 = tiny.addMaterial({}), m1 = with.addMaterial({}),
+                      m2 = without.addMaterial({});
   for (int i = 0; i < 50; ++i) {
     const auto pick = [&] { return sub[rng.next() % std::size(sub)]; };
-    tiny.addPolygonVertices({{pick(), pick(), pick()}, {2 * 1e-40f, pick(), 0}, {pick(), 3e-40f, pick()}}, m0);
+    tiny.addPolygonVertices(
+        {{pick(), pick(), pick()}, {2 * 1e-40f, pick(), 0}, {pick(), 3e-40f, pick()}}, m0);
     // A visible triangle; some coordinates get a subnormal added where they are 0, others are
     // replaced by a subnormal offset of a grid value (which rounds back to the grid value)
     const glm::vec3 a(randInt(rng, 1, 200), randInt(rng, 1, 200), 0);
@@ -831,19 +874,24 @@ TEST(Degenerate, TJunctionVertexOnTheEdgeLeavesNoCrack) {
     // A and B on the grid with B - A = q * (u, v), M = A + j (u, v): exactly on AB
     const std::int64_t q = randInt(rng, 2, 12);
     std::int64_t u = randInt(rng, -1500, 1500), v = randInt(rng, -1500, 1500);
-    if (i % 3 == 0) v = 0;        // along a row: pixel centres on the line when a.y is one
-    else if (i % 3 == 1) u = 0;   // along a column
+    if (i % 3 == 0)
+      v = 0;  // along a row: pixel centres on the line when a.y is one
+    else if (i % 3 == 1)
+      u = 0;  // along a column
     if (u == 0 && v == 0) u = 256;
     std::int64_t ax = 128 * 256 - q * u / 2, ay = 128 * 256 - q * v / 2;
     if (i % 3 == 0) ay = (ay / 256) * 256 + 128;  // the row through pixel centres
     if (i % 3 == 1) ax = (ax / 256) * 256 + 128;  // the column through pixel centres
     const std::int64_t j = randInt(rng, 1, q - 1);
-    const glm::dvec2 a = grid(ax, ay), b = grid(ax + q * u, ay + q * v), m = grid(ax + j * u, ay + j * v);
+    const glm::dvec2 a = grid(ax, ay), b = grid(ax + q * u, ay + q * v),
+                     m = grid(ax + j * u, ay + j * v);
     const glm::dvec2 dir = b - a, nrm = glm::normalize(glm::dvec2(-dir.y, dir.x));
     const double h = rng.uniform(4.0f, 60.0f);
     const glm::dvec2 mid = (a + b) * 0.5;
-    const glm::dvec2 c = grid(std::llround((mid.x + h * nrm.x) * 256), std::llround((mid.y + h * nrm.y) * 256));
-    const glm::dvec2 d = grid(std::llround((mid.x - h * nrm.x) * 256), std::llround((mid.y - h * nrm.y) * 256));
+    const glm::dvec2 c =
+        grid(std::llround((mid.x + h * nrm.x) * 256), std::llround((mid.y + h * nrm.y) * 256));
+    const glm::dvec2 d =
+        grid(std::llround((mid.x - h * nrm.x) * 256), std::llround((mid.y - h * nrm.y) * 256));
     const std::vector<Tri> tris = tJunction(a, b, m, c, d);
     std::vector<int> want(static_cast<std::size_t>(kSize) * kSize, 0);
     for (const Tri& t : tris) addCoverage(t, kSize, kSize, want);
@@ -855,7 +903,8 @@ TEST(Degenerate, TJunctionVertexOnTheEdgeLeavesNoCrack) {
         const double along = glm::dot(p - a, b - a) / glm::dot(b - a, b - a);
         if (cr == 0.0 && along > 0.0 && along < 1.0) {
           ++on_line;
-          EXPECT_EQ(want[static_cast<std::size_t>(row) * kSize + col], 1) << "reference, case " << i;
+          EXPECT_EQ(want[static_cast<std::size_t>(row) * kSize + col], 1)
+              << "reference, case " << i;
         }
       }
     }
@@ -865,9 +914,10 @@ TEST(Degenerate, TJunctionVertexOnTheEdgeLeavesNoCrack) {
                        EXPECT_EQ(expectCounts(f, want, "T-junction " + std::to_string(i)), 0u);
                      });
   }
-  std::printf("degenerate: %d T-junctions with M on the edge, %llu pixel centres on the shared "
-              "line, each written once\n",
-              cases, static_cast<unsigned long long>(on_line));
+  std::printf(
+      "degenerate: %d T-junctions with M on the edge, %llu pixel centres on the shared "
+      "line, each written once\n",
+      cases, static_cast<unsigned long long>(on_line));
 }
 
 // Documented (honestly): when the T-vertex M is NOT on AB after snapping, here one 1/256 px
@@ -909,8 +959,8 @@ TEST(Degenerate, TJunctionVertexOffTheEdgeCracksOnlyInsideTheSliver) {
         const int expected = outline[k] > 0 ? 1 : 0;
         if (want[k] == expected) continue;
         // A defect: it must be inside or on the sliver (within its bounding segment's span)
-        const bool in_sliver = sliver[k] > 0 ||
-                               (std::abs(p.y - a.y) < 1e-9 && p.x > a.x && p.x < b.x);
+        const bool in_sliver =
+            sliver[k] > 0 || (std::abs(p.y - a.y) < 1e-9 && p.x > a.x && p.x < b.x);
         EXPECT_TRUE(in_sliver) << "case " << i << ": defect outside the sliver at col " << col
                                << " GL y " << kSize - 1 - row;
         (want[k] < expected ? case_cracks : case_doubles)++;
@@ -935,11 +985,11 @@ TEST(Degenerate, TJunctionVertexOffTheEdgeCracksOnlyInsideTheSliver) {
   // The configurations are built so that both defects occur: the test shows them, not hides
   EXPECT_GT(crack_cases, 0u);
   EXPECT_GT(double_cases, 0u);
-  std::printf("degenerate: %d T-junctions with M one grid step off the edge: %llu cases crack "
-              "(%llu centres), %llu double-write (%llu centres), all inside the sliver\n",
-              cases, static_cast<unsigned long long>(crack_cases),
-              static_cast<unsigned long long>(cracks), static_cast<unsigned long long>(double_cases),
-              static_cast<unsigned long long>(doubles));
+  std::printf(
+      "degenerate: %d T-junctions with M one grid step off the edge: %llu cases crack "
+      "(%llu centres), %llu double-write (%llu centres), all inside the sliver\n",
+      cases, static_cast<unsigned long long>(crack_cases), static_cast<unsigned long long>(cracks),
+      static_cast<unsigned long long>(double_cases), static_cast<unsigned long long>(doubles));
 }
 
 // Documented: 3 or more faces on one edge (a non-manifold "book") are each drawn on their
@@ -953,8 +1003,10 @@ TEST(Degenerate, NonManifoldEdgeEachFaceWritesItsPixelsOnce) {
     SCOPED_TRACE("book " + std::to_string(i));
     const int pages = 3 + static_cast<int>(rng.next() % 4);
     // The shared edge (spine) from A to B, pages fanning out to either side at various depths
-    const glm::dvec2 a = grid(randInt(rng, 60, 100) * 256 + randInt(rng, 0, 255), randInt(rng, 30, 60) * 256);
-    const glm::dvec2 b = grid(randInt(rng, 150, 200) * 256 + randInt(rng, 0, 255), randInt(rng, 190, 230) * 256);
+    const glm::dvec2 a =
+        grid(randInt(rng, 60, 100) * 256 + randInt(rng, 0, 255), randInt(rng, 30, 60) * 256);
+    const glm::dvec2 b =
+        grid(randInt(rng, 150, 200) * 256 + randInt(rng, 0, 255), randInt(rng, 190, 230) * 256);
     Scene s;
     const std::uint32_t m = s.addMaterial({});
     s.beginObject("book");
@@ -967,13 +1019,16 @@ TEST(Degenerate, NonManifoldEdgeEachFaceWritesItsPixelsOnce) {
                                 randInt(rng, 8, 248) * 256 + randInt(rng, 0, 255));
       const float z = float(randInt(rng, -1024, 1024)) / 256.0f;
       const std::uint32_t ic = s.addVertex({float(c.x), float(c.y), z});
-      if (p % 2) s.addPolygon({ia, ib, ic}, m);
-      else s.addPolygon({ib, ia, ic}, m);  // mixed winding, as real non-manifold meshes have
+      if (p % 2)
+        s.addPolygon({ia, ib, ic}, m);
+      else
+        s.addPolygon({ib, ia, ic}, m);  // mixed winding, as real non-manifold meshes have
       tris.push_back({a, b, c});
       page_z.push_back(z);
     }
     // Per face and per pixel: the exact coverage
-    std::vector<std::vector<int>> cover(tris.size(), std::vector<int>(static_cast<std::size_t>(kSize) * kSize, 0));
+    std::vector<std::vector<int>> cover(
+        tris.size(), std::vector<int>(static_cast<std::size_t>(kSize) * kSize, 0));
     std::vector<int> want(static_cast<std::size_t>(kSize) * kSize, 0);
     for (std::size_t p = 0; p < tris.size(); ++p) {
       addCoverage(tris[p], kSize, kSize, cover[p]);
@@ -988,12 +1043,14 @@ TEST(Degenerate, NonManifoldEdgeEachFaceWritesItsPixelsOnce) {
       std::uint64_t bad = 0;
       for (std::size_t k = 0; k < want.size(); ++k) {
         if (want[k] == 0) {
-          if (f.ids[k] != kNoPolygon && ++bad <= 3) ADD_FAILURE() << "pixel " << k << " drawn, no face covers it";
+          if (f.ids[k] != kNoPolygon && ++bad <= 3)
+            ADD_FAILURE() << "pixel " << k << " drawn, no face covers it";
           continue;
         }
         const PolygonId id = f.ids[k];
         if (id >= tris.size() || cover[id][k] == 0) {
-          if (++bad <= 3) ADD_FAILURE() << "pixel " << k << " shows " << id << ", which does not cover it";
+          if (++bad <= 3)
+            ADD_FAILURE() << "pixel " << k << " shows " << id << ", which does not cover it";
           continue;
         }
         // Nearest: no covering face is nearer by more than float rounding of the depth plane.
@@ -1032,10 +1089,13 @@ TEST(Degenerate, FlippedFacesAreCulledExactlyWhenTheCullRuleSays) {
   for (int y = 0; y < N; ++y) {
     for (int x = 0; x < N; ++x) {
       const std::uint32_t v00 = y * (N + 1) + x, v10 = v00 + 1, v01 = v00 + N + 1, v11 = v01 + 1;
-      for (const auto& t : {std::array<std::uint32_t, 3>{v00, v10, v11}, std::array<std::uint32_t, 3>{v00, v11, v01}}) {
+      for (const auto& t : {std::array<std::uint32_t, 3>{v00, v10, v11},
+                            std::array<std::uint32_t, 3>{v00, v11, v01}}) {
         const bool flip = (rng.next() % 3) == 0;
-        if (flip) s.addPolygon({t[0], t[2], t[1]}, m);
-        else s.addPolygon({t[0], t[1], t[2]}, m);
+        if (flip)
+          s.addPolygon({t[0], t[2], t[1]}, m);
+        else
+          s.addPolygon({t[0], t[1], t[2]}, m);
         ccw.push_back(!flip);  // counter-clockwise in GL window space (y up) unless flipped
       }
     }
@@ -1052,7 +1112,8 @@ TEST(Degenerate, FlippedFacesAreCulledExactlyWhenTheCullRuleSays) {
         std::vector<bool> drawn_want(ccw.size());
         for (std::size_t id = 0; id < ccw.size(); ++id) {
           const bool front = ccw[id] == (ff == FrontFace::Ccw);
-          const bool culled = cull == CullMode::FrontAndBack || (cull == CullMode::Back && !front) ||
+          const bool culled = cull == CullMode::FrontAndBack ||
+                              (cull == CullMode::Back && !front) ||
                               (cull == CullMode::Front && front);
           drawn_want[id] = !culled;
           culled_want += culled;
@@ -1062,9 +1123,9 @@ TEST(Degenerate, FlippedFacesAreCulledExactlyWhenTheCullRuleSays) {
           for (std::size_t id = 0; id < ccw.size(); ++id) {
             const std::size_t n = drawnBy(f, PolygonId(id));
             // Each triangle covers 180 to 210 pixel centres of its 20 x 20 px quad half
-            EXPECT_EQ(n > 0, drawn_want[id]) << "triangle " << id << (ccw[id] ? " ccw" : " cw")
-                                             << ", cull " << int(cull) << ", front "
-                                             << (ff == FrontFace::Ccw ? "ccw" : "cw");
+            EXPECT_EQ(n > 0, drawn_want[id])
+                << "triangle " << id << (ccw[id] ? " ccw" : " cw") << ", cull " << int(cull)
+                << ", front " << (ff == FrontFace::Ccw ? "ccw" : "cw");
             if (drawn_want[id]) {
               EXPECT_GE(n, 180u);
             }
@@ -1090,7 +1151,8 @@ TEST(Degenerate, DuplicateTrianglesFirstSubmittedWinsWithLess) {
     Scene s;
     const std::uint32_t m = s.addMaterial({});
     const auto point = [&] {
-      return glm::vec3(rng.uniform(4.0f, 252.0f), rng.uniform(4.0f, 252.0f), rng.uniform(-6.0f, 6.0f));
+      return glm::vec3(rng.uniform(4.0f, 252.0f), rng.uniform(4.0f, 252.0f),
+                       rng.uniform(-6.0f, 6.0f));
     };
     const glm::vec3 p[3] = {point(), point(), point()};
     const int copies = 2 + static_cast<int>(rng.next() % 4);
@@ -1126,7 +1188,8 @@ TEST(Degenerate, DuplicateTrianglesInAnyVertexOrderFirstSubmittedWins) {
     Scene s;
     const std::uint32_t m = s.addMaterial({});
     const auto point = [&] {
-      return glm::vec3(rng.uniform(4.0f, 252.0f), rng.uniform(4.0f, 252.0f), rng.uniform(-6.0f, 6.0f));
+      return glm::vec3(rng.uniform(4.0f, 252.0f), rng.uniform(4.0f, 252.0f),
+                       rng.uniform(-6.0f, 6.0f));
     };
     const glm::vec3 a = point(), b = point(), c = point();
     s.addPolygonVertices({a, b, c}, m);
@@ -1144,10 +1207,11 @@ TEST(Degenerate, DuplicateTrianglesInAnyVertexOrderFirstSubmittedWins) {
                               << " pixels show a later duplicate";
     });
   }
-  std::printf("degenerate: %d rotated/reversed duplicate sets, %llu with tie noise (%llu of %llu "
-              "pixels)\n",
-              cases, static_cast<unsigned long long>(noisy_cases),
-              static_cast<unsigned long long>(noisy_pixels), static_cast<unsigned long long>(pixels));
+  std::printf(
+      "degenerate: %d rotated/reversed duplicate sets, %llu with tie noise (%llu of %llu "
+      "pixels)\n",
+      cases, static_cast<unsigned long long>(noisy_cases),
+      static_cast<unsigned long long>(noisy_pixels), static_cast<unsigned long long>(pixels));
 }
 
 }  // namespace

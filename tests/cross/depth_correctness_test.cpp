@@ -69,8 +69,11 @@ Scene gradientScene(const Gradient& g, std::initializer_list<bool> gradients) {
   const float w = kSize, h = kSize;
   for (bool gradient : gradients) {
     if (gradient) {
-      s.addPolygonVertices({{0, 0, worldZ(g.depth(0, 0))}, {w, 0, worldZ(g.depth(w, 0))},
-                            {w, h, worldZ(g.depth(w, h))}, {0, h, worldZ(g.depth(0, h))}}, m);
+      s.addPolygonVertices({{0, 0, worldZ(g.depth(0, 0))},
+                            {w, 0, worldZ(g.depth(w, 0))},
+                            {w, h, worldZ(g.depth(w, h))},
+                            {0, h, worldZ(g.depth(0, h))}},
+                           m);
     } else {
       s.addPolygonVertices({{0, 0, -0.5f}, {w, 0, -0.5f}, {w, h, -0.5f}, {0, h, -0.5f}}, m);
     }
@@ -80,20 +83,29 @@ Scene gradientScene(const Gradient& g, std::initializer_list<bool> gradients) {
 
 bool glDepthPasses(DepthFunc f, double z, double stored) {
   switch (f) {
-    case DepthFunc::Never: return false;
-    case DepthFunc::Less: return z < stored;
-    case DepthFunc::Equal: return z == stored;
-    case DepthFunc::LEqual: return z <= stored;
-    case DepthFunc::Greater: return z > stored;
-    case DepthFunc::NotEqual: return z != stored;
-    case DepthFunc::GEqual: return z >= stored;
-    case DepthFunc::Always: return true;
+    case DepthFunc::Never:
+      return false;
+    case DepthFunc::Less:
+      return z < stored;
+    case DepthFunc::Equal:
+      return z == stored;
+    case DepthFunc::LEqual:
+      return z <= stored;
+    case DepthFunc::Greater:
+      return z > stored;
+    case DepthFunc::NotEqual:
+      return z != stored;
+    case DepthFunc::GEqual:
+      return z >= stored;
+    case DepthFunc::Always:
+      return true;
   }
   return false;
 }
 
 const char* depthFuncName(DepthFunc f) {
-  static const char* names[] = {"never", "less", "equal", "lequal", "greater", "notequal", "gequal", "always"};
+  static const char* names[] = {"never",   "less",     "equal",  "lequal",
+                                "greater", "notequal", "gequal", "always"};
   return names[static_cast<int>(f)];
 }
 
@@ -135,8 +147,8 @@ TEST(DepthCorrectness, GradientQuadCrossesFlatQuadAtTheAnalyticColumn) {
             wrong++;
             if (reported++ < 5 && wrong <= 40)
               ADD_FAILURE() << "pixel (" << x << ", " << y << ") [y up]: expected polygon "
-                            << expected << " (gradient z " << zg << " vs 0.5; line at x = "
-                            << column << "), got " << got;
+                            << expected << " (gradient z " << zg
+                            << " vs 0.5; line at x = " << column << "), got " << got;
           }
         }
       }
@@ -157,9 +169,9 @@ TEST(DepthCorrectness, GradientQuadCrossesFlatQuadAtTheAnalyticColumn) {
 
 TEST(DepthCorrectness, EveryDepthFuncFollowsTheGlRule) {
   const Camera camera = testing::pixelCamera(kSize, kSize);
-  const DepthFunc funcs[] = {DepthFunc::Never,   DepthFunc::Less,     DepthFunc::Equal,
-                             DepthFunc::LEqual,  DepthFunc::Greater,  DepthFunc::NotEqual,
-                             DepthFunc::GEqual,  DepthFunc::Always};
+  const DepthFunc funcs[] = {DepthFunc::Never,  DepthFunc::Less,    DepthFunc::Equal,
+                             DepthFunc::LEqual, DepthFunc::Greater, DepthFunc::NotEqual,
+                             DepthFunc::GEqual, DepthFunc::Always};
   const double angles[] = {0.0, 25.0, 205.0};
   for (const AlgorithmInfo* ap :
        testing::algorithmsWith("DepthCorrectness.EveryDepthFunc", kDepthFuncs | kDepthMask)) {
@@ -172,7 +184,8 @@ TEST(DepthCorrectness, EveryDepthFuncFollowsTheGlRule) {
     const Frame flat_alone = render(gradientScene(Gradient(0.0), {false}), camera, flat_options);
     const float z_flat = flat_alone.depth[0];
     ASSERT_NEAR(z_flat, 0.5, 1e-6);
-    for (float z : flat_alone.depth) ASSERT_EQ(z, z_flat) << "the flat quad's depth is not constant";
+    for (float z : flat_alone.depth)
+      ASSERT_EQ(z, z_flat) << "the flat quad's depth is not constant";
     const double clears[] = {1.0, 0.0, 0.75, z_flat};
     std::uint64_t renders = 0, checked = 0, wrong = 0, drawn = 0;
     std::vector<std::string> unsupported;
@@ -184,16 +197,17 @@ TEST(DepthCorrectness, EveryDepthFuncFollowsTheGlRule) {
         const Gradient g(angle);
         // Gradient then flat, flat then gradient, and each drawn twice (exactly equal depths,
         // where EQUAL, LEQUAL, GEQUAL and NOTEQUAL differ from their strict neighbours).
-        const std::pair<bool, bool> pairs[] = {{true, false}, {false, true}, {true, true}, {false, false}};
+        const std::pair<bool, bool> pairs[] = {
+            {true, false}, {false, true}, {true, true}, {false, false}};
         for (const auto& [first_gradient, second_gradient] : pairs) {
           const Scene scene = gradientScene(g, {first_gradient, second_gradient});
           const char* names[] = {"flat", "gradient"};
           for (double clear : clears) {
             for (bool mask : {true, false}) {
-              SCOPED_TRACE("gradient at " + std::to_string(angle) + " degrees; drawn: " +
-                           names[first_gradient] + ", then " + names[second_gradient] +
-                           "; clear depth " + std::to_string(clear) + ", depth mask " +
-                           (mask ? "on" : "off"));
+              SCOPED_TRACE("gradient at " + std::to_string(angle) +
+                           " degrees; drawn: " + names[first_gradient] + ", then " +
+                           names[second_gradient] + "; clear depth " + std::to_string(clear) +
+                           ", depth mask " + (mask ? "on" : "off"));
               RenderOptions o;
               o.algorithm = std::string(algo.name);
               o.depth_func = func;
@@ -215,7 +229,8 @@ TEST(DepthCorrectness, EveryDepthFuncFollowsTheGlRule) {
                 const double cy = y + 0.5;
                 // Pixels within 1 px (along the row) of a line where two different depths meet.
                 const double meet = first_gradient != second_gradient ? g.columnOf(0.5, cy) : -1e9;
-                const double at_clear = first_gradient || second_gradient ? g.columnOf(clear, cy) : -1e9;
+                const double at_clear =
+                    first_gradient || second_gradient ? g.columnOf(clear, cy) : -1e9;
                 for (int x = 0; x < kSize; ++x) {
                   const double cx = x + 0.5;
                   if (std::abs(cx - meet) <= 1.0 || std::abs(cx - at_clear) <= 1.0) continue;
@@ -241,9 +256,8 @@ TEST(DepthCorrectness, EveryDepthFuncFollowsTheGlRule) {
                   if (reported++ < 3 && wrong <= 40)
                     ADD_FAILURE() << "pixel (" << x << ", " << y << ") [y up]: expected polygon "
                                   << static_cast<int>(expected) << " at depth " << expected_z
-                                  << " (fragment depths " << zq[0] << ", " << zq[1]
-                                  << "), got " << static_cast<int>(f.ids[k]) << " at depth "
-                                  << f.depth[k];
+                                  << " (fragment depths " << zq[0] << ", " << zq[1] << "), got "
+                                  << static_cast<int>(f.ids[k]) << " at depth " << f.depth[k];
                 }
               }
             }
@@ -319,7 +333,8 @@ TEST_P(InterpenetratingPairs, NeverShowTheFarSurface) {
     testing::RefPolygon tri[2];
     std::string problem;
     for (PolygonId q = 0; q < 2; ++q) {
-      ASSERT_TRUE(testing::projectPolygon(scene, q, testing::RefProjection(camera), &tri[q], &problem));
+      ASSERT_TRUE(
+          testing::projectPolygon(scene, q, testing::RefProjection(camera), &tri[q], &problem));
     }
     bool any_both = false;
     for (int y = 0; y < kSize; ++y)
@@ -357,13 +372,12 @@ TEST_P(InterpenetratingPairs, NeverShowTheFarSurface) {
   EXPECT_GT(both_unambiguous, both / 2) << "too few decidable overlap pixels to prove anything";
   EXPECT_EQ(mismatches, 0u);
   EXPECT_EQ(far_shown, 0u);
-  testing::printFigures("row 5 " + std::string(algo.name) + " (interpenetrating pairs): " +
-                        testing::grouped(pairs) + " pairs (" + testing::grouped(pairs_with_both) +
-                        " overlapping on screen), " + testing::grouped(both) +
-                        " pixels covered by both, " + testing::grouped(both_unambiguous) +
-                        " of them unambiguous, " + testing::grouped(far_shown) +
-                        " show the far surface; " + testing::grouped(mismatches) +
-                        " unambiguous mismatches in all");
+  testing::printFigures(
+      "row 5 " + std::string(algo.name) + " (interpenetrating pairs): " + testing::grouped(pairs) +
+      " pairs (" + testing::grouped(pairs_with_both) + " overlapping on screen), " +
+      testing::grouped(both) + " pixels covered by both, " + testing::grouped(both_unambiguous) +
+      " of them unambiguous, " + testing::grouped(far_shown) + " show the far surface; " +
+      testing::grouped(mismatches) + " unambiguous mismatches in all");
 }
 
 HSR_INSTANTIATE_FOR_EVERY_ALGORITHM(InterpenetratingPairs);

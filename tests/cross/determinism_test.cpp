@@ -64,9 +64,10 @@ Scene uvSphere(glm::vec3 centre, int segments) {
     const double theta = kPi * i / segments;
     for (int j = 0; j < segments; ++j) {
       const double phi = 2 * kPi * j / segments;
-      s.addVertex(centre + glm::vec3(static_cast<float>(kRadius * std::sin(theta) * std::cos(phi)),
-                                     static_cast<float>(kRadius * std::cos(theta)),
-                                     static_cast<float>(kRadius * std::sin(theta) * std::sin(phi))));
+      s.addVertex(centre +
+                  glm::vec3(static_cast<float>(kRadius * std::sin(theta) * std::cos(phi)),
+                            static_cast<float>(kRadius * std::cos(theta)),
+                            static_cast<float>(kRadius * std::sin(theta) * std::sin(phi))));
     }
   }
   s.addVertex(centre - glm::vec3(0, static_cast<float>(kRadius), 0));
@@ -78,7 +79,8 @@ Scene uvSphere(glm::vec3 centre, int segments) {
   for (int i = 1; i + 1 < segments; ++i)
     for (int j = 0; j < segments; ++j)
       s.addPolygon({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1), ring(i + 1, j)}, m);
-  for (int j = 0; j < segments; ++j) s.addPolygon({ring(segments - 1, j), ring(segments - 1, j + 1), south}, m);
+  for (int j = 0; j < segments; ++j)
+    s.addPolygon({ring(segments - 1, j), ring(segments - 1, j + 1), south}, m);
   return s;
 }
 
@@ -123,7 +125,9 @@ std::vector<NamedScene> determinismScenes() {
   }
   Scene sphere = uvSphere({148376.0f, 1234.0f, -223423.0f}, kSphereSegments);
   const Camera c = frameBounds(sphere.bounds(), kW, kH);
-  out.push_back({"uv sphere " + std::to_string(kSphereSegments) + "x" + std::to_string(kSphereSegments) + " at (148376, 1234, -223423)", std::move(sphere), c});
+  out.push_back({"uv sphere " + std::to_string(kSphereSegments) + "x" +
+                     std::to_string(kSphereSegments) + " at (148376, 1234, -223423)",
+                 std::move(sphere), c});
   return out;
 }
 
@@ -175,7 +179,8 @@ TEST_P(Determinism, SixRendersAtOneAndTwoThreadsHashTheSame) {
         std::vector<Hashes> h;
         std::vector<int> h_threads;  // the thread count of each hash
         std::size_t drawn = 0;
-        const bool one_thread = kEverySetAtOneThread || (!set.outline && set.cull == CullMode::None);
+        const bool one_thread =
+            kEverySetAtOneThread || (!set.outline && set.cull == CullMode::None);
         for (int threads : {1, 2}) {
           if (threads == 1 && !one_thread) continue;
           o.threads = threads;
@@ -199,18 +204,17 @@ TEST_P(Determinism, SixRendersAtOneAndTwoThreadsHashTheSame) {
           differing++;
           ADD_FAILURE() << "render " << r << " (threads " << h_threads[r] << ", "
                         << (r % kRunsPerThreadCount == kRunsPerThreadCount - 1 ? "reused frame"
-                                                                                : "fresh frame")
+                                                                               : "fresh frame")
                         << ") differs from the first in:" << differences(h[0], h[r]);
         }
       }
     }
-    testing::printFigures("row 17 " + std::string(algo.name) + ": " +
-                          testing::grouped(scenes.size()) + " scenes (" +
-                          testing::grouped(kRandomScenes * testing::countScale()) + " row-4, 6 built-in, " +
-                          testing::grouped(models) + " models, row 9's sphere; " +
-                          testing::grouped(triangles) + " triangles) x 3 option sets: " +
-                          testing::grouped(renders) + " renders, " + testing::grouped(differing) +
-                          " with a differing hash");
+    testing::printFigures(
+        "row 17 " + std::string(algo.name) + ": " + testing::grouped(scenes.size()) + " scenes (" +
+        testing::grouped(kRandomScenes * testing::countScale()) + " row-4, 6 built-in, " +
+        testing::grouped(models) + " models, row 9's sphere; " + testing::grouped(triangles) +
+        " triangles) x 3 option sets: " + testing::grouped(renders) + " renders, " +
+        testing::grouped(differing) + " with a differing hash");
   }
 }
 

@@ -98,10 +98,11 @@ TEST_P(Garbage, RandomBitPatternScenesNeverCrash) {
       }
     }
   }
-  std::printf("[ figures ] row 13 %s: %d garbage scenes, %llu triangles dropped as degenerate, "
-              "%llu pixels drawn, 0 crashes\n",
-              GetParam().c_str(), scenes, static_cast<unsigned long long>(dropped),
-              static_cast<unsigned long long>(drawn));
+  std::printf(
+      "[ figures ] row 13 %s: %d garbage scenes, %llu triangles dropped as degenerate, "
+      "%llu pixels drawn, 0 crashes\n",
+      GetParam().c_str(), scenes, static_cast<unsigned long long>(dropped),
+      static_cast<unsigned long long>(drawn));
   EXPECT_GT(dropped, 0u);
   EXPECT_GT(drawn, 0u);
 }
@@ -115,13 +116,28 @@ TEST_P(Garbage, NonFiniteCamerasAreRefused) {
       Camera c;
       c.width = c.height = 32;
       switch (field) {
-        case 0: c.eye.x = b; break;
-        case 1: c.target.y = b; break;
-        case 2: c.up.z = b; break;
-        case 3: c.fov_deg = b; break;
-        case 4: c.near = b; break;
-        case 5: c.far = b; break;
-        default: c.ortho = true; c.ortho_half_height = b; break;
+        case 0:
+          c.eye.x = b;
+          break;
+        case 1:
+          c.target.y = b;
+          break;
+        case 2:
+          c.up.z = b;
+          break;
+        case 3:
+          c.fov_deg = b;
+          break;
+        case 4:
+          c.near = b;
+          break;
+        case 5:
+          c.far = b;
+          break;
+        default:
+          c.ortho = true;
+          c.ortho_half_height = b;
+          break;
       }
       EXPECT_THROW(render(s, c, options()), Error) << "field " << field << " = " << b;
     }

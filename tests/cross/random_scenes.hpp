@@ -57,7 +57,7 @@ inline glm::vec3 facing(Rng& rng, const glm::vec3& c, const glm::vec3& eye) {
 // A triangle around c in the plane (u, v): three points on a circle of radius r, spread
 // around it, so c lies inside.
 inline std::array<glm::vec3, 3> triangleAround(Rng& rng, const glm::vec3& c, const glm::vec3& u,
-                                              const glm::vec3& v, float r) {
+                                               const glm::vec3& v, float r) {
   std::array<glm::vec3, 3> t;
   const double start = rng.uniform() * 2 * kPi;
   for (int k = 0; k < 3; ++k) {
@@ -101,7 +101,8 @@ inline Scene agreementScene(std::uint64_t seed) {
   Scene s;
   s.name = "agreement:" + std::to_string(seed);
   for (int m = 0; m < 8; ++m)
-    s.addMaterial({{rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f)}, 1.0f});
+    s.addMaterial(
+        {{rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f), rng.uniform(0.2f, 1.0f)}, 1.0f});
   auto material = [&] { return static_cast<std::uint32_t>(rng.next() % 8); };
 
   // 50-500 triangles in all (the features below add up to about 30 beyond the target).
@@ -216,7 +217,8 @@ inline Scene agreementScene(std::uint64_t seed) {
         const double start = rng.uniform() * 2 * kPi;
         for (int k = 0; k < n; ++k) {
           const double a = start + (k + 0.2 + 0.6 * rng.uniform()) * (2 * kPi / n);
-          p.push_back(c + r * static_cast<float>(std::cos(a)) * u + r * static_cast<float>(std::sin(a)) * v);
+          p.push_back(c + r * static_cast<float>(std::cos(a)) * u +
+                      r * static_cast<float>(std::sin(a)) * v);
         }
         addPolygon(p);
         break;

@@ -53,9 +53,9 @@ enum RefAmbiguity : std::uint8_t {
 struct ReferenceFrame {
   int width = 0, height = 0;
   // All TOP ROW FIRST, as hsr::Frame: GL window pixel (x, y) is element (height-1-y)*width+x.
-  std::vector<PolygonId> ids;          // kNoPolygon where nothing covers the centre
-  std::vector<double> depth;           // window z of the front polygon; 1.0 where none
-  std::vector<std::uint8_t> ambiguous; // RefAmbiguity bits; 0 = unambiguous
+  std::vector<PolygonId> ids;           // kNoPolygon where nothing covers the centre
+  std::vector<double> depth;            // window z of the front polygon; 1.0 where none
+  std::vector<std::uint8_t> ambiguous;  // RefAmbiguity bits; 0 = unambiguous
   bool valid = true;
   std::string problem;  // why not valid (a vertex behind the eye or outside near/far)
 
@@ -110,7 +110,9 @@ class RefProjection {
   }
 
  private:
-  static double dot(const RefVec3& a, const RefVec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+  static double dot(const RefVec3& a, const RefVec3& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+  }
   static RefVec3 cross(const RefVec3& a, const RefVec3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
   }
@@ -124,9 +126,9 @@ class RefProjection {
 
 // One projected polygon: counter-clockwise window vertices and its depth plane.
 struct RefPolygon {
-  std::vector<RefVec3> v;  // window space, CCW (y up)
+  std::vector<RefVec3> v;                             // window space, CCW (y up)
   double x0 = 0, y0 = 0, z0 = 0, dzdx = 0, dzdy = 0;  // z(x,y) = z0 + dzdx (x-x0) + dzdy (y-y0)
-  double lo_x = 0, lo_y = 0, hi_x = 0, hi_y = 0;     // bounds
+  double lo_x = 0, lo_y = 0, hi_x = 0, hi_y = 0;      // bounds
   bool degenerate = false;  // (nearly) zero window area: covers nothing, only its edges count
 
   double depthAt(double x, double y) const { return z0 + dzdx * (x - x0) + dzdy * (y - y0); }
@@ -175,7 +177,8 @@ inline bool projectPolygon(const Scene& scene, PolygonId id, const RefProjection
   for (std::uint32_t k : idx) {
     RefVec3 w;
     if (!proj.window(scene.position(k), &w)) {
-      *problem = "polygon " + std::to_string(id) + " has a vertex behind the eye or outside "
+      *problem = "polygon " + std::to_string(id) +
+                 " has a vertex behind the eye or outside "
                  "near/far; the reference does not clip";
       return false;
     }

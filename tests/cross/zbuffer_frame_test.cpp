@@ -23,7 +23,7 @@ namespace {
 std::vector<std::string> claimants(std::string_view suite, bool blend_in_order) {
   std::vector<std::string> names;
   for (const AlgorithmInfo* a : testing::algorithmsWith(suite, kZBufferFrame)) {
-    const char* lacks = a->reference                           ? "(the reference)"
+    const char* lacks = a->reference                             ? "(the reference)"
                         : blend_in_order && a->has(kBackToFront) ? "(blends back to front)"
                                                                  : nullptr;
     if (lacks)

@@ -115,14 +115,17 @@ TEST(Explain, ABufferShowsItsTilesAndOnePixelsList) {
   // The magnified pixel's samples average to the colour the frame has there
   int x = -1, y = -1;
   unsigned r = 0, g = 0, b = 0;
-  ASSERT_EQ(std::sscanf(magnified_caption.c_str(), "Pixel (%d, %d)", &x, &y), 2) << magnified_caption;
+  ASSERT_EQ(std::sscanf(magnified_caption.c_str(), "Pixel (%d, %d)", &x, &y), 2)
+      << magnified_caption;
   const std::size_t hash = magnified_caption.rfind('#');
   ASSERT_NE(hash, std::string::npos) << magnified_caption;
-  ASSERT_EQ(std::sscanf(magnified_caption.c_str() + hash, "#%2x%2x%2x", &r, &g, &b), 3) << magnified_caption;
+  ASSERT_EQ(std::sscanf(magnified_caption.c_str() + hash, "#%2x%2x%2x", &r, &g, &b), 3)
+      << magnified_caption;
   ASSERT_TRUE(x >= 0 && y >= 0 && x < e.frame.width && y < e.frame.height);
   const std::uint32_t c = e.frame.color[static_cast<std::size_t>(y) * e.frame.width + x];
   EXPECT_EQ(c & 0xFFFFFFu, r | (g << 8) | (b << 16)) << magnified_caption;
-  const Frame plain = render(scene, cam, o);  // explained tile by tile, drawn in parallel: the same frame
+  // explained tile by tile, drawn in parallel: the same frame
+  const Frame plain = render(scene, cam, o);
   EXPECT_EQ(e.frame.color, plain.color);
   EXPECT_EQ(e.frame.ids, plain.ids);
   EXPECT_EQ(e.frame.coverage, plain.coverage);
@@ -151,7 +154,8 @@ TEST(Explain, ObjectOrderAlgorithmsShowTheirSteps) {
       EXPECT_GT(count["swap"] + count["split"], 0);
     } else {
       EXPECT_EQ(e.steps.front().name, "choose splitter");
-      EXPECT_NE(e.steps.front().caption.find("Node 0"), std::string::npos) << e.steps.front().caption;
+      EXPECT_NE(e.steps.front().caption.find("Node 0"), std::string::npos)
+          << e.steps.front().caption;
       EXPECT_GT(count["choose splitter"], 1);
     }
     const Frame f = render(scene, cam, o);
@@ -212,8 +216,9 @@ TEST(Explain, EveryCaptionIsDrawnWithGlyphsTheFontHas) {
       for (const ExplainedStep& s : e.steps) {
         captions++;
         for (const char c : s.name + s.caption)
-          EXPECT_TRUE(labelHasGlyph(c)) << "step " << s.number << " (" << s.name << "): byte "
-                                         << int(static_cast<unsigned char>(c)) << " in \"" << s.caption << "\"";
+          EXPECT_TRUE(labelHasGlyph(c))
+              << "step " << s.number << " (" << s.name << "): byte "
+              << int(static_cast<unsigned char>(c)) << " in \"" << s.caption << "\"";
       }
     }
   }
@@ -237,7 +242,8 @@ TEST(Explain, OctreeShowsItsSubdivisionOnTheTeachingScenes) {
     const Camera cam = frameScene(scene, 160, 120);
     RenderOptions o;
     o.algorithm = "octree";
-    EXPECT_EQ(render(scene, cam, o).stats.counter("octree: depth"), 0u) << "the scene no longer fits one leaf";
+    EXPECT_EQ(render(scene, cam, o).stats.counter("octree: depth"), 0u)
+        << "the scene no longer fits one leaf";
     const Explanation e = explain(scene, cam, o, scratch / spec);
     ASSERT_FALSE(e.steps.empty());
     ASSERT_EQ(e.steps.front().name, "build");
@@ -281,7 +287,8 @@ TEST(Explain, InMemoryStepsAreTheWrittenOnes) {
       EXPECT_TRUE(d.color.empty()) << "a written step lets its buffers go";
       ASSERT_GT(m.width, 0);
       ASSERT_GT(m.height, 0);
-      const std::size_t bytes = static_cast<std::size_t>(m.width) * static_cast<std::size_t>(m.height) * 3;
+      const std::size_t bytes =
+          static_cast<std::size_t>(m.width) * static_cast<std::size_t>(m.height) * 3;
       EXPECT_EQ(m.color.size(), bytes);
       EXPECT_EQ(m.depth.size(), bytes);
       // The written picture holds both buffers side by side.
@@ -293,12 +300,14 @@ TEST(Explain, InMemoryStepsAreTheWrittenOnes) {
     // The buffers tell a story: the last step is not blank, and not every step looks alike
     // (a first step may well be the cleared window).
     const auto& last = mem.steps.back().color;
-    EXPECT_NE(std::count(last.begin(), last.end(), last[0]), static_cast<std::ptrdiff_t>(last.size()));
+    EXPECT_NE(std::count(last.begin(), last.end(), last[0]),
+              static_cast<std::ptrdiff_t>(last.size()));
     EXPECT_NE(mem.steps.front().color, last);
     if (std::string(alg) == "bsp") {
       // The build's steps are seen from above: a picture that is not the frame's.
-      const auto split = std::find_if(mem.steps.begin(), mem.steps.end(),
-                                      [](const ExplainedStep& s) { return s.name == "choose splitter"; });
+      const auto split =
+          std::find_if(mem.steps.begin(), mem.steps.end(),
+                       [](const ExplainedStep& s) { return s.name == "choose splitter"; });
       ASSERT_NE(split, mem.steps.end());
       EXPECT_NE(split->color, mem.steps.back().color);
       EXPECT_GE(split->outlines.size(), 3u) << "the splitter, and the eye's square and line";

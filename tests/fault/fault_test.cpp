@@ -89,10 +89,10 @@ pid_t spawn(const Launch& l) {
 }
 
 struct Result {
-  int code = -1;    // exit status, 124 on our timeout
-  int signal = 0;   // the signal that ended it, 0 if it exited
-  std::string err;  // stderr
-  std::string out;  // stdout
+  int code = -1;       // exit status, 124 on our timeout
+  int signal = 0;      // the signal that ended it, 0 if it exited
+  std::string err;     // stderr
+  std::string out;     // stdout
   long maxrss_kb = 0;  // the largest resident set of hsr and of the children it waited for
   double seconds = 0;  // how long it ran
 };
@@ -178,7 +178,8 @@ void expectWholeRawSet(const fs::path& dir, const std::string& context) {
 
 std::string fingerprint(const fs::path& dir) {
   std::string all;
-  for (const char* f : {"manifest.json", "depth.npy", "ids.npy", "objects.npy", "materials.npy", "overdraw.npy"})
+  for (const char* f :
+       {"manifest.json", "depth.npy", "ids.npy", "objects.npy", "materials.npy", "overdraw.npy"})
     all += readFile(dir / f);
   return all;
 }
@@ -276,28 +277,33 @@ TEST(FaultOutputs, FullTmpfsDuringARawSetKeepsTheOldSetWhole) {
   const std::string raw = (mnt / "raw").string(), ex = (mnt / "explain").string();
   // One shell in a new mount namespace: mount, write the earlier sets, keep copies, then try
   // each larger one, recording exit code, whether the set is the old one, and the listing.
-  std::string script = "mount -t tmpfs -o size=256k tmpfs " + mnt.string() + " || exit 77; " + HSR_CLI_PATH +
-                       " render demo -q --size 32x24 --output none --raw " + raw + " || exit 78; " + HSR_CLI_PATH +
-                       " explain zbuffer cyclic -q --size 32x24 -o " + ex + " || exit 79; cp -r " + raw + " " +
-                       (s / "raw-old").string() + "; cp -r " + ex + " " + (s / "explain-old").string() + "; ";
+  std::string script =
+      "mount -t tmpfs -o size=256k tmpfs " + mnt.string() + " || exit 77; " + HSR_CLI_PATH +
+      " render demo -q --size 32x24 --output none --raw " + raw + " || exit 78; " + HSR_CLI_PATH +
+      " explain zbuffer cyclic -q --size 32x24 -o " + ex + " || exit 79; cp -r " + raw + " " +
+      (s / "raw-old").string() + "; cp -r " + ex + " " + (s / "explain-old").string() + "; ";
   const std::vector<int> widths = {40, 56, 72, 88, 104, 120, 136, 152, 168, 184, 200};
   for (int w : widths) {
     const std::string size = std::to_string(w) + "x" + std::to_string(w * 3 / 4);
     const std::string tag = (s / ("run-" + std::to_string(w))).string();
-    script += HSR_CLI_PATH + std::string(" render demo -q --size ") + size + " --output none --raw " + raw +
-              " 2>" + tag + ".err; echo $? > " + tag + ".code; cp -r " + raw + " " + tag + ".raw; " +
-              HSR_CLI_PATH + " explain zbuffer cyclic -q --size " + size + " -o " + ex + " 2>" + tag +
+    script += HSR_CLI_PATH + std::string(" render demo -q --size ") + size +
+              " --output none --raw " + raw + " 2>" + tag + ".err; echo $? > " + tag +
+              ".code; cp -r " + raw + " " + tag + ".raw; " + HSR_CLI_PATH +
+              " explain zbuffer cyclic -q --size " + size + " -o " + ex + " 2>" + tag +
               ".xerr; echo $? > " + tag + ".xcode; cp -r " + ex + " " + tag + ".explain; ls -a " +
               mnt.string() + " > " + tag + ".ls; ";
   }
   const int status = std::system(("unshare -rm sh -c '" + script + "' 2>/dev/null").c_str());
   if (!WIFEXITED(status) || WEXITSTATUS(status) == 77 || !fs::exists(s / "raw-old")) {
-    std::printf("[ note ] no tmpfs could be mounted here (no user namespaces): the full disk during a raw set is not tried\n");
+    std::printf(
+        "[ note ] no tmpfs could be mounted here (no user namespaces): the full disk during a raw "
+        "set is not tried\n");
     return;
   }
   const auto listing = [](const fs::path& dir) {  // name and bytes of every file, sorted
     std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string() + "=" + readFile(e.path()));
+    for (const auto& e : fs::directory_iterator(dir))
+      out.push_back(e.path().filename().string() + "=" + readFile(e.path()));
     std::sort(out.begin(), out.end());
     std::string all;
     for (const std::string& o : out) all += o + "\n";
@@ -324,15 +330,19 @@ TEST(FaultOutputs, FullTmpfsDuringARawSetKeepsTheOldSetWhole) {
         EXPECT_EQ(code, "2\n") << err;
         EXPECT_NE(err.find("No space left on device"), std::string::npos) << err;
         EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-        EXPECT_EQ(now, old) << (is_raw ? "--raw" : "explain -o") << ": the earlier set was not kept whole";
+        EXPECT_EQ(now, old) << (is_raw ? "--raw" : "explain -o")
+                            << ": the earlier set was not kept whole";
       }
     }
-    EXPECT_EQ(readFile(s / (tag + ".ls")).find(".hsr-tmp-"), std::string::npos) << readFile(s / (tag + ".ls"));
+    EXPECT_EQ(readFile(s / (tag + ".ls")).find(".hsr-tmp-"), std::string::npos)
+        << readFile(s / (tag + ".ls"));
   }
   EXPECT_GT(refused, 4) << "the disk never filled: the test proves nothing";
   EXPECT_GT(written, 0) << "no set fitted: the sizes are wrong";
-  std::printf("[ figures ] full tmpfs during raw sets and explanations: %d written whole, %d refused with the old set kept\n",
-              written, refused);
+  std::printf(
+      "[ figures ] full tmpfs during raw sets and explanations: %d written whole, %d refused with "
+      "the old set kept\n",
+      written, refused);
 }
 
 // SIGTERM and SIGINT at times spread over a run that writes a large PNG and raw set over an
@@ -379,12 +389,14 @@ TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
         return r.err.find(p) != std::string::npos ? 1 : 0;
       };
       const int said_png = said(png), said_raw = said(raw);
-      EXPECT_NE(r.err.find("hsr: stopped by a signal"), std::string::npos) << "run " << i << ": " << r.err;
+      EXPECT_NE(r.err.find("hsr: stopped by a signal"), std::string::npos)
+          << "run " << i << ": " << r.err;
       if (said_png != 2) {
         EXPECT_EQ(said_png == 1, now_png == new_png) << "run " << i << ": " << r.err;
       }
       if (said_raw != 2) {
-        EXPECT_EQ(said_raw == 1, fingerprint(raw) == fingerprint(ref / "raw")) << "run " << i << ": " << r.err;
+        EXPECT_EQ(said_raw == 1, fingerprint(raw) == fingerprint(ref / "raw"))
+            << "run " << i << ": " << r.err;
       }
       mixed += said_png == 1 && said_raw == 0;
     }
@@ -398,9 +410,10 @@ TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
     // Back to the old outputs for the next run
     ASSERT_EQ(hsr(s, args("0,0,6")).code, 0);
   }
-  std::printf("[ figures ] %d runs signalled, %d ended by the signal (%d of them between the PNG and "
-              "the raw set, and said so), %d finished first\n",
-              kRuns, interrupted, mixed, finished);
+  std::printf(
+      "[ figures ] %d runs signalled, %d ended by the signal (%d of them between the PNG and "
+      "the raw set, and said so), %d finished first\n",
+      kRuns, interrupted, mixed, finished);
   EXPECT_GT(interrupted, 0);
 }
 
@@ -657,12 +670,12 @@ TEST(FaultInputs, OuterMemoryLimitIsNamedAsSuch) {
     obj += "v " + std::to_string(i) + " " + std::to_string(i % 2) + " 0\n";
   while (obj.size() < 24'000'000) obj += "f 1 2 3\n";
   writeFile(s / "dense.obj", obj);
-  Launch l{
-      {"render", (s / "dense.obj").string(), "-q", "-o", (s / "x.png").string(), "--threads", "1", "--size", "1x1"},
-      {},
-      s / "err.txt",
-      0,
-      /*address_limit=*/600ull << 20};
+  Launch l{{"render", (s / "dense.obj").string(), "-q", "-o", (s / "x.png").string(), "--threads",
+            "1", "--size", "1x1"},
+           {},
+           s / "err.txt",
+           0,
+           /*address_limit=*/600ull << 20};
   const Result r = wait(spawn(l), l);
   expectRefusal(r, "own address-space limit", "prlimit 600 MiB");
 #endif
@@ -696,23 +709,25 @@ TEST(FaultMessages, OneLineWhateverTheInput) {
   expectRefusal(hsr(s, {"render", "demo", "-q", "-o", unwritten, "--near", "1e-7"}),
                 "nothing could be drawn", "--near 1e-7");
   EXPECT_FALSE(fs::exists(unwritten));
-  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", unwritten, "--near", "1e-30"}), "raise --near",
-                "--near 1e-30");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", unwritten, "--near", "1e-30"}),
+                "raise --near", "--near 1e-30");
   // ... and one past 2^24 that still draws: a warning, the picture, exit 0
   r = hsr(s, {"render", "demo", "-q", "-o", out, "--near", "2e-6", "--far", "40"});
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("warning: far/near"), std::string::npos) << r.err;
   EXPECT_EQ(lineCount(r.err), 1) << r.err;
   // A field of view too narrow to frame the scene is named, not near and far
-  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", out, "--fov", "1e-30"}), "field of view of 1e-30 degrees is too narrow",
-                "--fov 1e-30");
-  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", out, "--fov", "1e-6"}), "too narrow to frame", "--fov 1e-6");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", out, "--fov", "1e-30"}),
+                "field of view of 1e-30 degrees is too narrow", "--fov 1e-30");
+  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", out, "--fov", "1e-6"}), "too narrow to frame",
+                "--fov 1e-6");
   // Coordinates beyond 1e18 say what to do, with a camera given too
-  expectRefusal(hsr(s, {"render", (s / "huge.obj").string(), "-q", "-o", out, "--eye", "0,0,5", "--target", "0,0,0"}),
+  expectRefusal(hsr(s, {"render", (s / "huge.obj").string(), "-q", "-o", out, "--eye", "0,0,5",
+                        "--target", "0,0,0"}),
                 "scale the model by 1e-2 or less", "coordinates near 1e19, camera given");
   writeFile(s / "huger.obj", "v 3e25 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
-  expectRefusal(hsr(s, {"render", (s / "huger.obj").string(), "-q", "-o", out}), "scale the model by 1e-8",
-                "coordinates near 3e25");
+  expectRefusal(hsr(s, {"render", (s / "huger.obj").string(), "-q", "-o", out}),
+                "scale the model by 1e-8", "coordinates near 3e25");
   // Every value given is used or refused: zero focal lengths are not "no intrinsics"
   expectRefusal(hsr(s, {"render", "demo", "-q", "-o", out, "--intrinsics", "0,0,0,0"}),
                 "focal lengths fx and fy must be positive", "--intrinsics 0,0,0,0");
@@ -721,8 +736,9 @@ TEST(FaultMessages, OneLineWhateverTheInput) {
   writeFile(s / "zero-k.json", R"({"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0],
       "projection_kind": "perspective", "projection_from": "intrinsics",
       "intrinsics": {"fx": 0, "fy": 0, "cx": 0, "cy": 0}, "near": 1, "far": 10, "width": 32, "height": 24})");
-  expectRefusal(hsr(s, {"render", "demo", "-q", "-o", out, "--camera", (s / "zero-k.json").string()}),
-                "fx and fy must be positive", "camera file with zero intrinsics");
+  expectRefusal(
+      hsr(s, {"render", "demo", "-q", "-o", out, "--camera", (s / "zero-k.json").string()}),
+      "fx and fy must be positive", "camera file with zero intrinsics");
   // A file option given something that is not a file names what it is
   expectRefusal(hsr(s, {"render", "demo", "-q", "-o", out, "--views", "/dev/zero"}),
                 "--views /dev/zero: a character device, not a file", "--views /dev/zero");
@@ -774,12 +790,12 @@ TEST(FaultCost, HugeFilesWithoutGeometryAndTooManyViewsStopEarly) {
     EXPECT_EQ(lineCount(r.err), 1) << ext << ": " << r.err;
     EXPECT_LT(r.seconds, 5.0) << ext << ": " << r.err;
     EXPECT_LT(r.maxrss_kb, kMaxKb) << ext << ": " << r.err;
-    std::printf("[ figures ] 1 GiB of zeros as .%s: refused in %.2f s, %ld MiB at most: %s", ext, r.seconds,
-                r.maxrss_kb >> 10, r.err.c_str());
+    std::printf("[ figures ] 1 GiB of zeros as .%s: refused in %.2f s, %ld MiB at most: %s", ext,
+                r.seconds, r.maxrss_kb >> 10, r.err.c_str());
     fs::remove(p);
   }
-  expectRefusal(hsr(s, {"render", (s / "zeros-never.obj").string(), "-q", "-o", out}), "no such file",
-                "the sparse file is gone");
+  expectRefusal(hsr(s, {"render", (s / "zeros-never.obj").string(), "-q", "-o", out}),
+                "no such file", "the sparse file is gone");
   std::string comments;
   for (int i = 0; i < 200000; ++i) comments += "# a comment, no geometry\nv 0 0 0\n";
   writeFile(s / "faceless.obj", comments);
@@ -790,10 +806,12 @@ TEST(FaultCost, HugeFilesWithoutGeometryAndTooManyViewsStopEarly) {
     std::ofstream v(s / "views.json", std::ios::binary);
     v << "[";
     for (int i = 0; i < 1000000; ++i)
-      v << (i ? "," : "") << R"({"eye":[0,0,5],"target":[0,0,0],"up":[0,1,0],"projection_kind":"perspective","fov_deg":45,"near":1,"far":10,"width":8,"height":8})";
+      v << (i ? "," : "")
+        << R"({"eye":[0,0,5],"target":[0,0,0],"up":[0,1,0],"projection_kind":"perspective","fov_deg":45,"near":1,"far":10,"width":8,"height":8})";
     v << "]";
   }
-  const Result r = hsr(s, {"render", "demo", "-q", "-o", out, "--views", (s / "views.json").string()}, 0);
+  const Result r =
+      hsr(s, {"render", "demo", "-q", "-o", out, "--views", (s / "views.json").string()}, 0);
   expectRefusal(r, "more than 100000 views", "a million views");
   EXPECT_LT(r.maxrss_kb, kMaxKb) << "the views were held whole";
   std::printf("[ figures ] a million views (%ju MB): refused in %.2f s, %ld MiB at most\n",

@@ -29,7 +29,9 @@ namespace {
 
 using testing::grouped;
 
-float uniform(detail::SplitMix64& rng) { return static_cast<float>(rng.next() >> 40) / static_cast<float>(1u << 24); }
+float uniform(detail::SplitMix64& rng) {
+  return static_cast<float>(rng.next() >> 40) / static_cast<float>(1u << 24);
+}
 
 // A closed UV sphere of radius r at `centre` (poles as triangle fans): every edge shared by
 // exactly two triangles, which share its two vertices exactly.
@@ -43,17 +45,21 @@ Scene closedSphere(glm::vec3 centre, float r, int rings, int segments) {
     for (int j = 0; j < segments; ++j) {
       const double th = std::numbers::pi * i / rings, ph = 2 * std::numbers::pi * j / segments;
       v.push_back(s.addVertex(centre + glm::vec3(float(r * std::sin(th) * std::cos(ph)),
-                                                 float(r * std::sin(th) * std::sin(ph)), float(r * std::cos(th)))));
+                                                 float(r * std::sin(th) * std::sin(ph)),
+                                                 float(r * std::cos(th)))));
     }
   const std::uint32_t south = s.addVertex(centre + glm::vec3(0, 0, -r));
-  auto at = [&](int i, int j) { return v[static_cast<std::size_t>(i) * segments + (j % segments)]; };
+  auto at = [&](int i, int j) {
+    return v[static_cast<std::size_t>(i) * segments + (j % segments)];
+  };
   for (int j = 0; j < segments; ++j) s.addPolygon({north, at(0, j), at(0, j + 1)}, m);
   for (int i = 0; i + 1 < rings - 1; ++i)
     for (int j = 0; j < segments; ++j) {
       s.addPolygon({at(i, j), at(i + 1, j), at(i + 1, j + 1)}, m);
       s.addPolygon({at(i, j), at(i + 1, j + 1), at(i, j + 1)}, m);
     }
-  for (int j = 0; j < segments; ++j) s.addPolygon({south, at(rings - 2, j + 1), at(rings - 2, j)}, m);
+  for (int j = 0; j < segments; ++j)
+    s.addPolygon({south, at(rings - 2, j + 1), at(rings - 2, j)}, m);
   return s;
 }
 
@@ -63,25 +69,30 @@ Scene closedSphere(glm::vec3 centre, float r, int rings, int segments) {
 // of a 100x100 grid of tiny triangles: each hits its own.
 TEST(Bvh, WatertightNoRayEscapesAClosedSphere) {
   const std::size_t scale = static_cast<std::size_t>(testing::countScale());
-  for (const auto& [centre, radius] : {std::pair{glm::vec3(148376.0f, 1234.0f, -223423.0f), 1000.0f},
-                                       std::pair{glm::vec3(0.0f), 1.0f}}) {
+  for (const auto& [centre, radius] :
+       {std::pair{glm::vec3(148376.0f, 1234.0f, -223423.0f), 1000.0f},
+        std::pair{glm::vec3(0.0f), 1.0f}}) {
     SCOPED_TRACE("centre x " + std::to_string(centre.x));
     const Scene sphere = closedSphere(centre, radius, 200, 200);
     const RayScene rays(sphere);
     detail::SplitMix64 rng(9);
     std::vector<glm::vec3> vertices, midpoints;
-    for (std::size_t v = 0; v < sphere.vertexCount(); ++v) vertices.push_back(sphere.position(static_cast<std::uint32_t>(v)));
+    for (std::size_t v = 0; v < sphere.vertexCount(); ++v)
+      vertices.push_back(sphere.position(static_cast<std::uint32_t>(v)));
     for (PolygonId p = 0; p < sphere.polygonCount(); ++p) {
       const auto vi = sphere.polygon(p);
-      for (int k = 0; k < 3; ++k) midpoints.push_back((sphere.position(vi[k]) + sphere.position(vi[(k + 1) % 3])) * 0.5f);
+      for (int k = 0; k < 3; ++k)
+        midpoints.push_back((sphere.position(vi[k]) + sphere.position(vi[(k + 1) % 3])) * 0.5f);
     }
     // (Copies of the bindings: Clang 14, the web build's, cannot capture a structured binding)
     auto inside = [&, c = centre, r = radius] {
-      return c + 0.5f * r * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+      return c +
+             0.5f * r * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
     };
     std::vector<glm::vec3> org, dir;
     for (std::size_t i = 0; i < 1000000 * scale; ++i)
-      org.push_back(inside()), dir.push_back(glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f));
+      org.push_back(inside()),
+          dir.push_back(glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f));
     for (std::size_t i = 0; i < 100000 * scale; ++i) {
       org.push_back(inside()), dir.push_back(vertices[rng.next() % vertices.size()] - org.back());
       org.push_back(inside()), dir.push_back(midpoints[rng.next() % midpoints.size()] - org.back());
@@ -89,9 +100,10 @@ TEST(Bvh, WatertightNoRayEscapesAClosedSphere) {
     const std::vector<RayHit> hits = rays.intersect(org, dir);
     std::uint64_t misses = 0;
     for (const RayHit& h : hits) misses += !h.hit();
-    testing::printFigures("row 9 watertight: a closed 200x200 sphere of radius " + std::to_string(radius) + " at (" +
-                          std::to_string(centre.x) + ", " + std::to_string(centre.y) + ", " + std::to_string(centre.z) +
-                          "): " + grouped(org.size()) + " rays from inside (" + grouped(200000 * scale) +
+    testing::printFigures("row 9 watertight: a closed 200x200 sphere of radius " +
+                          std::to_string(radius) + " at (" + std::to_string(centre.x) + ", " +
+                          std::to_string(centre.y) + ", " + std::to_string(centre.z) + "): " +
+                          grouped(org.size()) + " rays from inside (" + grouped(200000 * scale) +
                           " at vertices and edge midpoints), " + grouped(misses) + " escaped");
     EXPECT_EQ(misses, 0u);
   }
@@ -110,7 +122,8 @@ TEST(Bvh, WatertightNoRayEscapesAClosedSphere) {
     const auto vi = grid.polygon(p);
     const glm::vec3 c = (grid.position(vi[0]) + grid.position(vi[1]) + grid.position(vi[2])) / 3.0f;
     for (int k = 0; k < 10; ++k)
-      own += grid_rays.intersect(c + glm::vec3(0, 0, 1), glm::vec3(0.01f * (k - 5) * 1e-3f, 0, -1)).polygon == p;
+      own += grid_rays.intersect(c + glm::vec3(0, 0, 1), glm::vec3(0.01f * (k - 5) * 1e-3f, 0, -1))
+                 .polygon == p;
   }
   EXPECT_EQ(own, 10 * grid.polygonCount());
 }
@@ -123,7 +136,8 @@ TEST(Bvh, NaNAndInfiniteRaysHitNothingAndHarmNoOther) {
   const RayScene rays(scene);
   const Bounds b = scene.bounds();
   detail::SplitMix64 rng(13);
-  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN(),
+              inf = std::numeric_limits<float>::infinity();
   const std::size_t n = 200000;
   std::vector<glm::vec3> org(n), dir(n), bad_org(n), bad_dir(n);
   std::vector<std::uint8_t> bad(n);
@@ -134,11 +148,21 @@ TEST(Bvh, NaNAndInfiniteRaysHitNothingAndHarmNoOther) {
     bad[i] = i % 2 == 1;
     if (!bad[i]) continue;
     switch (i / 2 % 5) {
-      case 0: bad_org[i][static_cast<int>(i / 10 % 3)] = nan; break;
-      case 1: bad_dir[i][static_cast<int>(i / 10 % 3)] = nan; break;
-      case 2: bad_org[i][static_cast<int>(i / 10 % 3)] = -inf; break;
-      case 3: bad_dir[i][static_cast<int>(i / 10 % 3)] = inf; break;
-      default: bad_dir[i] = glm::vec3(0.0f); break;
+      case 0:
+        bad_org[i][static_cast<int>(i / 10 % 3)] = nan;
+        break;
+      case 1:
+        bad_dir[i][static_cast<int>(i / 10 % 3)] = nan;
+        break;
+      case 2:
+        bad_org[i][static_cast<int>(i / 10 % 3)] = -inf;
+        break;
+      case 3:
+        bad_dir[i][static_cast<int>(i / 10 % 3)] = inf;
+        break;
+      default:
+        bad_dir[i] = glm::vec3(0.0f);
+        break;
     }
   }
   const std::vector<RayHit> good = rays.intersect(org, dir);
@@ -160,15 +184,16 @@ TEST(Bvh, NaNAndInfiniteRaysHitNothingAndHarmNoOther) {
       const auto t0 = std::chrono::steady_clock::now();
       std::uint64_t sink = 0;
       for (std::size_t i = 1; i < n; i += 2) sink += rays.intersect(o[i], d[i]).polygon;
-      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      best = std::min(best,
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       EXPECT_NE(sink, 1u);
     }
     return best;
   };
   const double bad_s = time(bad_org, bad_dir), good_s = time(org, dir);
-  testing::printFigures("row 13 rays: " + grouped(n / 2) + " NaN/Inf/zero rays hit nothing, " + grouped(n / 2) +
-                        " finite rays beside them unchanged; bad rays take " + std::to_string(bad_s / good_s) +
-                        "x the time of finite ones");
+  testing::printFigures("row 13 rays: " + grouped(n / 2) + " NaN/Inf/zero rays hit nothing, " +
+                        grouped(n / 2) + " finite rays beside them unchanged; bad rays take " +
+                        std::to_string(bad_s / good_s) + "x the time of finite ones");
   EXPECT_LE(bad_s, 2.5 * good_s);
 }
 
@@ -181,7 +206,8 @@ TEST(Bvh, SubnormalExtentsBinWithoutOverflow) {
   s.beginObject("tiny");
   for (int k = 0; k < 40; ++k) {
     const float x = static_cast<float>(k % 8) * std::numeric_limits<float>::denorm_min();
-    s.addPolygonVertices({glm::vec3(x, -1, -1), glm::vec3(x, 1, -1), glm::vec3(x, 0, 1 + 0.01f * k)}, m);
+    s.addPolygonVertices(
+        {glm::vec3(x, -1, -1), glm::vec3(x, 1, -1), glm::vec3(x, 0, 1 + 0.01f * k)}, m);
   }
   const RayScene rays(s);
   EXPECT_EQ(rays.stats().triangles, 40u);
@@ -262,8 +288,10 @@ TEST(Bvh, CollapsePlanIsTheLeastOverEveryCollapse) {
     // The plans, children first (children always follow their parent here)
     std::vector<detail::CollapsePlan> plan(tree.size());
     for (int n = static_cast<int>(tree.size()) - 1; n >= 0; --n) {
-      if (tree[n].left < 0) detail::planCollapse(nullptr, nullptr, 0.0f, &plan[n]);
-      else detail::planCollapse(&plan[tree[n].left], &plan[tree[n].right], tree[n].area, &plan[n]);
+      if (tree[n].left < 0)
+        detail::planCollapse(nullptr, nullptr, 0.0f, &plan[n]);
+      else
+        detail::planCollapse(&plan[tree[n].left], &plan[tree[n].right], tree[n].area, &plan[n]);
     }
     // Every choice of kept inner nodes below the root
     std::vector<int> inner;
@@ -287,8 +315,10 @@ TEST(Bvh, CollapsePlanIsTheLeastOverEveryCollapse) {
         while (!walk.empty()) {
           const int c = walk.back();
           walk.pop_back();
-          if (tree[c].left < 0 || kept[c]) children++;
-          else walk.push_back(tree[c].left), walk.push_back(tree[c].right);
+          if (tree[c].left < 0 || kept[c])
+            children++;
+          else
+            walk.push_back(tree[c].left), walk.push_back(tree[c].right);
         }
         fits = fits && children <= detail::kBvhWidth;
       }
@@ -313,12 +343,15 @@ TEST(Bvh, NodeTestIsConservativeAndSseEqualsScalar) {
     for (int c = 0; c < W; ++c)
       for (int a = 0; a < 3; ++a) {
         const float x = uniform(rng) * 4 - 2, y = uniform(rng) * 4 - 2;
-        node.lo[a][c] = std::min(x, y), node.hi[a][c] = i % 7 == 0 ? std::min(x, y) : std::max(x, y);
-        if (c >= used) node.lo[a][c] = INFINITY, node.hi[a][c] = -INFINITY, node.child[c] = detail::BvhNode::kEmpty;
+        node.lo[a][c] = std::min(x, y),
+        node.hi[a][c] = i % 7 == 0 ? std::min(x, y) : std::max(x, y);
+        if (c >= used)
+          node.lo[a][c] = INFINITY, node.hi[a][c] = -INFINITY,
+          node.child[c] = detail::BvhNode::kEmpty;
       }
     glm::vec3 o(uniform(rng) * 6 - 3, uniform(rng) * 6 - 3, uniform(rng) * 6 - 3);
     glm::vec3 d(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
-    if (i % 5 == 0) d[i % 3] = 0.0f;                  // parallel to a slab
+    if (i % 5 == 0) d[i % 3] = 0.0f;                       // parallel to a slab
     if (i % 11 == 0) o[i % 3] = node.lo[i % 3][i % used];  // starting on a face
     const detail::BoxRay r = detail::boxRayOf(o, d);
     float a[W], b[W];
@@ -338,7 +371,8 @@ TEST(Bvh, NodeTestIsConservativeAndSseEqualsScalar) {
       }
       if (t0 <= t1) {
         ++exact_hits;
-        ASSERT_TRUE(ma & (1u << c)) << "case " << i << " box " << c << ": met in [" << t0 << ", " << t1 << "]";
+        ASSERT_TRUE(ma & (1u << c))
+            << "case " << i << " box " << c << ": met in [" << t0 << ", " << t1 << "]";
       }
     }
     if (detail::boxHitsSseAvailable()) {
@@ -370,8 +404,11 @@ TEST(Bvh, GroupTestRulesOutOnlyWhatEveryRayRulesOut) {
     for (int c = 0; c < W; ++c)
       for (int a = 0; a < 3; ++a) {
         const float x = uniform(rng) * 4 - 2, y = uniform(rng) * 4 - 2;
-        node.lo[a][c] = std::min(x, y), node.hi[a][c] = i % 7 == 0 ? std::min(x, y) : std::max(x, y);
-        if (c >= used) node.lo[a][c] = INFINITY, node.hi[a][c] = -INFINITY, node.child[c] = detail::BvhNode::kEmpty;
+        node.lo[a][c] = std::min(x, y),
+        node.hi[a][c] = i % 7 == 0 ? std::min(x, y) : std::max(x, y);
+        if (c >= used)
+          node.lo[a][c] = INFINITY, node.hi[a][c] = -INFINITY,
+          node.child[c] = detail::BvhNode::kEmpty;
       }
     // A group: directions in a small cone (one octant), origins one point or a patch
     const int n = 1 + i % detail::kBvhGroupSize;
@@ -380,8 +417,10 @@ TEST(Bvh, GroupTestRulesOutOnlyWhatEveryRayRulesOut) {
     const float spread = i % 4 == 0 ? 0.5f : 0.02f, patch = i % 2 == 0 ? 0.0f : 0.3f;
     std::vector<glm::vec3> org(n), dir(n);
     for (int k = 0; k < n; ++k) {
-      org[k] = centre + patch * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
-      dir[k] = aim + spread * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+      org[k] =
+          centre + patch * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+      dir[k] =
+          aim + spread * glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
     }
     detail::BoxRayGroup group;
     if (!detail::boxRayGroupOf(org.data(), dir.data(), n, &group)) {
@@ -399,16 +438,18 @@ TEST(Bvh, GroupTestRulesOutOnlyWhatEveryRayRulesOut) {
     const unsigned gm = detail::groupBoxHits(node, group, tmin, tmax);
     for (int k = 0; k < n; ++k) {
       float tnear[W];
-      const unsigned rm = detail::boxHitsScalar(node, detail::boxRayOf(org[k], dir[k]), tmin, tmax, tnear);
-      ASSERT_EQ(rm & ~gm, 0u) << "case " << i << " ray " << k << ": a box the ray enters, ruled out for the group";
+      const unsigned rm =
+          detail::boxHitsScalar(node, detail::boxRayOf(org[k], dir[k]), tmin, tmax, tnear);
+      ASSERT_EQ(rm & ~gm, 0u) << "case " << i << " ray " << k
+                              << ": a box the ray enters, ruled out for the group";
       ray_hits += static_cast<unsigned>(std::popcount(rm));
     }
     ++groups;
     ruled_out += static_cast<unsigned>(used - std::popcount(gm));
   }
   EXPECT_GT(groups, 20000u);
-  EXPECT_GT(ray_hits, groups);                   // rays do enter boxes
-  EXPECT_GT(ruled_out, groups * W / 4);          // and the group test rules many out
+  EXPECT_GT(ray_hits, groups);           // rays do enter boxes
+  EXPECT_GT(ruled_out, groups * W / 4);  // and the group test rules many out
   // A group of one sign per axis but an invalid ray, or a zero direction, is refused
   const glm::vec3 o[2] = {{0, 0, 0}, {0, 0, 0}};
   const glm::vec3 bad[2] = {{1, 1, 1}, {1, 1, NAN}};
@@ -429,31 +470,38 @@ TEST(Bvh, GroupQueriesAnswerAsOneByOne) {
   const detail::Bvh& bvh = rays.data().bvh;
   std::uint64_t hits = 0, group_nodes = 0;
   auto band = [](const void*, float t) { return t * 1.001f; };
-  auto check = [&](const std::vector<glm::vec3>& org, const std::vector<glm::vec3>& dir, float tmin, float tmax) {
+  auto check = [&](const std::vector<glm::vec3>& org, const std::vector<glm::vec3>& dir, float tmin,
+                   float tmax) {
     for (std::size_t i = 0; i < org.size(); i += detail::kBvhGroupSize) {
       const int n = static_cast<int>(std::min<std::size_t>(detail::kBvhGroupSize, org.size() - i));
       detail::BvhHit one_group[detail::kBvhGroupSize];
       detail::BvhCandidates band_group[detail::kBvhGroupSize];
       detail::BvhTraversalCounts counts;
-      detail::intersectNearestGroup(bvh, &org[i], &dir[i], n, tmin, tmax, detail::HitSides::kBoth, one_group, &counts);
-      detail::intersectNearestBandGroup(bvh, &org[i], &dir[i], n, tmin, tmax, detail::HitSides::kCounterClockwiseOnly,
-                                        band, nullptr, band_group);
+      detail::intersectNearestGroup(bvh, &org[i], &dir[i], n, tmin, tmax, detail::HitSides::kBoth,
+                                    one_group, &counts);
+      detail::intersectNearestBandGroup(bvh, &org[i], &dir[i], n, tmin, tmax,
+                                        detail::HitSides::kCounterClockwiseOnly, band, nullptr,
+                                        band_group);
       group_nodes += counts.group_nodes;
       for (int k = 0; k < n; ++k) {
-        const detail::BvhHit h =
-            detail::intersectNearest(bvh, org[i + k], dir[i + k], tmin, tmax, detail::HitSides::kBoth);
+        const detail::BvhHit h = detail::intersectNearest(bvh, org[i + k], dir[i + k], tmin, tmax,
+                                                          detail::HitSides::kBoth);
         ASSERT_EQ(h.triangle, one_group[k].triangle) << "ray " << i + k;
-        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.t), detail::bitCast<std::uint32_t>(one_group[k].t));
-        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.u), detail::bitCast<std::uint32_t>(one_group[k].u));
-        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.v), detail::bitCast<std::uint32_t>(one_group[k].v));
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.t),
+                  detail::bitCast<std::uint32_t>(one_group[k].t));
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.u),
+                  detail::bitCast<std::uint32_t>(one_group[k].u));
+        ASSERT_EQ(detail::bitCast<std::uint32_t>(h.v),
+                  detail::bitCast<std::uint32_t>(one_group[k].v));
         hits += h.triangle != detail::kBvhNoTriangle;
         detail::BvhCandidates b;
-        detail::intersectNearestBand(bvh, org[i + k], dir[i + k], tmin, tmax, detail::HitSides::kCounterClockwiseOnly,
-                                     band, nullptr, &b);
+        detail::intersectNearestBand(bvh, org[i + k], dir[i + k], tmin, tmax,
+                                     detail::HitSides::kCounterClockwiseOnly, band, nullptr, &b);
         ASSERT_EQ(b.count, band_group[k].count) << "ray " << i + k;
         for (int c = 0; c < b.count; ++c) {
           ASSERT_EQ(b.hit[c].triangle, band_group[k].hit[c].triangle);
-          ASSERT_EQ(detail::bitCast<std::uint32_t>(b.hit[c].t), detail::bitCast<std::uint32_t>(band_group[k].hit[c].t));
+          ASSERT_EQ(detail::bitCast<std::uint32_t>(b.hit[c].t),
+                    detail::bitCast<std::uint32_t>(band_group[k].hit[c].t));
         }
       }
     }
@@ -491,13 +539,18 @@ TEST(Bvh, LeafTestAnswersAsTheWatertightTest) {
     const detail::ShearedRay r = detail::shearRay(o, d);
     detail::BvhTriangles4 leaf{};
     const int count = 1 + i % 4;
-    for (int lane = 0; lane < 4; ++lane) leaf.triangle[lane] = lane < count ? static_cast<std::uint32_t>(lane) : detail::kBvhNoTriangle;
+    for (int lane = 0; lane < 4; ++lane)
+      leaf.triangle[lane] =
+          lane < count ? static_cast<std::uint32_t>(lane) : detail::kBvhNoTriangle;
     for (int lane = 0; lane < count; ++lane) {
       glm::vec3 v[3];
-      for (glm::vec3& p : v) p = o + d * (uniform(rng) * 4) + glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+      for (glm::vec3& p : v)
+        p = o + d * (uniform(rng) * 4) +
+            glm::vec3(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
       if (i % 13 == lane) v[1] = o + d * 2.0f;  // a vertex on the ray: edge functions of 0
-      if (i % 17 == lane) v[2] = v[1];         // degenerate
-      for (int a = 0; a < 3; ++a) leaf.a[a][lane] = v[0][a], leaf.b[a][lane] = v[1][a], leaf.c[a][lane] = v[2][a];
+      if (i % 17 == lane) v[2] = v[1];          // degenerate
+      for (int a = 0; a < 3; ++a)
+        leaf.a[a][lane] = v[0][a], leaf.b[a][lane] = v[1][a], leaf.c[a][lane] = v[2][a];
     }
     const unsigned used = (1u << count) - 1;
     detail::LeafScreen screen;
@@ -510,7 +563,8 @@ TEST(Bvh, LeafTestAnswersAsTheWatertightTest) {
       const glm::vec3 a(leaf.a[0][lane], leaf.a[1][lane], leaf.a[2][lane]);
       const glm::vec3 b(leaf.b[0][lane], leaf.b[1][lane], leaf.b[2][lane]);
       const glm::vec3 c(leaf.c[0][lane], leaf.c[1][lane], leaf.c[2][lane]);
-      const bool hit = detail::intersectTriangle(r, a, b, c, -INFINITY, INFINITY, detail::HitSides::kBoth, &h);
+      const bool hit =
+          detail::intersectTriangle(r, a, b, c, -INFINITY, INFINITY, detail::HitSides::kBoth, &h);
       hits += hit;
       if (hit) {
         ASSERT_TRUE(kept & (1u << lane)) << "case " << i << " lane " << lane << ": a hit left out";
@@ -519,11 +573,13 @@ TEST(Bvh, LeafTestAnswersAsTheWatertightTest) {
       if (!(kept & (1u << lane))) continue;
       // The lane finished from the screen: the same answer, on each side setting and t range
       for (const detail::HitSides sides :
-           {detail::HitSides::kBoth, detail::HitSides::kCounterClockwiseOnly, detail::HitSides::kClockwiseOnly}) {
+           {detail::HitSides::kBoth, detail::HitSides::kCounterClockwiseOnly,
+            detail::HitSides::kClockwiseOnly}) {
         const float tmin = i % 5 == 0 ? 1.0f : -INFINITY, tmax = i % 7 == 0 ? 2.5f : INFINITY;
         detail::TriangleHit x, y;
         const bool full = detail::intersectTriangle(r, a, b, c, tmin, tmax, sides, &x);
-        ASSERT_EQ(detail::leafLaneHit(leaf, screen, lane, r, tmin, tmax, sides, &y), full) << "case " << i;
+        ASSERT_EQ(detail::leafLaneHit(leaf, screen, lane, r, tmin, tmax, sides, &y), full)
+            << "case " << i;
         if (!full) continue;
         ASSERT_EQ(detail::bitCast<std::uint32_t>(x.t), detail::bitCast<std::uint32_t>(y.t));
         ASSERT_EQ(detail::bitCast<std::uint32_t>(x.u), detail::bitCast<std::uint32_t>(y.u));
@@ -539,11 +595,21 @@ TEST(Bvh, LeafTestAnswersAsTheWatertightTest) {
 // nextUp is std::nextafter(x, infinity), bit for bit: zeros of both signs, subnormals, the
 // largest float, infinities, NaN and random floats of every exponent.
 TEST(Bvh, NextUpIsNextafterTowardInfinity) {
-  std::vector<float> xs = {0.0f, -0.0f, std::numeric_limits<float>::denorm_min(), -std::numeric_limits<float>::denorm_min(),
-                           std::numeric_limits<float>::min(), -std::numeric_limits<float>::min(),
-                           std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), INFINITY, -INFINITY, 1.0f, -1.0f};
+  std::vector<float> xs = {0.0f,
+                           -0.0f,
+                           std::numeric_limits<float>::denorm_min(),
+                           -std::numeric_limits<float>::denorm_min(),
+                           std::numeric_limits<float>::min(),
+                           -std::numeric_limits<float>::min(),
+                           std::numeric_limits<float>::max(),
+                           -std::numeric_limits<float>::max(),
+                           INFINITY,
+                           -INFINITY,
+                           1.0f,
+                           -1.0f};
   detail::SplitMix64 rng(17);
-  for (int i = 0; i < 200000; ++i) xs.push_back(detail::bitCast<float>(static_cast<std::uint32_t>(rng.next())));
+  for (int i = 0; i < 200000; ++i)
+    xs.push_back(detail::bitCast<float>(static_cast<std::uint32_t>(rng.next())));
   for (const float x : xs) {
     const float want = std::nextafter(x, INFINITY), got = detail::nextUp(x);
     if (std::isnan(x)) {
@@ -557,7 +623,8 @@ TEST(Bvh, NextUpIsNextafterTowardInfinity) {
 // The tree's arrays: aligned as their elements need at every size (on Linux an array of 2 MiB
 // or more starts on a 2 MiB boundary, for the huge pages it asks for), and usable as any vector.
 TEST(Bvh, LargePageArraysAreAlignedAndHoldTheirContents) {
-  for (const std::size_t n : {std::size_t{1}, std::size_t{100}, std::size_t{9000}, std::size_t{20000}}) {
+  for (const std::size_t n :
+       {std::size_t{1}, std::size_t{100}, std::size_t{9000}, std::size_t{20000}}) {
     std::vector<detail::BvhNode, detail::LargePageAllocator<detail::BvhNode>> v(n);
     ASSERT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % alignof(detail::BvhNode), 0u);
 #if defined(__linux__)
@@ -595,7 +662,8 @@ TEST(Bvh, BatchAndSingleQueriesAgreeAtAnyThreadCount) {
       EXPECT_LT(glm::length(p - q), 1e-4f * (1 + glm::length(q)));
       // The normal (read from the tree's copy of the triangle) is the scene triangle's, to a few
       // float steps of a unit vector's components
-      const glm::dvec3 n = glm::cross(glm::dvec3(v1) - glm::dvec3(v0), glm::dvec3(v2) - glm::dvec3(v0));
+      const glm::dvec3 n =
+          glm::cross(glm::dvec3(v1) - glm::dvec3(v0), glm::dvec3(v2) - glm::dvec3(v0));
       const glm::dvec3 expected(n / glm::length(n));
       for (int a = 0; a < 3; ++a) ASSERT_NEAR(one.normal[a], expected[a], 4e-7) << "ray " << i;
       ASSERT_EQ(one.normal, batch[i].normal);
@@ -603,13 +671,15 @@ TEST(Bvh, BatchAndSingleQueriesAgreeAtAnyThreadCount) {
     }
   }
   EXPECT_GT(hit, batch.size() / 20);
-  EXPECT_THROW(rays.intersect(std::span(cam.origins).first(3), std::span(cam.directions).first(2)), Error);
+  EXPECT_THROW(rays.intersect(std::span(cam.origins).first(3), std::span(cam.directions).first(2)),
+               Error);
   // Into the caller's array: the same answers; an array of the wrong size is refused
   std::vector<RayHit> into(batch.size());
   rays.intersect(cam.origins, cam.directions, into, cam.tmax, cam.tmin);
   for (std::size_t i = 0; i < batch.size(); ++i) {
     ASSERT_EQ(into[i].polygon, batch[i].polygon);
-    ASSERT_EQ(detail::bitCast<std::uint32_t>(into[i].t), detail::bitCast<std::uint32_t>(batch[i].t));
+    ASSERT_EQ(detail::bitCast<std::uint32_t>(into[i].t),
+              detail::bitCast<std::uint32_t>(batch[i].t));
   }
   EXPECT_THROW(rays.intersect(cam.origins, cam.directions, std::span(into).first(5)), Error);
 }

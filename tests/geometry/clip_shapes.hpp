@@ -15,25 +15,32 @@ namespace hsr::testing {
 
 // n vertices round (cx, cy), radii in [r_min, r_max], angles jittered within their slot. Not
 // always valid after rounding to the grid (two vertices may round onto one): check it.
-inline GridRing starRing(detail::SplitMix64& rng, int n, double cx, double cy, double r_min, double r_max) {
+inline GridRing starRing(detail::SplitMix64& rng, int n, double cx, double cy, double r_min,
+                         double r_max) {
   GridRing ring;
   for (int i = 0; i < n; ++i) {
     const double angle = 2 * std::numbers::pi * (i + 0.1 + 0.8 * rng.uniform()) / n;
     const double r = r_min + (r_max - r_min) * rng.uniform();
-    ring.push_back({std::llround(cx + r * std::cos(angle)), std::llround(cy + r * std::sin(angle))});
+    ring.push_back(
+        {std::llround(cx + r * std::cos(angle)), std::llround(cy + r * std::sin(angle))});
   }
   return ring;
 }
 
 // A comb: a spine along the bottom and `teeth` teeth upwards, about n = 4 teeth + 2 vertices.
-inline GridRing combRing(detail::SplitMix64& rng, int teeth, std::int64_t x0, std::int64_t y0, std::int64_t width,
-                         std::int64_t height) {
+inline GridRing combRing(detail::SplitMix64& rng, int teeth, std::int64_t x0, std::int64_t y0,
+                         std::int64_t width, std::int64_t height) {
   GridRing ring;
-  const std::int64_t spine = std::max<std::int64_t>(1, height / 5), slot = std::max<std::int64_t>(2, width / teeth);
+  const std::int64_t spine = std::max<std::int64_t>(1, height / 5),
+                     slot = std::max<std::int64_t>(2, width / teeth);
   ring.push_back({x0 + slot * teeth, y0});
   for (int t = teeth - 1; t >= 0; --t) {
-    const std::int64_t left = x0 + slot * t, w = 1 + static_cast<std::int64_t>(rng.uniform() * static_cast<float>(slot - 1));
-    const std::int64_t top = y0 + spine + 1 + static_cast<std::int64_t>(rng.uniform() * static_cast<float>(height - spine));
+    const std::int64_t left = x0 + slot * t,
+                       w = 1 +
+                           static_cast<std::int64_t>(rng.uniform() * static_cast<float>(slot - 1));
+    const std::int64_t top =
+        y0 + spine + 1 +
+        static_cast<std::int64_t>(rng.uniform() * static_cast<float>(height - spine));
     ring.push_back({left + w, y0 + spine});
     ring.push_back({left + w, top});
     ring.push_back({left, top});

@@ -29,12 +29,18 @@ using detail::ClipSetup;
 long double distanceExact(const glm::vec4& v, int k) {
   const long double x = v.x, y = v.y, z = v.z, w = v.w;
   switch (k) {
-    case 0: return w - x;
-    case 1: return w + x;
-    case 2: return w - y;
-    case 3: return w + y;
-    case 4: return z + w;
-    default: return w - z;
+    case 0:
+      return w - x;
+    case 1:
+      return w + x;
+    case 2:
+      return w - y;
+    case 3:
+      return w + y;
+    case 4:
+      return z + w;
+    default:
+      return w - z;
   }
 }
 
@@ -51,12 +57,14 @@ TEST(Clip, FarAwayEndpointsCrossEveryPlaneExactlyOnIt) {
                    rng.uniform(-0.9f, 0.9f) * w_in, w_in);
       const float w_out = rng.uniform(0.01f, 2.0f) * (rng.uniform() < 0.5f ? 1.0f : -1.0f);
       const float far = std::abs(w_out) * std::pow(10.0f, rng.uniform(4.0f, 9.0f));
-      glm::vec4 out(rng.uniform(-0.5f, 0.5f) * std::abs(w_out), rng.uniform(-0.5f, 0.5f) * std::abs(w_out),
+      glm::vec4 out(rng.uniform(-0.5f, 0.5f) * std::abs(w_out),
+                    rng.uniform(-0.5f, 0.5f) * std::abs(w_out),
                     rng.uniform(-0.5f, 0.5f) * std::abs(w_out), w_out);
       const int axis = k / 2 < 2 ? k / 2 : 2;
       const float sign = k < 4 ? (k % 2 == 0 ? 1.0f : -1.0f) : (k == 4 ? -1.0f : 1.0f);
       out[axis] = sign * far;
-      const float d_in = detail::planeDistance(in, k, cs), d_out = detail::planeDistance(out, k, cs);
+      const float d_in = detail::planeDistance(in, k, cs),
+                  d_out = detail::planeDistance(out, k, cs);
       ASSERT_GT(d_in, 0.0f);
       ASSERT_LT(d_out, 0.0f);
       ASSERT_GT(std::abs(out[axis]), 4096.0f * std::abs(out.w)) << "not the far-away path";
@@ -66,20 +74,24 @@ TEST(Clip, FarAwayEndpointsCrossEveryPlaneExactlyOnIt) {
       // On the edge: the exact crossing of the segment from the same float endpoints
       const long double a = distanceExact(in, k), b = distanceExact(out, k), t = a / (a - b);
       for (int c = 0; c < 4; ++c) {
-        const long double want = static_cast<long double>(in[c]) + t * (static_cast<long double>(out[c]) - in[c]);
-        const long double scale = std::max<long double>(std::abs(want), std::abs(static_cast<long double>(v.w)));
+        const long double want =
+            static_cast<long double>(in[c]) + t * (static_cast<long double>(out[c]) - in[c]);
+        const long double scale =
+            std::max<long double>(std::abs(want), std::abs(static_cast<long double>(v.w)));
         const long double ulp = std::ldexp(1.0L, std::ilogb(static_cast<double>(scale)) - 23);
         const long double off = std::abs(static_cast<long double>(v[c]) - want) / ulp;
         worst_ulps = std::max(worst_ulps, static_cast<int>(std::ceil(off)));
-        EXPECT_LE(off, 4.0L) << "plane " << k << " component " << c << ": " << double(v[c]) << " for "
-                             << double(want);
+        EXPECT_LE(off, 4.0L) << "plane " << k << " component " << c << ": " << double(v[c])
+                             << " for " << double(want);
       }
       ++checked;
     }
   }
-  testing::printFigures("clipping far-away edges: " + testing::grouped(checked) +
-                        " crossings (6 planes, endpoints 1e4 to 1e9 |w| away), each exactly on its plane, "
-                        "at most " + std::to_string(worst_ulps) + " float ulps from the exact crossing");
+  testing::printFigures(
+      "clipping far-away edges: " + testing::grouped(checked) +
+      " crossings (6 planes, endpoints 1e4 to 1e9 |w| away), each exactly on its plane, "
+      "at most " +
+      std::to_string(worst_ulps) + " float ulps from the exact crossing");
 }
 
 // A whole scene on the far-away path: a floor triangle with a corner a million units to the
@@ -97,7 +109,8 @@ TEST(Clip, FarAwayVertexRendersAsTheOrdinaryPath) {
   const glm::vec3 a(-2.0f, -1.0f, -4.0f), b(1.0f, -1.0f, -9.0f), e(1.0e6f, -1.0f, -1e-3f);
   const glm::dmat4 clip_from_world = glm::dmat4(c.projection()) * glm::dmat4(c.view());
   const auto clip = [&](glm::vec3 p) { return clip_from_world * glm::dvec4(glm::dvec3(p), 1.0); };
-  ASSERT_GT(std::abs(clip(e).x), 4096.0 * std::abs(clip(e).w)) << "the corner does not take the far-away path";
+  ASSERT_GT(std::abs(clip(e).x), 4096.0 * std::abs(clip(e).w))
+      << "the corner does not take the far-away path";
   // The point of the edge from `from` to e where x = 2 w (outside the right plane, not far away)
   const auto cut = [&](glm::vec3 from) {
     const double d0 = clip(from).x - 2 * clip(from).w, d1 = clip(e).x - 2 * clip(e).w;
@@ -124,9 +137,10 @@ TEST(Clip, FarAwayVertexRendersAsTheOrdinaryPath) {
   // whose centre lies within 1/256 px of the clipped edge
   EXPECT_LE(coverage_differs, 4u);
   EXPECT_LT(worst, 2e-6) << "the clipped edge moved";
-  testing::printFigures("clipping a vertex 1e6 units out on the far-away path: " + testing::grouped(drawn) +
-                        " pixels, " + std::to_string(coverage_differs) +
-                        " covered differently from the ordinary path, depth within " + fmt::format("{:.2g}", worst));
+  testing::printFigures(
+      "clipping a vertex 1e6 units out on the far-away path: " + testing::grouped(drawn) +
+      " pixels, " + std::to_string(coverage_differs) +
+      " covered differently from the ordinary path, depth within " + fmt::format("{:.2g}", worst));
 }
 
 }  // namespace

@@ -33,8 +33,8 @@ glm::dvec2 pixelOf(const Camera& c, const glm::vec3& p) {
 
 TEST(CameraData, APointLandsWhereTheIntrinsicsSay) {
   const Scene scene = makeBuiltinScene("spheres:1000");
-  for (const auto& [w, h, fov] : {std::tuple{640, 480, 45.0f}, std::tuple{800, 300, 60.0f},
-                                  std::tuple{301, 227, 20.0f}}) {
+  for (const auto& [w, h, fov] :
+       {std::tuple{640, 480, 45.0f}, std::tuple{800, 300, 60.0f}, std::tuple{301, 227, 20.0f}}) {
     Camera c = frameScene(scene, w, h);
     c.fov_deg = fov;
     const Intrinsics k = intrinsicsOf(c);
@@ -85,7 +85,8 @@ TEST(CameraData, DepthInSceneUnitsIsTheSceneLength) {
         }
         ++drawn;
         // Float window z bounds the precision: 2^-24 of [0, 1], times far / near-ish
-        EXPECT_NEAR(linear[k], 5.0, 5e-4) << (ortho ? "ortho" : "perspective") << " " << x << "," << y;
+        EXPECT_NEAR(linear[k], 5.0, 5e-4)
+            << (ortho ? "ortho" : "perspective") << " " << x << "," << y;
         double expected = 5.0;
         if (!ortho) {
           const double u = (2.0 * (x + 0.5) / c.width - 1.0) / p[0][0];
@@ -140,13 +141,14 @@ TEST(CameraData, GivenIntrinsicsPutAPointAtThatPixel) {
                                     std::tuple{300, 181, 2.5}, std::tuple{203, 11, 30.0}}) {
     // The OpenCV point behind pixel (u, v) at this depth, in OpenGL's eye space (y up, -z)
     const double X = (u - 140.0) / 250.0 * depth, Y = (v - 90.0) / 180.0 * depth;
-    const float hx = static_cast<float>(1.5 * depth / 250.0), hy = static_cast<float>(1.5 * depth / 180.0);
+    const float hx = static_cast<float>(1.5 * depth / 250.0),
+                hy = static_cast<float>(1.5 * depth / 180.0);
     const glm::vec3 p(static_cast<float>(X), static_cast<float>(-Y), static_cast<float>(-depth));
     Scene s;
     s.beginObject("square");
     const std::uint32_t m = s.addMaterial({});
-    s.addPolygonVertices({p + glm::vec3(-hx, -hy, 0), p + glm::vec3(hx, -hy, 0), p + glm::vec3(hx, hy, 0),
-                          p + glm::vec3(-hx, hy, 0)},
+    s.addPolygonVertices({p + glm::vec3(-hx, -hy, 0), p + glm::vec3(hx, -hy, 0),
+                          p + glm::vec3(hx, hy, 0), p + glm::vec3(-hx, hy, 0)},
                          m);
     const Frame f = render(s, k);
     int drawn = 0;
@@ -283,7 +285,8 @@ TEST(CameraData, FileCamerasWithWastefulClipPlanesAreRefitted) {
   as_file.near = file.near, as_file.far = file.far;
   const Frame a = render(scene, refit), b = render(scene, as_file);
   std::size_t drawn_a = 0, drawn_b = 0;
-  for (std::size_t k = 0; k < a.ids.size(); ++k) drawn_a += a.ids[k] != kNoPolygon, drawn_b += b.ids[k] != kNoPolygon;
+  for (std::size_t k = 0; k < a.ids.size(); ++k)
+    drawn_a += a.ids[k] != kNoPolygon, drawn_b += b.ids[k] != kNoPolygon;
   EXPECT_EQ(drawn_a, drawn_b);
   SceneCamera sane = file;
   sane.near = 1.0f, sane.far = 500.0f;
@@ -341,7 +344,8 @@ TEST(CameraData, NormalsFaceTheEyeFromOutsideAndFromInside) {
   // The centroid of object 0's vertices: inside that convex solid
   glm::dvec3 inside(0.0);
   const Object& first = s.objects.at(0);
-  for (std::uint32_t v = 0; v < first.vertex_count; ++v) inside += glm::dvec3(s.position(first.first_vertex + v));
+  for (std::uint32_t v = 0; v < first.vertex_count; ++v)
+    inside += glm::dvec3(s.position(first.first_vertex + v));
   inside /= double(first.vertex_count);
   struct View {
     const char* name;
@@ -413,7 +417,8 @@ TEST(CameraData, FramingFollowsTheGivenUpAxis) {
   EXPECT_GT(z.eye.x, z.target.x) << "and from the right, as with y up";
   // All eight corners in view
   for (int k = 0; k < 8; ++k) {
-    const glm::vec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
+    const glm::vec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y,
+                           (k & 4) ? b.hi.z : b.lo.z);
     const glm::dvec2 at = pixelOf(z, corner);
     EXPECT_GT(at.x, 0.0);
     EXPECT_LT(at.x, 320.0);
@@ -430,9 +435,10 @@ TEST(CameraData, ViewsLeftIncompleteAreFilledAsStated) {
   const Camera framed = frameScene(scene, 200, 150);
   const auto at = [](const glm::vec3& v) { return fmt::format("[{}, {}, {}]", v.x, v.y, v.z); };
   const std::string eye = at(framed.eye), target = at(framed.target);
-  ViewList list = viewsFromJson("[{\"eye\": " + eye + ", \"target\": " + target + "}, {\"eye\": " + eye +
-                                    ", \"target\": " + target + ", \"near\": 0.5}]",
-                                ViewDefaults{200, 150});
+  ViewList list =
+      viewsFromJson("[{\"eye\": " + eye + ", \"target\": " + target + "}, {\"eye\": " + eye +
+                        ", \"target\": " + target + ", \"near\": 0.5}]",
+                    ViewDefaults{200, 150});
   ASSERT_EQ(list.cameras.size(), 2u);
   list.fitDepth(scene.bounds());
   Camera expected = framed;

@@ -64,8 +64,9 @@ const char* const kSeedFiles[] = {
 [[maybe_unused]] ::testing::Environment* const kFigures = hsr::testing::printFiguresAtEnd([] {
   const hsr::testing::SuiteTally t = hsr::testing::tallySuite("LoaderSeed");
   if (t.run == 0) return;
-  std::printf("[ figures ] row 16 loader known-bug seeds: %zu seed files, %d cases run, %d passed\n",
-              std::size(kSeedFiles), t.run, t.passed);
+  std::printf(
+      "[ figures ] row 16 loader known-bug seeds: %zu seed files, %d cases run, %d passed\n",
+      std::size(kSeedFiles), t.run, t.passed);
 });
 
 fs::path seed(const char* name) {
@@ -84,8 +85,8 @@ void expectRefused(const char* name, const std::string& fault) {
   const fs::path p = seed(name);
   try {
     const Scene s = hsr::loadMeshFile(p);
-    ADD_FAILURE() << name << " loaded (" << s.polygonCount() << " polygons); expected a refusal: "
-                  << fault;
+    ADD_FAILURE() << name << " loaded (" << s.polygonCount()
+                  << " polygons); expected a refusal: " << fault;
   } catch (const hsr::Error& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find(p.string()), std::string::npos) << "names the file: " << msg;
@@ -180,7 +181,8 @@ TEST(LoaderSeed, StlCountOverflowing32Bits) {
   std::memcpy(&n, bytes.data() + 80, 4);
   EXPECT_EQ(n, 85899346u);
   EXPECT_EQ(static_cast<std::uint32_t>(84u + 50u * n), 88u);  // the overflow the seed is for
-  expectRefused("stl_count_overflow.stl", "its count 85899346 asks for 4294967384 bytes, the file has 88");
+  expectRefused("stl_count_overflow.stl",
+                "its count 85899346 asks for 4294967384 bytes, the file has 88");
 }
 
 // A binary STL whose 80-byte header starts with "solid": its size matches 84 + 50 n, so it is
@@ -232,7 +234,9 @@ TEST(LoaderSeed, PlyListLengthHuge) {
 // OBJ
 
 // OBJ indices count from 1: index 0 is refused.
-TEST(LoaderSeed, ObjFaceIndex0) { expectRefused("obj_face_index_0.obj", "OBJ: Invalid face index"); }
+TEST(LoaderSeed, ObjFaceIndex0) {
+  expectRefused("obj_face_index_0.obj", "OBJ: Invalid face index");
+}
 
 // Relative index -4 with 3 vertices defined points before the first: refused.
 TEST(LoaderSeed, ObjNegativeIndexBeyondStart) {
@@ -282,9 +286,9 @@ TEST(LoaderSeed, ObjCrlfLoadsExactly) {
   const std::string bytes = readBytes(seed("obj_crlf.obj"));
   EXPECT_NE(bytes.find("\r\nf 4 3 5\r\n"), std::string::npos);
   const Scene s = load("obj_crlf.obj");
-  expectPolygons(s, {{0, 1, 2, 3}, {3, 2, 4}},
-                 {{0.5f, 0.25f, -1}, {2.5f, 0.25f, -1}, {2.5f, 3.75f, -1}, {0.5f, 3.75f, -1},
-                  {1.5f, 5, -2}});
+  expectPolygons(
+      s, {{0, 1, 2, 3}, {3, 2, 4}},
+      {{0.5f, 0.25f, -1}, {2.5f, 0.25f, -1}, {2.5f, 3.75f, -1}, {0.5f, 3.75f, -1}, {1.5f, 5, -2}});
   for (const hsr::Object& o : s.objects) EXPECT_EQ(o.name.find('\r'), std::string::npos) << o.name;
 }
 
@@ -318,8 +322,9 @@ TEST(LoaderSeed, ObjSubnormalsLoad) {
       ++subnormals;
       EXPECT_EQ(std::fpclassify(got), FP_SUBNORMAL) << got;
       EXPECT_EQ(std::signbit(got), std::signbit(want));
-      const std::int64_t ulps = std::llabs(std::int64_t(std::bit_cast<std::uint32_t>(got) & 0x7FFFFFFF) -
-                                           std::int64_t(std::bit_cast<std::uint32_t>(want) & 0x7FFFFFFF));
+      const std::int64_t ulps =
+          std::llabs(std::int64_t(std::bit_cast<std::uint32_t>(got) & 0x7FFFFFFF) -
+                     std::int64_t(std::bit_cast<std::uint32_t>(want) & 0x7FFFFFFF));
       EXPECT_LE(ulps, 1) << got << " vs " << want;
       exact += ulps == 0;
     }

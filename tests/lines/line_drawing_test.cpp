@@ -82,8 +82,8 @@ class Required {
           if (on[i].p != on[j].p) {
             // Windings agree across the edge when they run along it in opposite directions
             const bool agree = on[i].forward != on[j].forward;
-            smooth_[{on[i].p, on[j].p}] =
-                smoothPair(on[i].p, on[j].p, agree);  // edge neighbours: by their angle
+            // edge neighbours: by their angle
+            smooth_[{on[i].p, on[j].p}] = smoothPair(on[i].p, on[j].p, agree);
           }
   }
   bool operator()(PolygonId a, PolygonId b) const {
@@ -474,7 +474,8 @@ TEST(LineDrawing, SvgCommentNamesTheEngineThatDrewIt) {
     const std::string svg = lineDrawingSvg(d);
     const std::string named = engine == LineEngine::kRoberts ? "engine roberts" : "engine edges";
     const std::string other = engine == LineEngine::kRoberts ? "engine edges" : "engine roberts";
-    EXPECT_NE(svg.find("<!-- hsr hidden-line drawing (exact, " + named), std::string::npos) << svg.substr(0, 400);
+    EXPECT_NE(svg.find("<!-- hsr hidden-line drawing (exact, " + named), std::string::npos)
+        << svg.substr(0, 400);
     EXPECT_EQ(svg.find(other), std::string::npos);
   }
 }
@@ -618,32 +619,36 @@ TEST(LineDrawing, ALineOnAnOccludersPlaneIsVisibleAndALittleBehindItHidden) {
   for (int i = 0; i < 40; ++i) {
     SCOPED_TRACE("case " + std::to_string(i));
     // A random rotation (normalised random quaternion) applied to everything
-    const glm::dvec4 q = glm::normalize(glm::dvec4(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1),
-                                                   rng.uniform(-1, 1)));
+    const glm::dvec4 q = glm::normalize(
+        glm::dvec4(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
     const auto turn = [&](glm::dvec3 p) {
       const glm::dvec3 u(q.x, q.y, q.z);
       return p + 2.0 * glm::cross(u, glm::cross(u, p) + q.w * p);
     };
     const glm::dvec3 f0(rng.uniform(-0.9f, -0.3f), 0, rng.uniform(-0.5f, 0.5f));
     const glm::dvec3 f1(rng.uniform(0.3f, 0.9f), 0, rng.uniform(-0.5f, 0.5f));
-    const glm::dvec3 apex(rng.uniform(-0.2f, 0.2f), rng.uniform(0.5f, 1.2f), rng.uniform(-0.2f, 0.2f));
+    const glm::dvec3 apex(rng.uniform(-0.2f, 0.2f), rng.uniform(0.5f, 1.2f),
+                          rng.uniform(-0.2f, 0.2f));
     const auto scene = [&](double behind) {
       Scene s;
       const std::uint32_t m = s.addMaterial({});
       s.beginObject("floor");
       std::vector<glm::vec3> floor;
-      for (const glm::dvec3 p : {glm::dvec3(-2, 0, -2), glm::dvec3(2, 0, -2), glm::dvec3(2, 0, 2), glm::dvec3(-2, 0, 2)})
+      for (const glm::dvec3 p :
+           {glm::dvec3(-2, 0, -2), glm::dvec3(2, 0, -2), glm::dvec3(2, 0, 2), glm::dvec3(-2, 0, 2)})
         floor.push_back(glm::vec3(turn(p)));
       s.addPolygonVertices(floor, m);
       s.beginObject("fin");
       const glm::dvec3 down(0, -behind, 0);
-      s.addPolygonVertices({glm::vec3(turn(f0 + down)), glm::vec3(turn(f1 + down)), glm::vec3(turn(apex))}, m);
+      s.addPolygonVertices(
+          {glm::vec3(turn(f0 + down)), glm::vec3(turn(f1 + down)), glm::vec3(turn(apex))}, m);
       return s;
     };
     Camera c;
     const double azimuth = rng.uniform(0, 6.2831853f), elevation = rng.uniform(0.35f, 1.2f);
-    c.eye = glm::vec3(turn(5.0 * glm::dvec3(std::cos(elevation) * std::cos(azimuth), std::sin(elevation),
-                                             std::cos(elevation) * std::sin(azimuth))));
+    c.eye = glm::vec3(
+        turn(5.0 * glm::dvec3(std::cos(elevation) * std::cos(azimuth), std::sin(elevation),
+                              std::cos(elevation) * std::sin(azimuth))));
     c.target = glm::vec3(turn(glm::dvec3(0, 0.2, 0)));
     c.up = glm::vec3(turn(glm::dvec3(0, 1, 0)));
     c.width = 400, c.height = 300, c.near = 0.5f, c.far = 20.0f;
@@ -651,7 +656,8 @@ TEST(LineDrawing, ALineOnAnOccludersPlaneIsVisibleAndALittleBehindItHidden) {
     const glm::dmat4 clip_from_world = glm::dmat4(c.projection()) * glm::dmat4(c.view());
     const auto window = [&](glm::dvec3 p) {
       const glm::dvec4 h = clip_from_world * glm::dvec4(turn(p), 1.0);
-      return glm::dvec2((h.x / h.w + 1) * 0.5 * c.width - 0.5, (1 - h.y / h.w) * 0.5 * c.height - 0.5);
+      return glm::dvec2((h.x / h.w + 1) * 0.5 * c.width - 0.5,
+                        (1 - h.y / h.w) * 0.5 * c.height - 0.5);
     };
     const double foot = glm::length(window(f1) - window(f0));
     if (foot < 20.0) continue;  // seen too end-on to measure
@@ -660,7 +666,8 @@ TEST(LineDrawing, ALineOnAnOccludersPlaneIsVisibleAndALittleBehindItHidden) {
     // (within 0.05 px of it); the rest of the drawing (the fin hides part of the floor's
     // edges) is not the question here
     const auto alongFoot = [&](const std::vector<LineStroke>& strokes, double behind) {
-      const glm::dvec2 p0 = window(f0 - glm::dvec3(0, behind, 0)), p1 = window(f1 - glm::dvec3(0, behind, 0));
+      const glm::dvec2 p0 = window(f0 - glm::dvec3(0, behind, 0)),
+                       p1 = window(f1 - glm::dvec3(0, behind, 0));
       const glm::dvec2 u = glm::normalize(p1 - p0), n(-u.y, u.x);
       double length = 0;
       for (const LineStroke& st : strokes)
@@ -674,19 +681,22 @@ TEST(LineDrawing, ALineOnAnOccludersPlaneIsVisibleAndALittleBehindItHidden) {
     const LineDrawingOptions lines{kCreaseDeg, true};
     const LineDrawing on = lineDrawing(scene(0.0), c, {}, lines);
     const LineDrawing below = lineDrawing(scene(1e-3), c, {}, lines);
-    const double on_hidden = alongFoot(on.hidden, 0.0), below_hidden = alongFoot(below.hidden, 1e-3);
-    EXPECT_LT(on_hidden, 1e-3) << "on the floor's plane " << on_hidden << " px of the " << foot << " px foot were hidden";
-    EXPECT_GT(alongFoot(on.visible, 0.0), 0.99 * foot) << "on the floor's plane the foot is not drawn whole";
-    EXPECT_GT(below_hidden, 0.99 * foot) << "a little behind the floor only " << below_hidden << " px of the "
-                                         << foot << " px foot were hidden";
+    const double on_hidden = alongFoot(on.hidden, 0.0),
+                 below_hidden = alongFoot(below.hidden, 1e-3);
+    EXPECT_LT(on_hidden, 1e-3) << "on the floor's plane " << on_hidden << " px of the " << foot
+                               << " px foot were hidden";
+    EXPECT_GT(alongFoot(on.visible, 0.0), 0.99 * foot)
+        << "on the floor's plane the foot is not drawn whole";
+    EXPECT_GT(below_hidden, 0.99 * foot) << "a little behind the floor only " << below_hidden
+                                         << " px of the " << foot << " px foot were hidden";
     worst_on = std::max(worst_on, on_hidden);
     least_behind = std::min(least_behind, below_hidden / foot);
   }
   EXPECT_GE(cases, 30);
   testing::printFigures("line visibility at its tolerance: " + std::to_string(cases) +
-                        " turned scenes; a line on an occluder's plane: at most " + fmt::format("{:.3g}", worst_on) +
-                        " px hidden; 1e-3 behind it: at least " + fmt::format("{:.4f}", least_behind) +
-                        " of it hidden");
+                        " turned scenes; a line on an occluder's plane: at most " +
+                        fmt::format("{:.3g}", worst_on) + " px hidden; 1e-3 behind it: at least " +
+                        fmt::format("{:.4f}", least_behind) + " of it hidden");
 }
 
 // The PDF's page content, its Flate streams inflated (cairo compresses them)
@@ -744,7 +754,9 @@ TEST(LineDrawing, PdfHiddenLayerIsDashed) {
     }
     return arrays;
   };
-  const auto solid = [](const std::string& a) { return a.find_first_of("123456789") == std::string::npos; };
+  const auto solid = [](const std::string& a) {
+    return a.find_first_of("123456789") == std::string::npos;
+  };
   const auto strokesAfterLastDash = [](const std::string& content) {
     const std::size_t dash = content.rfind(" d\n");
     int strokes = 0;
@@ -762,7 +774,8 @@ TEST(LineDrawing, PdfHiddenLayerIsDashed) {
   ASSERT_FALSE(arrays.empty()) << "no dash operator at all";
   EXPECT_FALSE(solid(arrays.back())) << "the last dash set is solid: " << arrays.back();
   // The numbers of the pattern (2,1 in mm on the page), in the PDF's units
-  EXPECT_EQ(std::count_if(arrays.back().begin(), arrays.back().end(), [](char c) { return c == ' '; }), 3)
+  EXPECT_EQ(
+      std::count_if(arrays.back().begin(), arrays.back().end(), [](char c) { return c == ' '; }), 3)
       << "two numbers in the hidden layer's dash array: " << arrays.back();
   // Every hidden stroke comes after it, and is stroked
   EXPECT_GE(strokesAfterLastDash(content), 1);

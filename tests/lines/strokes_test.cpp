@@ -117,8 +117,8 @@ TEST(Strokes, NoLengthIsLostOrDrawnTwiceOnRandomSegments) {
   for (int c = 0; c < 50 * testing::countScale(); ++c, ++cases) {
     std::vector<StrokeSegment> segs;
     // Lines through integer points with small integer directions: exact overlaps
-    std::map<std::pair<int, int>, std::vector<std::pair<double, double>>>
-        per_line;  // (line) -> [s0, s1]
+    // (line) -> [s0, s1]
+    std::map<std::pair<int, int>, std::vector<std::pair<double, double>>> per_line;
     for (int k = 0; k < 40; ++k) {
       const int line = static_cast<int>(rng.next() % 5);
       const dvec2 o(line * 3.0, line * 2.0);

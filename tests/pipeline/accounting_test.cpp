@@ -74,8 +74,8 @@ TEST(Accounting, EveryModeAndCameraAddsUp) {
         o.polygon_mode = mode;
         o.cull = cull;
         o.facing_test = (i % 3 == 0) ? FacingTest::EyePlane : FacingTest::WindowArea;
-        for (const AlgorithmInfo* a :
-             testing::algorithmsWith("Accounting", mode == PolygonMode::Fill ? 0u : std::uint32_t{kPolygonModes})) {
+        for (const AlgorithmInfo* a : testing::algorithmsWith(
+                 "Accounting", mode == PolygonMode::Fill ? 0u : std::uint32_t{kPolygonModes})) {
           o.algorithm = std::string(a->name);
           const Frame f = render(scene, cam, o);
           expectBalanced(f.stats, "seed " + std::to_string(seed) + " " + o.algorithm);

@@ -25,7 +25,8 @@ Scene randomSoup(std::uint64_t seed, int n, float spread) {
     const glm::vec3 c(rng.uniform(-spread, spread), rng.uniform(-spread, spread),
                       rng.uniform(-spread, spread));
     glm::vec3 v[3];
-    for (glm::vec3& p : v) p = c + glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    for (glm::vec3& p : v)
+      p = c + glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
     s.addPolygonVertices({v[0], v[1], v[2]}, m);
   }
   return s;
@@ -90,7 +91,8 @@ TEST(Pipeline, CullBackSameWithEitherFacingTest) {
 TEST(Pipeline, TriangleBehindEyeDrawsNothing) {
   Scene s;
   const std::uint32_t m = s.addMaterial({});
-  s.addPolygonVertices({{-5, -5, 10}, {5, -5, 10}, {0, 5, 10}}, m);  // behind (eye at z=5, looks -z)
+  s.addPolygonVertices({{-5, -5, 10}, {5, -5, 10}, {0, 5, 10}},
+                       m);  // behind (eye at z=5, looks -z)
   Camera cam;
   cam.eye = {0, 0, 5};
   cam.target = {0, 0, 0};
@@ -160,7 +162,8 @@ TEST(Pipeline, ChunksJoinAsPolygonByPolygon) {
     for (int i = 0; i < 5000; ++i) {
       const glm::vec3 c(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-6, -2));
       glm::vec3 v[3];
-      for (glm::vec3& q : v) q = c + glm::vec3(rng.uniform(-8, 8), rng.uniform(-8, 8), rng.uniform(-1, 1));
+      for (glm::vec3& q : v)
+        q = c + glm::vec3(rng.uniform(-8, 8), rng.uniform(-8, 8), rng.uniform(-1, 1));
       clipped.addPolygonVertices({v[0], v[1], v[2]}, m);
     }
   }
@@ -185,11 +188,11 @@ TEST(Pipeline, DegeneratePolygonsAreDroppedAndCounted) {
   Scene s;
   const std::uint32_t m = s.addMaterial({});
   const float nan = std::nanf("");
-  s.addPolygonVertices({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, m);           // collinear
-  s.addPolygonVertices({{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, m);           // repeated
-  s.addPolygonVertices({{0, 0, 0}, {nan, 0, 0}, {0, 1, 0}}, m);         // NaN
-  s.addPolygonVertices({{0, 0, 0}, {INFINITY, 0, 0}, {0, 1, 0}}, m);    // Inf
-  s.addPolygonVertices({{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}}, m);        // fine
+  s.addPolygonVertices({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, m);         // collinear
+  s.addPolygonVertices({{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, m);         // repeated
+  s.addPolygonVertices({{0, 0, 0}, {nan, 0, 0}, {0, 1, 0}}, m);       // NaN
+  s.addPolygonVertices({{0, 0, 0}, {INFINITY, 0, 0}, {0, 1, 0}}, m);  // Inf
+  s.addPolygonVertices({{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}}, m);      // fine
   Camera cam;
   cam.width = 32;
   cam.height = 32;

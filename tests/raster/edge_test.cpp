@@ -15,7 +15,8 @@ namespace {
 
 // A screen triangle through three 24.8 fixed-point vertices, wound for positive y-down area.
 bool triangleOf(std::int32_t x[3], std::int32_t y[3], ScreenTriangle* t) {
-  const std::int64_t area = std::int64_t(x[1] - x[0]) * (y[2] - y[0]) - std::int64_t(y[1] - y[0]) * (x[2] - x[0]);
+  const std::int64_t area =
+      std::int64_t(x[1] - x[0]) * (y[2] - y[0]) - std::int64_t(y[1] - y[0]) * (x[2] - x[0]);
   if (area == 0) return false;
   const int o[3] = {0, area > 0 ? 1 : 2, area > 0 ? 2 : 1};
   for (int k = 0; k < 3; ++k) {
@@ -46,8 +47,9 @@ TEST(Edge, RowSpansAreSpanOfRowOnEveryRow) {
     const std::int64_t top = std::min({y[0], y[1], y[2]}) >> kSubpixelBits;
     const std::int64_t bottom = std::max({y[0], y[1], y[2]}) >> kSubpixelBits;
     // Near the top row, or (every third trial) anywhere down the triangle.
-    const int first_row = static_cast<int>(trial % 3 == 0 ? top + static_cast<std::int64_t>(rng() % (bottom - top + 1))
-                                                          : top - 3 + static_cast<std::int64_t>(rng() % 5));
+    const int first_row = static_cast<int>(
+        trial % 3 == 0 ? top + static_cast<std::int64_t>(rng() % (bottom - top + 1))
+                       : top - 3 + static_cast<std::int64_t>(rng() % 5));
     TriangleSetup s = setupTriangle(t, first_row);
     RowSpans spans(s);
     const int x_lo = static_cast<int>(std::min({x[0], x[1], x[2]}) >> kSubpixelBits) - 2;

@@ -86,7 +86,8 @@ TEST(FillPolygons, WindowPolygonsFilledInOrderAreTheZBufferFrame) {
 // the same fragment count per polygon and the same final frame.
 TEST(FillPolygons, ExactRegionsPaintWhatTheFillRuleCovers) {
   std::uint64_t polygons = 0, fragments = 0, differ = 0;
-  auto check = [&](const Scene& scene, const Camera& camera, const RenderOptions& o, const std::string& what) {
+  auto check = [&](const Scene& scene, const Camera& camera, const RenderOptions& o,
+                   const std::string& what) {
     const detail::PreparedScene ps = detail::prepare(scene, camera, o, {.window_polygons = true});
     Frame a, b;
     detail::clearFrame(a, camera.width, camera.height, o);
@@ -95,18 +96,22 @@ TEST(FillPolygons, ExactRegionsPaintWhatTheFillRuleCovers) {
     for (const detail::WindowPolygon& p : ps.polygons) {
       GridRing ring;
       for (const glm::dvec3& v : p.vertices)
-        ring.push_back({std::llrint(v.x * detail::kSubpixelOne), std::llrint(v.y * detail::kSubpixelOne)});
+        ring.push_back(
+            {std::llrint(v.x * detail::kSubpixelOne), std::llrint(v.y * detail::kSubpixelOne)});
       const GridRegion region{{ring, {}}};
       if (!invalidRegionReason(region).empty()) continue;  // zero area or folded on the grid
       detail::FragmentCounts ca, cb;
       detail::fillPolygon(p, fa, DepthFunc::Always, true, ca);
-      const std::size_t painted = detail::paintExactRegion(exactRegion(region), p.depth, p.id, p.rgba, fb, cb);
+      const std::size_t painted =
+          detail::paintExactRegion(exactRegion(region), p.depth, p.id, p.rgba, fb, cb);
       polygons++, fragments += painted;
       if (ca.written != painted && differ++ < 5)
-        ADD_FAILURE() << what << " polygon " << p.id << ": fillPolygon " << ca.written << " fragments, paintExactRegion " << painted;
+        ADD_FAILURE() << what << " polygon " << p.id << ": fillPolygon " << ca.written
+                      << " fragments, paintExactRegion " << painted;
     }
     const Diff d = compare(a, b);
-    EXPECT_EQ(d.ids + d.depth + d.colour, 0u) << what << ": " << d.ids << " ids, " << d.depth << " depths differ";
+    EXPECT_EQ(d.ids + d.depth + d.colour, 0u)
+        << what << ": " << d.ids << " ids, " << d.depth << " depths differ";
   };
   // Vertices on pixel centres and half-way between them: edges, horizontal ones included, run
   // through centres, where only the fill rule decides.
@@ -117,41 +122,51 @@ TEST(FillPolygons, ExactRegionsPaintWhatTheFillRuleCovers) {
     detail::clearFrame(b, 24, 20, {});
     const detail::FrameView fa(a), fb(b);
     for (int i = 0; i < 3000; ++i) {
-      auto coordinate = [&](int size) { return static_cast<double>(rng.next() % static_cast<std::uint64_t>(2 * size + 1)) / 2 - 0.5; };
+      auto coordinate = [&](int size) {
+        return static_cast<double>(rng.next() % static_cast<std::uint64_t>(2 * size + 1)) / 2 - 0.5;
+      };
       std::vector<glm::dvec2> xy;
       if (i % 3 == 0) {  // an axis-aligned rectangle
-        const double x0 = coordinate(24), x1 = coordinate(24), y0 = coordinate(20), y1 = coordinate(20);
+        const double x0 = coordinate(24), x1 = coordinate(24), y0 = coordinate(20),
+                     y1 = coordinate(20);
         xy = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
       } else {
         for (int k = 0; k < 3; ++k) xy.emplace_back(coordinate(24), coordinate(20));
       }
       GridRing ring;
-      for (const glm::dvec2& v : xy) ring.push_back({std::llrint(v.x * detail::kSubpixelOne), std::llrint(v.y * detail::kSubpixelOne)});
+      for (const glm::dvec2& v : xy)
+        ring.push_back(
+            {std::llrint(v.x * detail::kSubpixelOne), std::llrint(v.y * detail::kSubpixelOne)});
       const GridRegion region{{ring, {}}};
       if (!invalidRegionReason(region).empty()) continue;
       const detail::DepthPlane plane{0.001, -0.002, 0.5};
       detail::FragmentCounts ca, cb;
       const auto id = static_cast<PolygonId>(i);
-      detail::fillPolygon(xy, plane, id, 0xff000000u | static_cast<std::uint32_t>(i), fa, DepthFunc::Always, true, ca);
-      const std::size_t painted = detail::paintExactRegion(exactRegion(region), plane, id, 0xff000000u | static_cast<std::uint32_t>(i), fb, cb);
+      detail::fillPolygon(xy, plane, id, 0xff000000u | static_cast<std::uint32_t>(i), fa,
+                          DepthFunc::Always, true, ca);
+      const std::size_t painted = detail::paintExactRegion(
+          exactRegion(region), plane, id, 0xff000000u | static_cast<std::uint32_t>(i), fb, cb);
       polygons++, fragments += painted;
       if (ca.written != painted && differ++ < 5)
-        ADD_FAILURE() << "polygon on centres " << i << ": fillPolygon " << ca.written << " fragments, paintExactRegion " << painted;
+        ADD_FAILURE() << "polygon on centres " << i << ": fillPolygon " << ca.written
+                      << " fragments, paintExactRegion " << painted;
     }
     const Diff d = compare(a, b);
     EXPECT_EQ(d.ids + d.depth + d.colour, 0u) << "polygons on centres: " << d.ids << " ids differ";
   }
   for (int i = 0; i < 30 * testing::countScale(); ++i) {
     const std::uint64_t seed = 1 + static_cast<std::uint64_t>(i);
-    check(testing::agreementScene(seed), testing::agreementCamera(seed), {}, "scene " + std::to_string(seed));
+    check(testing::agreementScene(seed), testing::agreementCamera(seed), {},
+          "scene " + std::to_string(seed));
   }
   for (const char* spec : {"demo", "cyclic", "penetrating", "soup:2000:3"}) {
     const Scene scene = loadScene(spec);
     check(scene, frameScene(scene, 320, 240), {}, spec);
   }
   EXPECT_EQ(differ, 0u);
-  testing::printFigures("exact regions painted vs the fill rule: " + testing::grouped(polygons) + " polygons, " +
-                        testing::grouped(fragments) + " fragments, " + testing::grouped(differ) + " polygons differ");
+  testing::printFigures("exact regions painted vs the fill rule: " + testing::grouped(polygons) +
+                        " polygons, " + testing::grouped(fragments) + " fragments, " +
+                        testing::grouped(differ) + " polygons differ");
 }
 
 // Seen from inside (the near plane cuts many polygons), a polygon clipped whole and one cut

@@ -34,7 +34,9 @@ TEST(PointSize, SquaresOfCentresInsideTheSquare) {
   Scene s;
   s.beginObject("triangle");
   const std::uint32_t m = s.addMaterial({});
-  s.addPolygonVertices({{v[0].first, v[0].second, 0}, {v[1].first, v[1].second, 0}, {v[2].first, v[2].second, 0}}, m);
+  s.addPolygonVertices(
+      {{v[0].first, v[0].second, 0}, {v[1].first, v[1].second, 0}, {v[2].first, v[2].second, 0}},
+      m);
   const Camera c = pixelCamera();
   for (const float size : {2.0f, 3.0f, 4.0f, 5.0f, 2.5f, 1.5f}) {
     for (const char* algorithm : {"zbuffer", "zbuffer-textbook"}) {
@@ -49,13 +51,15 @@ TEST(PointSize, SquaresOfCentresInsideTheSquare) {
         for (int i = 0; i < 64; ++i)
           for (int j = 0; j < 48; ++j) {
             const double cx = i + 0.5, cy = j + 0.5;
-            const bool in = wx - size / 2 <= cx && cx < wx + size / 2 && wy - size / 2 <= cy && cy < wy + size / 2;
+            const bool in = wx - size / 2 <= cx && cx < wx + size / 2 && wy - size / 2 <= cy &&
+                            cy < wy + size / 2;
             if (in) expected.insert({i, 47 - j});
           }
       }
       for (int row = 0; row < 48; ++row)
         for (int col = 0; col < 64; ++col)
-          if (f.ids[static_cast<std::size_t>(row) * 64 + col] != kNoPolygon) drawn.insert({col, row});
+          if (f.ids[static_cast<std::size_t>(row) * 64 + col] != kNoPolygon)
+            drawn.insert({col, row});
       EXPECT_EQ(drawn, expected) << algorithm << " size " << size;
       const std::size_t side = static_cast<std::size_t>(std::floor(size));
       EXPECT_GE(drawn.size(), 3 * side * side) << algorithm << " size " << size;

@@ -80,11 +80,12 @@ TEST(ABuffer, IdsAndDepthAreTheZBuffersAtEverySampleCount) {
 
 // A screen triangle through three points given in sub-pixel units (pixel centres at multiples
 // of 256, y down), its box reaching every sample; false when it has no area.
-bool screenTriangle(const std::int64_t x[3], const std::int64_t y[3], int width, int height, detail::ScreenTriangle* t) {
+bool screenTriangle(const std::int64_t x[3], const std::int64_t y[3], int width, int height,
+                    detail::ScreenTriangle* t) {
   const int orientation = detail::windowOrientation(x, y);
   if (orientation == 0) return false;
-  return detail::makeScreenTriangle(x, y, orientation, width, height, detail::DepthPlane{}, t, detail::kSampleMargin) ==
-         detail::TriangleFate::kMade;
+  return detail::makeScreenTriangle(x, y, orientation, width, height, detail::DepthPlane{}, t,
+                                    detail::kSampleMargin) == detail::TriangleFate::kMade;
 }
 
 // The mask of every pixel (x, y) of the triangle's box, in `masks` (width * height).
@@ -95,7 +96,8 @@ void addMasks(const detail::ScreenTriangle& t, const detail::SamplePattern& p, i
   detail::setupSampleEdges(s, p, &se);
   for (int y = t.y0; y <= t.y1; ++y, detail::nextRow(s))
     for (int x = t.x0; x <= t.x1; ++x) {
-      const std::int64_t e[3] = {s.edge[0].row + s.edge[0].step_x * x, s.edge[1].row + s.edge[1].step_x * x,
+      const std::int64_t e[3] = {s.edge[0].row + s.edge[0].step_x * x,
+                                 s.edge[1].row + s.edge[1].step_x * x,
                                  s.edge[2].row + s.edge[2].step_x * x};
       const std::uint64_t m = detail::sampleMask(se, e);
       const std::size_t k = static_cast<std::size_t>(y) * width + x;
@@ -145,23 +147,27 @@ TEST(ABuffer, FanMasksAddUpToExactlyFullCoverage) {
       for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
           const std::size_t k = static_cast<std::size_t>(y) * kW + x;
-          ASSERT_EQ(count[k], std::popcount(any[k])) << samples << " samples, fan " << fan << ": pixel (" << x << ", "
-                                                      << y << ") has a sample covered twice";
+          ASSERT_EQ(count[k], std::popcount(any[k]))
+              << samples << " samples, fan " << fan << ": pixel (" << x << ", " << y
+              << ") has a sample covered twice";
           bool whole = true;
           for (const int dx : {-128, 128})
-            for (const int dy : {-128, 128}) whole = whole && inside(x * 256.0 + dx, y * 256.0 + dy);
+            for (const int dy : {-128, 128})
+              whole = whole && inside(x * 256.0 + dx, y * 256.0 + dy);
           if (whole) {
             ++full_pixels;
-            ASSERT_EQ(any[k], all) << samples << " samples, fan " << fan << ": pixel (" << x << ", " << y
-                                   << ") inside the fan lacks a sample";
+            ASSERT_EQ(any[k], all) << samples << " samples, fan " << fan << ": pixel (" << x << ", "
+                                   << y << ") inside the fan lacks a sample";
           } else {
             edge_pixels += any[k] != 0 && any[k] != all;
           }
         }
     }
   }
-  testing::printFigures("abuffer coverage: " + grouped(full_pixels) + " pixels inside 240 fans fully covered exactly once, " +
-                        grouped(edge_pixels) + " partly covered pixels with no sample covered twice");
+  testing::printFigures("abuffer coverage: " + grouped(full_pixels) +
+                        " pixels inside 240 fans fully covered exactly once, " +
+                        grouped(edge_pixels) +
+                        " partly covered pixels with no sample covered twice");
   EXPECT_GT(full_pixels, 10000u);
   EXPECT_GT(edge_pixels, 10000u);
 }
@@ -216,7 +222,8 @@ TEST(ABuffer, CoverageIsWithinHalfASampleOfTheExactArea) {
   // for edges, samples.cpp.) Over edge pixels the error must be within 1 / (2 n^3/4) at every
   // count, and shrink as the samples grow. Both tables are printed.
   constexpr int kW = 40, kH = 40;
-  std::string all_table = "abuffer coverage against the exact area, mean |error| over the pixels triangles reach:";
+  std::string all_table =
+      "abuffer coverage against the exact area, mean |error| over the pixels triangles reach:";
   std::string edge_table = "  over their edge pixels alone:";
   double previous_edge = 1.0;
   for (const int samples : {4, 8, 16, 32, 64}) {
@@ -239,17 +246,20 @@ TEST(ABuffer, CoverageIsWithinHalfASampleOfTheExactArea) {
       for (int py = t.y0; py <= t.y1; ++py)
         for (int px = t.x0; px <= t.x1; ++px) {
           const double exact = areaInPixel(x, y, px, py);
-          const double got = static_cast<double>(count[static_cast<std::size_t>(py) * kW + px]) / samples;
+          const double got =
+              static_cast<double>(count[static_cast<std::size_t>(py) * kW + px]) / samples;
           if (exact == 0.0 && got == 0.0) continue;  // not reached
           const double e = std::abs(got - exact);
           error += e, ++pixels;
           if (exact < 1.0 - 1e-12 || got < 1.0) edge_error += e, ++edge_pixels;
         }
     }
-    const double mean = error / static_cast<double>(pixels), edge_mean = edge_error / static_cast<double>(edge_pixels);
-    all_table += " " + std::to_string(samples) + ": " + std::to_string(mean) + " (bar " + std::to_string(0.5 / samples) +
-                 ", " + grouped(pixels) + " pixels);";
-    edge_table += " " + std::to_string(samples) + ": " + std::to_string(edge_mean) + " (" + grouped(edge_pixels) + ");";
+    const double mean = error / static_cast<double>(pixels),
+                 edge_mean = edge_error / static_cast<double>(edge_pixels);
+    all_table += " " + std::to_string(samples) + ": " + std::to_string(mean) + " (bar " +
+                 std::to_string(0.5 / samples) + ", " + grouped(pixels) + " pixels);";
+    edge_table += " " + std::to_string(samples) + ": " + std::to_string(edge_mean) + " (" +
+                  grouped(edge_pixels) + ");";
     EXPECT_LE(mean, 0.5 / samples) << samples << " samples";
     EXPECT_LE(edge_mean, 0.5 / std::pow(samples, 0.75)) << samples << " samples";
     EXPECT_LT(edge_mean, previous_edge) << samples << " samples";
@@ -271,17 +281,22 @@ Scene glassLayers(std::uint64_t seed, int n, const std::vector<int>& order) {
     Material m;
   };
   std::vector<Quad> quads;
-  quads.push_back({{{-3, -3, -2}, {3, -3, -2}, {3, 3, -2}, {-3, 3, -2}}, {{0.3f, 0.5f, 0.3f}, 1.0f}});
+  quads.push_back(
+      {{{-3, -3, -2}, {3, -3, -2}, {3, 3, -2}, {-3, 3, -2}}, {{0.3f, 0.5f, 0.3f}, 1.0f}});
   for (int i = 0; i < n; ++i) {
-    Material m{{rng.uniform(0.1f, 1.0f), rng.uniform(0.1f, 1.0f), rng.uniform(0.1f, 1.0f)}, rng.uniform(0.3f, 0.7f)};
-    const float z = rng.uniform(-1.5f, 1.5f), tx = rng.uniform(-0.7f, 0.7f), ty = rng.uniform(-0.7f, 0.7f);
+    Material m{{rng.uniform(0.1f, 1.0f), rng.uniform(0.1f, 1.0f), rng.uniform(0.1f, 1.0f)},
+               rng.uniform(0.3f, 0.7f)};
+    const float z = rng.uniform(-1.5f, 1.5f), tx = rng.uniform(-0.7f, 0.7f),
+                ty = rng.uniform(-0.7f, 0.7f);
     const float x0 = rng.uniform(-2.5f, 0.0f), x1 = rng.uniform(0.5f, 2.5f);
     const float y0 = rng.uniform(-2.5f, 0.0f), y1 = rng.uniform(0.5f, 2.5f);
     auto at = [&](float x, float y) { return glm::vec3(x, y, z + tx * x + ty * y); };
     quads.push_back({{at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1)}, m});
   }
   Scene s;
-  for (const int i : order) s.addPolygonVertices(quads[static_cast<std::size_t>(i)].v, s.addMaterial(quads[static_cast<std::size_t>(i)].m));
+  for (const int i : order)
+    s.addPolygonVertices(quads[static_cast<std::size_t>(i)].v,
+                         s.addMaterial(quads[static_cast<std::size_t>(i)].m));
   return s;
 }
 
@@ -307,7 +322,8 @@ TEST(ABuffer, TransparencyIsTheSameInAnySubmissionOrder) {
     for (int shuffle = 0; shuffle < 20; ++shuffle) {
       std::vector<int> o = order;
       for (std::size_t i = o.size() - 1; i > 0; --i)
-        std::swap(o[i], o[static_cast<std::size_t>(rng.uniform(0.0f, static_cast<float>(i) + 0.999f))]);
+        std::swap(o[i],
+                  o[static_cast<std::size_t>(rng.uniform(0.0f, static_cast<float>(i) + 0.999f))]);
       const Frame f = render(glassLayers(seed, kLayers, o), glassCamera(), aBuffer(4));
       ASSERT_TRUE(f.color == first.color) << "seed " << seed << ", order " << shuffle;
       ASSERT_TRUE(f.coverage == first.coverage) << "seed " << seed << ", order " << shuffle;
@@ -322,7 +338,8 @@ TEST(ABuffer, TransparencyIsThePaintersPictureWithinOneLevel) {
   int worst = 0;
   std::vector<int> order(7);
   std::iota(order.begin(), order.end(), 0);
-  for (std::uint64_t seed = 500; seed < 500 + 10u * static_cast<std::uint64_t>(testing::countScale()); ++seed) {
+  for (std::uint64_t seed = 500;
+       seed < 500 + 10u * static_cast<std::uint64_t>(testing::countScale()); ++seed) {
     const Scene scene = glassLayers(seed, 6, order);
     RenderOptions o;
     o.algorithm = "painter";
@@ -330,14 +347,16 @@ TEST(ABuffer, TransparencyIsThePaintersPictureWithinOneLevel) {
     const Frame a = render(scene, glassCamera(), aBuffer(1));
     for (std::size_t k = 0; k < p.color.size(); ++k) {
       int w = 0;
-      for (int c = 0; c < 3; ++c) w = std::max(w, std::abs(testing::channel(p, k, c) - testing::channel(a, k, c)));
+      for (int c = 0; c < 3; ++c)
+        w = std::max(w, std::abs(testing::channel(p, k, c) - testing::channel(a, k, c)));
       ++pixels;
       within += w <= 1;
       worst = std::max(worst, w);
     }
   }
-  testing::printFigures("abuffer --samples 1 vs painter on glass layers: " + testing::percent(within, pixels) +
-                        " of pixels within one level, worst " + std::to_string(worst));
+  testing::printFigures(
+      "abuffer --samples 1 vs painter on glass layers: " + testing::percent(within, pixels) +
+      " of pixels within one level, worst " + std::to_string(worst));
   EXPECT_GE(within * 1000, pixels * 999);
 }
 
@@ -363,7 +382,8 @@ TEST(ABuffer, AFrameOverItsFragmentMemoryIsRefused) {
 TEST(ABuffer, SampleCountsOtherThanTheSixAreRefused) {
   const Scene scene = makeBuiltinScene("demo");
   const Camera camera = frameScene(scene, 64, 48);
-  for (const int bad : {-1, 2, 3, 5, 65, 128}) EXPECT_THROW(render(scene, camera, aBuffer(bad)), Error) << bad;
+  for (const int bad : {-1, 2, 3, 5, 65, 128})
+    EXPECT_THROW(render(scene, camera, aBuffer(bad)), Error) << bad;
   RenderOptions z;
   z.samples = 4;  // the z-buffer has one sample, at the centre
   EXPECT_THROW(render(scene, camera, z), Error);

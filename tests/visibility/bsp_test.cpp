@@ -30,8 +30,8 @@ namespace hsr {
 namespace {
 
 using detail::BspTree;
-using testing::Comparison;
 using testing::compareWithZBuffer;
+using testing::Comparison;
 using testing::describe;
 
 const char* const kSplitters[] = {"first", "random", "fewest", "balanced", "best-of-k"};
@@ -48,7 +48,8 @@ double nonPlanarity(const std::vector<glm::dvec3>& v) {
   glm::dvec3 n(0.0), c(0.0);
   for (std::size_t i = 0; i < v.size(); ++i) {
     const glm::dvec3 &a = v[i], &b = v[(i + 1) % v.size()];
-    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    n +=
+        glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
     c += a;
   }
   n = glm::normalize(n);
@@ -168,8 +169,8 @@ TEST(Bsp, RandomScenesHaveNoClearlyWrongPixel) {
   const Comparison total = testing::expectNoWrongPixelOnRandomScenes(
       "bsp", [&](const Scene& scene, const Camera&) { splits += buildBsp(scene).stats().splits; });
   EXPECT_GT(splits, 0u);
-  testing::printFigures("bsp, " + std::to_string(60 * testing::countScale()) + " random scenes: " + describe(total) +
-                        "; " + testing::grouped(splits) + " splits");
+  testing::printFigures("bsp, " + std::to_string(60 * testing::countScale()) + " random scenes: " +
+                        describe(total) + "; " + testing::grouped(splits) + " splits");
 }
 
 // The real models of the Mesa test: ids agree with the z-buffer's on at least 99.9% of the
@@ -181,8 +182,8 @@ TEST(Bsp, RealModelsAgreeWithTheZBuffer) {
   testing::expectRealModelsAgreeWithTheZBuffer(
       "bsp",
       [&](const Scene& scene, const Camera& camera, const RenderOptions& o) {
-        const std::string key =
-            scene.name + "/" + std::to_string(scene.polygonCount()) + "/" + std::to_string(scene.vertexCount());
+        const std::string key = scene.name + "/" + std::to_string(scene.polygonCount()) + "/" +
+                                std::to_string(scene.vertexCount());
         if (!bsp || built_for != key) bsp.emplace(buildBsp(scene)), built_for = key;
         return render(*bsp, camera, o);
       },
@@ -197,7 +198,9 @@ TEST(Bsp, TraversalOrderFollowsTheEye) {
   Camera camera = frameScene(scene, 320, 240);
   std::vector<std::pair<PolygonId, std::uint32_t>> back_to_front, front_to_back;
   auto record = [](auto& into) {
-    return [&into](const detail::BspPolygon& p, std::uint32_t) { into.emplace_back(p.id, p.first_cut); };
+    return [&into](const detail::BspPolygon& p, std::uint32_t) {
+      into.emplace_back(p.id, p.first_cut);
+    };
   };
   detail::forEachBspPolygon(bsp.tree(), camera, false, record(back_to_front));
   detail::forEachBspPolygon(bsp.tree(), camera, true, record(front_to_back));
@@ -224,7 +227,8 @@ TEST(Bsp, TraversalOrderFollowsTheEye) {
   Camera close = frameScene(spheres, 320, 240);
   close.fov_deg = 10.0f;
   detail::BspTraversalStats stats;
-  detail::forEachBspPolygon(many.tree(), close, false, [](const detail::BspPolygon&, std::uint32_t) {}, &stats);
+  detail::forEachBspPolygon(
+      many.tree(), close, false, [](const detail::BspPolygon&, std::uint32_t) {}, &stats);
   EXPECT_GT(stats.skipped, 0u);
   EXPECT_LT(stats.drawn, many.stats().polygons);
   EXPECT_EQ(compareWithZBuffer(spheres, close, "bsp").wrong, 0u);
@@ -253,7 +257,8 @@ TEST(Bsp, SavedTreeRendersEveryViewAsABuiltOne) {
     Camera camera = base;
     const float a = 1.047f * static_cast<float>(view);
     const glm::vec3 d = base.eye - base.target;
-    camera.eye = base.target + glm::vec3(std::cos(a) * d.x + std::sin(a) * d.z, d.y, -std::sin(a) * d.x + std::cos(a) * d.z);
+    camera.eye = base.target + glm::vec3(std::cos(a) * d.x + std::sin(a) * d.z, d.y,
+                                         -std::sin(a) * d.x + std::cos(a) * d.z);
     RenderOptions o;
     o.algorithm = "bsp";
     o.bsp = options;
@@ -271,8 +276,8 @@ TEST(Bsp, SavedTreeRendersEveryViewAsABuiltOne) {
   }
 }
 
-// Where the indices lie in a saved tree's payload (src/visibility/bsp_file.cpp's layout, read here on
-// its own): the first polygon's material and first vertex, node 0's front child, the first tree
+// Where the indices lie in a saved tree's payload (src/visibility/bsp_file.cpp's layout, read here
+// on its own): the first polygon's material and first vertex, node 0's front child, the first tree
 // polygon's id and its first cut's node; with the length of each one's table.
 struct IndexFields {
   std::size_t material = 0, vertex = 0, child = 0, tree_polygon_id = 0, cut_node = 0;
@@ -282,17 +287,18 @@ IndexFields indexFieldsOf(const std::string& p) {
   std::size_t at = 0;
   const auto u32 = [&] {
     std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(p.at(at + i))) << (8 * i);
+    for (int i = 0; i < 4; ++i)
+      v |= static_cast<std::uint32_t>(static_cast<unsigned char>(p.at(at + i))) << (8 * i);
     at += 4;
     return v;
   };
   const auto skip = [&](std::size_t n) { at += n; };
   const auto str = [&] { skip(u32()); };
   IndexFields f;
-  str();                   // splitter
+  str();                    // splitter
   skip(8 + 4 + 8 + 8 + 8);  // seed, candidates, input polygons, splits, build ms
-  skip(8);                 // epsilon
-  str();                   // scene name
+  skip(8);                  // epsilon
+  str();                    // scene name
   f.materials = u32();
   skip(16 * std::size_t{f.materials});
   const bool camera = p.at(at) != 0;
@@ -362,8 +368,8 @@ TEST(Bsp, DamagedOrHostileFilesAreRefusedWithOneLine) {
   // With the payload changed and its checksum made right again.
   auto forged = [&](std::string payload) {
     std::string out = bytes.substr(0, 24);
-    const std::uint32_t crc = static_cast<std::uint32_t>(
-        crc32_z(crc32_z(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload.data()), payload.size()));
+    const std::uint32_t crc = static_cast<std::uint32_t>(crc32_z(
+        crc32_z(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload.data()), payload.size()));
     for (int i = 0; i < 4; ++i) out[12 + i] = static_cast<char>(crc >> (8 * i));
     const std::uint64_t size = payload.size();
     for (int i = 0; i < 8; ++i) out[16 + i] = static_cast<char>(size >> (8 * i));
@@ -371,7 +377,8 @@ TEST(Bsp, DamagedOrHostileFilesAreRefusedWithOneLine) {
   };
   refused("", "not an hsr BSP file");
   refused("P3\n1 1\n255\n", "not an hsr BSP file");
-  for (const std::size_t keep : {std::size_t{8}, std::size_t{30}, bytes.size() / 2, bytes.size() - 1})
+  for (const std::size_t keep :
+       {std::size_t{8}, std::size_t{30}, bytes.size() / 2, bytes.size() - 1})
     refused(bytes.substr(0, keep), keep < 24 ? "not an hsr BSP file" : "truncated");
   std::string flipped = bytes;
   flipped[bytes.size() / 2] ^= 0x10;
@@ -394,7 +401,8 @@ TEST(Bsp, DamagedOrHostileFilesAreRefusedWithOneLine) {
     for (int i = 0; i < 4; ++i) p[offset + i] = static_cast<char>(v >> (8 * i));
     return forged(p);
   };
-  refused(withU32(at.material, at.materials), "uses material " + std::to_string(at.materials) + " of");
+  refused(withU32(at.material, at.materials),
+          "uses material " + std::to_string(at.materials) + " of");
   refused(withU32(at.vertex, at.object_vertices),
           "uses vertex " + std::to_string(at.object_vertices) + " of an object with");
   refused(withU32(at.child, at.nodes), "names child " + std::to_string(at.nodes));
@@ -417,8 +425,9 @@ TEST(Bsp, DamagedOrHostileFilesAreRefusedWithOneLine) {
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
     }
   }
-  testing::printFigures("bsp files: " + std::to_string(payload.size() / 3 + 1) + " single-byte mutants of a " +
-                        std::to_string(bytes.size()) + "-byte file, " + std::to_string(loaded) +
+  testing::printFigures("bsp files: " + std::to_string(payload.size() / 3 + 1) +
+                        " single-byte mutants of a " + std::to_string(bytes.size()) +
+                        "-byte file, " + std::to_string(loaded) +
                         " loaded and rendered, the rest refused with one line");
 }
 

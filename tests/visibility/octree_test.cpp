@@ -29,13 +29,15 @@ using testing::describe;
 
 TEST(Octree, RandomScenesHaveNoClearlyWrongPixel) {
   std::uint64_t pieces = 0, polygons = 0;
-  const Comparison total = testing::expectNoWrongPixelOnRandomScenes("octree", [&](const Scene& scene, const Camera&) {
-    const detail::Octree tree = detail::buildOctree(scene);
-    pieces += tree.stats.entries;
-    polygons += tree.stats.polygons;
-  });
-  testing::printFigures("octree, " + std::to_string(60 * testing::countScale()) + " random scenes: " + describe(total) +
-                        "; " + testing::grouped(polygons) + " polygons held as " + testing::grouped(pieces) + " pieces");
+  const Comparison total =
+      testing::expectNoWrongPixelOnRandomScenes("octree", [&](const Scene& scene, const Camera&) {
+        const detail::Octree tree = detail::buildOctree(scene);
+        pieces += tree.stats.entries;
+        polygons += tree.stats.polygons;
+      });
+  testing::printFigures("octree, " + std::to_string(60 * testing::countScale()) +
+                        " random scenes: " + describe(total) + "; " + testing::grouped(polygons) +
+                        " polygons held as " + testing::grouped(pieces) + " pieces");
 }
 
 TEST(Octree, RealModelsAgreeWithTheZBuffer) {
@@ -60,7 +62,8 @@ TEST(Octree, OrthographicViewsAgreeWithTheZBuffer) {
   std::vector<std::pair<std::string, Scene>> scenes;
   scenes.emplace_back("spheres:20000", makeBuiltinScene("spheres:20000"));
   for (const char* model : testing::kMesaTestModels)
-    scenes.emplace_back(model, loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string()));
+    scenes.emplace_back(model,
+                        loadScene((std::filesystem::path(HSR_TEST_MODELS) / model).string()));
   Comparison total;
   std::uint64_t views = 0, skipped = 0;
   for (const auto& [name, scene] : scenes) {
@@ -118,11 +121,13 @@ TEST(Octree, WritesEachPixelOnceSkipsHiddenOctantsAndReusesTheTree) {
   const std::uint64_t skipped = frame.stats.counter("octree: leaves under covered octants");
   const std::uint64_t hidden = frame.stats.counter("octree: leaves drawn, hidden");
   EXPECT_GT(skipped, hidden) << "most hidden octants must be skipped";
-  testing::printFigures("octree spheres:20000 400x300: " + testing::grouped(skipped) + " leaves skipped under covered octants, " +
-                        testing::grouped(hidden) + " drawn and found hidden: " +
-                        testing::percent(skipped, skipped + hidden) + " of the hidden leaves skipped");
+  testing::printFigures("octree spheres:20000 400x300: " + testing::grouped(skipped) +
+                        " leaves skipped under covered octants, " + testing::grouped(hidden) +
+                        " drawn and found hidden: " + testing::percent(skipped, skipped + hidden) +
+                        " of the hidden leaves skipped");
   // Another view of the same scene: the same tree.
-  camera.eye = camera.target + glm::vec3(1.0f, 0.3f, 0.2f) * glm::length(camera.eye - camera.target);
+  camera.eye =
+      camera.target + glm::vec3(1.0f, 0.3f, 0.2f) * glm::length(camera.eye - camera.target);
   render(scene, camera, o, frame);
   EXPECT_EQ(frame.stats.counter("octree: built for this frame"), 0u);
   // A changed scene: a new tree.
@@ -152,7 +157,8 @@ TEST(Octree, TreeHoldsEveryPolygonInTheOctantsItReaches) {
       // The polygon's bounding box reaches the leaf's box.
       for (int a = 0; a < 3; ++a) {
         float lo = INFINITY, hi = -INFINITY;
-        for (const std::uint32_t v : scene.polygon(e.polygon)) lo = std::min(lo, scene.position(v)[a]), hi = std::max(hi, scene.position(v)[a]);
+        for (const std::uint32_t v : scene.polygon(e.polygon))
+          lo = std::min(lo, scene.position(v)[a]), hi = std::max(hi, scene.position(v)[a]);
         const double eps = 1e-5 * glm::length(tree.nodes[0].hi - tree.nodes[0].lo);
         EXPECT_LE(lo, n.hi[a] + eps);
         EXPECT_GE(hi, n.lo[a] - eps);

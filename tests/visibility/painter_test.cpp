@@ -22,8 +22,8 @@ namespace {
 
 using testing::pixelCamera;
 
-using testing::Comparison;
 using testing::compareWithZBuffer;
+using testing::Comparison;
 using testing::describe;
 
 // The notes' two cases no plain order can paint: the naive sort is wrong somewhere on each,
@@ -86,7 +86,10 @@ TEST(Painter, OverdrawCountsEveryPaintedFragment) {
         return x > x0 && x < x1 && y > y0 && y < y1;
       };
       const std::uint32_t covering = in(2, 2, 20, 12) + in(4, 6, 14, 10) + in(8, 4, 28, 14);
-      const PolygonId nearest = in(4, 6, 14, 10) ? 1 : in(8, 4, 28, 14) ? 2 : in(2, 2, 20, 12) ? 0 : kNoPolygon;
+      const PolygonId nearest = in(4, 6, 14, 10)   ? 1
+                                : in(8, 4, 28, 14) ? 2
+                                : in(2, 2, 20, 12) ? 0
+                                                   : kNoPolygon;
       const std::size_t k = static_cast<std::size_t>(row) * 32 + col;
       EXPECT_EQ(f.overdraw[k], covering) << "row " << row << " col " << col;
       EXPECT_EQ(f.ids[k], nearest) << "row " << row << " col " << col;
@@ -101,8 +104,8 @@ TEST(Painter, OverdrawCountsEveryPaintedFragment) {
 // no clearly wrong pixel, cycles closed and broken, and nothing left unresolved.
 TEST(Painter, RandomScenesHaveNoClearlyWrongPixel) {
   std::uint64_t splits = 0, cycles = 0, unresolved = 0;
-  const Comparison total =
-      testing::expectNoWrongPixelOnRandomScenes("painter", [&](const Scene& scene, const Camera& camera) {
+  const Comparison total = testing::expectNoWrongPixelOnRandomScenes(
+      "painter", [&](const Scene& scene, const Camera& camera) {
         RenderOptions o;
         o.algorithm = "painter";
         const Frame f = render(scene, camera, o);
@@ -112,9 +115,9 @@ TEST(Painter, RandomScenesHaveNoClearlyWrongPixel) {
       });
   EXPECT_EQ(unresolved, 0u);
   EXPECT_GT(cycles, 0u) << "the scenes' cyclic overlaps should close cycles";
-  testing::printFigures("painter, " + std::to_string(60 * testing::countScale()) + " random scenes: " +
-                        describe(total) + "; " + testing::grouped(splits) + " splits, " + testing::grouped(cycles) +
-                        " cycles broken");
+  testing::printFigures("painter, " + std::to_string(60 * testing::countScale()) +
+                        " random scenes: " + describe(total) + "; " + testing::grouped(splits) +
+                        " splits, " + testing::grouped(cycles) + " cycles broken");
 }
 
 // The real models of the Mesa test: ids agree with the z-buffer's on at least 99.9% of the

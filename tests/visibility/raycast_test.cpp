@@ -31,25 +31,27 @@ using testing::percent;
 // Where the ray caster's frame differs from the z-buffer's, and why.
 struct RayComparison {
   std::uint64_t drawn = 0, differ = 0;
-  std::uint64_t tie = 0;     // two polygons within kTie of each other in depth
-  std::uint64_t edge = 0;    // else: a ray 1/64 pixel away meets the z-buffer's polygon, or
-                             // another than the centre's: the snapped and exact edges disagree
-  std::uint64_t wrong = 0;   // neither: a clearly different answer
+  std::uint64_t tie = 0;    // two polygons within kTie of each other in depth
+  std::uint64_t edge = 0;   // else: a ray 1/64 pixel away meets the z-buffer's polygon, or
+                            // another than the centre's: the snapped and exact edges disagree
+  std::uint64_t wrong = 0;  // neither: a clearly different answer
   std::uint64_t depth_differs = 0;  // the same polygon, another depth
   std::string first_wrong;
 };
 
 constexpr float kTie = 1e-5f;  // window depth: as the object-order tests' "clearly deeper"
-constexpr std::pair<int, int> kJitter[] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+constexpr std::pair<int, int> kJitter[] = {{1, 0}, {-1, 0},  {0, 1},  {0, -1},
+                                           {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
 
 // The polygon a ray through device point (x, y) meets first, as the ray caster's rays go.
-PolygonId polygonAt(const RayScene& rays, const detail::PixelRays& pixel_rays, double x, double y, RaySides sides) {
+PolygonId polygonAt(const RayScene& rays, const detail::PixelRays& pixel_rays, double x, double y,
+                    RaySides sides) {
   const detail::PixelRay r = pixel_rays.at(x, y);
   return rays.intersect(r.org, r.dir, r.tmax, r.tmin, sides).polygon;
 }
 
-RayComparison compareRays(const Scene& scene, const Camera& cam, const RenderOptions& o, const Frame& z,
-                          const Frame& r) {
+RayComparison compareRays(const Scene& scene, const Camera& cam, const RenderOptions& o,
+                          const Frame& z, const Frame& r) {
   RayComparison c;
   const RayScene rays(scene);
   const detail::PixelRays pixel_rays(cam);
@@ -62,7 +64,8 @@ RayComparison compareRays(const Scene& scene, const Camera& cam, const RenderOpt
     }
     c.differ++;
     const int x = static_cast<int>(k % z.width), y = static_cast<int>(k / z.width);
-    if (z.ids[k] != kNoPolygon && r.ids[k] != kNoPolygon && std::abs(z.depth[k] - r.depth[k]) <= kTie) {
+    if (z.ids[k] != kNoPolygon && r.ids[k] != kNoPolygon &&
+        std::abs(z.depth[k] - r.depth[k]) <= kTie) {
       c.tie++;
       continue;
     }
@@ -76,8 +79,9 @@ RayComparison compareRays(const Scene& scene, const Camera& cam, const RenderOpt
       c.edge++;
     } else if (c.wrong++ == 0) {
       c.first_wrong = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): raycast " +
-                      std::to_string(r.ids[k]) + " at " + std::to_string(r.depth[k]) + ", z-buffer " +
-                      std::to_string(z.ids[k]) + " at " + std::to_string(z.depth[k]);
+                      std::to_string(r.ids[k]) + " at " + std::to_string(r.depth[k]) +
+                      ", z-buffer " + std::to_string(z.ids[k]) + " at " +
+                      std::to_string(z.depth[k]);
     }
   }
   return c;
@@ -85,22 +89,23 @@ RayComparison compareRays(const Scene& scene, const Camera& cam, const RenderOpt
 
 std::string describe(const RayComparison& c) {
   return grouped(c.differ) + " of " + grouped(c.drawn) + " drawn pixels differ (" +
-         percent(c.drawn - c.differ, c.drawn) + " agree): " + grouped(c.tie) + " depth ties, " + grouped(c.edge) +
-         " within 1/64 pixel of an edge, " + grouped(c.wrong) + " otherwise; the same polygon at another depth: " +
-         grouped(c.depth_differs);
+         percent(c.drawn - c.differ, c.drawn) + " agree): " + grouped(c.tie) + " depth ties, " +
+         grouped(c.edge) + " within 1/64 pixel of an edge, " + grouped(c.wrong) +
+         " otherwise; the same polygon at another depth: " + grouped(c.depth_differs);
 }
 
 TEST(Raycast, RealModelsAgreeWithTheZBuffer) {
-  testing::forEachMesaModelView([](const std::string& label, const Scene& scene, const Camera& camera, RenderOptions o) {
-    const Frame z = render(scene, camera, o);
-    o.algorithm = "raycast";
-    const Frame r = render(scene, camera, o);
-    const RayComparison c = compareRays(scene, camera, o, z, r);
-    testing::printFigures(label + ": raycast: " + describe(c));
-    EXPECT_LE(c.differ, c.drawn / 1000);
-    EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
-    EXPECT_EQ(c.depth_differs, 0u);
-  });
+  testing::forEachMesaModelView(
+      [](const std::string& label, const Scene& scene, const Camera& camera, RenderOptions o) {
+        const Frame z = render(scene, camera, o);
+        o.algorithm = "raycast";
+        const Frame r = render(scene, camera, o);
+        const RayComparison c = compareRays(scene, camera, o, z, r);
+        testing::printFigures(label + ": raycast: " + describe(c));
+        EXPECT_LE(c.differ, c.drawn / 1000);
+        EXPECT_EQ(c.wrong, 0u) << c.first_wrong;
+        EXPECT_EQ(c.depth_differs, 0u);
+      });
 }
 
 // A tie at the nearest hit found so far: triangles at the same t in different leaves of the
@@ -121,7 +126,8 @@ TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
   };
   std::vector<Tri> front, cloud;
   for (int p = 0; p < kStacks; ++p) {
-    const glm::vec3 centre(26.0f + 46.0f * (p % 8), 26.0f + 40.0f * (p / 8), 0.25f);  // the plane z = 0.25
+    const glm::vec3 centre(26.0f + 46.0f * (p % 8), 26.0f + 40.0f * (p / 8),
+                           0.25f);  // the plane z = 0.25
     // Six triangles inscribed in a circle of radius 16 around the centre, each turned 20 degrees
     // (and up to 6 more) from the last: each covers the disc of radius 8 around the centre
     std::vector<Tri> stack;
@@ -130,15 +136,18 @@ TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
       glm::vec3 v[3];
       for (int i = 0; i < 3; ++i) {
         const double angle = start + i * (2 * std::numbers::pi / 3);
-        v[i] = centre + glm::vec3(static_cast<float>(16 * std::cos(angle)), static_cast<float>(16 * std::sin(angle)), 0.0f);
+        v[i] = centre + glm::vec3(static_cast<float>(16 * std::cos(angle)),
+                                  static_cast<float>(16 * std::sin(angle)), 0.0f);
       }
       stack.push_back({v[0], v[1], v[2]});
     }
     for (int k = kPerStack - 1; k > 0; --k)  // Fisher-Yates: the submission order
-      std::swap(stack[static_cast<std::size_t>(k)], stack[static_cast<std::size_t>(rng.next() % (k + 1))]);
+      std::swap(stack[static_cast<std::size_t>(k)],
+                stack[static_cast<std::size_t>(rng.next() % (k + 1))]);
     front.insert(front.end(), stack.begin(), stack.end());
     for (int k = 0; k < 24; ++k) {
-      const glm::vec3 q = centre + glm::vec3(rng.uniform(-14, 14), rng.uniform(-14, 14), -1.25f - rng.uniform(0, 2));
+      const glm::vec3 q = centre + glm::vec3(rng.uniform(-14, 14), rng.uniform(-14, 14),
+                                             -1.25f - rng.uniform(0, 2));
       cloud.push_back({q, q + glm::vec3(1.5f, 0, 0), q + glm::vec3(0, 1.5f, 0)});
     }
   }
@@ -159,7 +168,8 @@ TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
       const glm::vec3 v[3] = {front[t].a, front[t].b, front[t].c};
       for (int e = 0; e < 3; ++e) {
         const double ax = v[e].x, ay = v[e].y, bx = v[(e + 1) % 3].x, by = v[(e + 1) % 3].y;
-        const double d = std::abs((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / std::hypot(bx - ax, by - ay);
+        const double d =
+            std::abs((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / std::hypot(bx - ax, by - ay);
         if (d < 0.01) return true;
       }
     }
@@ -182,10 +192,12 @@ TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
   }
   EXPECT_GT(tied, 20000u);
   EXPECT_GT(not_lowest, 1000u);
-  EXPECT_EQ(differ, 0u) << "pixels of the stacks where the ray caster shows another polygon than the z-buffer";
-  testing::printFigures("raycast ties between leaves: " + grouped(kStacks) + " stacks of " + grouped(kPerStack) +
-                        " triangles at one depth, " + grouped(tied) + " pixels, " + grouped(differ) +
-                        " differ from the z-buffer (" + grouped(on_edges) + " on an edge left out)");
+  EXPECT_EQ(differ, 0u)
+      << "pixels of the stacks where the ray caster shows another polygon than the z-buffer";
+  testing::printFigures("raycast ties between leaves: " + grouped(kStacks) + " stacks of " +
+                        grouped(kPerStack) + " triangles at one depth, " + grouped(tied) +
+                        " pixels, " + grouped(differ) + " differ from the z-buffer (" +
+                        grouped(on_edges) + " on an edge left out)");
 }
 
 }  // namespace

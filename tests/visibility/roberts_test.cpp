@@ -1,10 +1,10 @@
 // Roberts' algorithm (hsr/roberts.hpp, src/visibility/roberts.cpp): its visible segments are
 // the edges of the Weiler-Atherton visible set (every segment on a visible-set edge, every
 // visible-set edge on a segment, within 1e-6 of the view size; junction lines, which the visible
-// set snaps to the grid, within two grid units, their ends within 16 where a crossing meets them at a
-// grazing angle); it says which objects are convex solids and
-// why the others are taken face by face; its picture agrees with the z-buffer's on the real
-// models of the Mesa test (the agreement suite, row 4, it joins through the registry).
+// set snaps to the grid, within two grid units, their ends within 16 where a crossing meets them at
+// a grazing angle); it says which objects are convex solids and why the others are taken face by
+// face; its picture agrees with the z-buffer's on the real models of the Mesa test (the agreement
+// suite, row 4, it joins through the registry).
 
 #include <gtest/gtest.h>
 

@@ -72,7 +72,8 @@ TEST(Scanline, SpansPartitionEveryRowAndTheActiveEdgeListEndsEmpty) {
     spans += checker.spans;
     several += checker.several;
     // Observed or not, the same picture.
-    const testing::Identity c = testing::compareBitForBit(render(scene, camera, o), frame, nullptr, "observed");
+    const testing::Identity c =
+        testing::compareBitForBit(render(scene, camera, o), frame, nullptr, "observed");
     EXPECT_EQ(c.differ, 0u) << c.first;
   };
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
@@ -101,9 +102,10 @@ TEST(Scanline, SameFrameAndCountsAtAnyThreadCount) {
   EXPECT_GT(reused, 0u);
   EXPECT_LT(pixels, (reused + ends + pixels) / 4);
   testing::printFigures("scanline spheres:20000 400x300: " + testing::grouped(several) +
-                        " spans inside several polygons: " + testing::grouped(tiny) + " of one or two pixels; of the rest " +
-                        testing::grouped(reused) + " previous row's order, " + testing::grouped(ends) +
-                        " at the ends, " + testing::grouped(pixels) + " pixel by pixel");
+                        " spans inside several polygons: " + testing::grouped(tiny) +
+                        " of one or two pixels; of the rest " + testing::grouped(reused) +
+                        " previous row's order, " + testing::grouped(ends) + " at the ends, " +
+                        testing::grouped(pixels) + " pixel by pixel");
 }
 
 }  // namespace

@@ -32,7 +32,8 @@ ColourAgreement compareColours(const Scene& scene, const Camera& camera) {
   ColourAgreement a;
   for (std::size_t k = 0; k < p.color.size(); ++k) {
     int worst = 0;
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(testing::channel(p, k, c) - testing::channel(b, k, c)));
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(testing::channel(p, k, c) - testing::channel(b, k, c)));
     a.pixels++;
     a.within_one += worst <= 1;
     a.blended += p.overdraw[k] > 1;
@@ -51,8 +52,10 @@ Scene transparentLayers(std::uint64_t seed, int n) {
   s.addPolygonVertices({{-3, -3, -2}, {3, -3, -2}, {3, 3, -2}, {-3, 3, -2}}, floor);
   for (int i = 0; i < n; ++i) {
     const std::uint32_t m =
-        s.addMaterial({{rng.uniform(0.1f, 1.0f), rng.uniform(0.1f, 1.0f), rng.uniform(0.1f, 1.0f)}, rng.uniform(0.3f, 0.7f)});
-    const float z = rng.uniform(-1.5f, 1.5f), tx = rng.uniform(-0.7f, 0.7f), ty = rng.uniform(-0.7f, 0.7f);
+        s.addMaterial({{rng.uniform(0.1f, 1.0f), rng.uniform(0.1f, 1.0f), rng.uniform(0.1f, 1.0f)},
+                       rng.uniform(0.3f, 0.7f)});
+    const float z = rng.uniform(-1.5f, 1.5f), tx = rng.uniform(-0.7f, 0.7f),
+                ty = rng.uniform(-0.7f, 0.7f);
     const float x0 = rng.uniform(-2.5f, 0.0f), x1 = rng.uniform(0.5f, 2.5f);
     const float y0 = rng.uniform(-2.5f, 0.0f), y1 = rng.uniform(0.5f, 2.5f);
     auto at = [&](float x, float y) { return glm::vec3(x, y, z + tx * x + ty * y); };
@@ -65,7 +68,8 @@ TEST(TransparencyOrder, PainterAndBspBlendTheSamePicture) {
   {
     const Scene demo = loadScene("demo");
     const ColourAgreement a = compareColours(demo, frameScene(demo, 320, 240));
-    testing::printFigures("demo 320x240 transparent glass: painter vs bsp: " + testing::percent(a.within_one, a.pixels) +
+    testing::printFigures("demo 320x240 transparent glass: painter vs bsp: " +
+                          testing::percent(a.within_one, a.pixels) +
                           " of pixels within one level, worst " + std::to_string(a.worst));
     EXPECT_GE(a.within_one * 1000, a.pixels * 999);
   }
@@ -85,9 +89,10 @@ TEST(TransparencyOrder, PainterAndBspBlendTheSamePicture) {
     total.pixels += a.pixels, total.within_one += a.within_one, total.blended += a.blended;
     total.worst = std::max(total.worst, a.worst);
   }
-  testing::printFigures(std::to_string(scenes) + " scenes of 6 transparent layers: painter vs bsp: " +
-                        testing::percent(total.within_one, total.pixels) + " of pixels within one level (" +
-                        testing::grouped(total.blended) + " blended), worst " + std::to_string(total.worst));
+  testing::printFigures(
+      std::to_string(scenes) + " scenes of 6 transparent layers: painter vs bsp: " +
+      testing::percent(total.within_one, total.pixels) + " of pixels within one level (" +
+      testing::grouped(total.blended) + " blended), worst " + std::to_string(total.worst));
 }
 
 }  // namespace

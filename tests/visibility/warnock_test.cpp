@@ -1,8 +1,8 @@
 // Warnock's area subdivision (warnock.cpp). It shares the z-buffer's coverage, fragment depth
 // and tie rule, so its frame must be the z-buffer's bit for bit (ids, depths, colours): its
 // entry says zbuffer-frame, and tests/cross/zbuffer_frame_test.cpp holds it to that on the
-// agreement scene set, the real models and glass. Here: the notes' invariants hold: the recursion is
-// never deeper than ceil(log2(max(W, H))) + 1 levels, and the leaves partition the viewport
+// agreement scene set, the real models and glass. Here: the notes' invariants hold: the recursion
+// is never deeper than ceil(log2(max(W, H))) + 1 levels, and the leaves partition the viewport
 // exactly.
 
 #include <gtest/gtest.h>
@@ -70,7 +70,8 @@ TEST(Warnock, LeavesPartitionTheViewportWithinTheDepthBound) {
     EXPECT_LE(leaves.deepest, bound);
     deepest = std::max(deepest, leaves.deepest);
     for (int k = 0; k < detail::kWarnockStops; ++k) by_why[k] += leaves.by_why[k];
-    const testing::Identity c = testing::compareBitForBit(render(scene, camera, o), frame, nullptr, "observed");
+    const testing::Identity c =
+        testing::compareBitForBit(render(scene, camera, o), frame, nullptr, "observed");
     EXPECT_EQ(c.differ, 0u) << c.first;
   };
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
@@ -83,8 +84,9 @@ TEST(Warnock, LeavesPartitionTheViewportWithinTheDepthBound) {
   // Every way of stopping occurs.
   for (int k = 0; k < detail::kWarnockStops; ++k) EXPECT_GT(by_why[k], 0u) << "stop " << k;
   testing::printFigures("warnock leaves: " + testing::grouped(by_why[0]) + " nothing there, " +
-                        testing::grouped(by_why[1]) + " one polygon, " + testing::grouped(by_why[2]) +
-                        " surrounder in front, " + testing::grouped(by_why[3]) + " pixels; deepest level " +
+                        testing::grouped(by_why[1]) + " one polygon, " +
+                        testing::grouped(by_why[2]) + " surrounder in front, " +
+                        testing::grouped(by_why[3]) + " pixels; deepest level " +
                         std::to_string(deepest));
 }
 

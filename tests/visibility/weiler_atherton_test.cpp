@@ -1,9 +1,9 @@
 // The Weiler-Atherton visible set (hsr/visible_set.hpp, src/visibility/weiler_atherton.cpp):
 // its regions never overlap (the area of every pairwise intersection is exactly 0), they add
 // up exactly to the union of the snapped polygons and, within the squares its outline crosses,
-// to the pixels the z-buffer covers, nothing is left unresolved on these scenes; and on the real models of the Mesa test
-// its frame agrees with the z-buffer's (docs/testing.md row 4 is the agreement suite, which
-// it joins through the registry).
+// to the pixels the z-buffer covers, nothing is left unresolved on these scenes; and on the real
+// models of the Mesa test its frame agrees with the z-buffer's (docs/testing.md row 4 is the
+// agreement suite, which it joins through the registry).
 
 #include <gtest/gtest.h>
 
@@ -38,7 +38,8 @@ Box boxOf(const ExactRegion& r) {
   Box b{INFINITY, INFINITY, -INFINITY, -INFINITY};
   for (const ExactPolygon& p : r)
     for (const ExactPoint& v : p.outer)
-      b = {std::min(b.x0, v.xd()), std::min(b.y0, v.yd()), std::max(b.x1, v.xd()), std::max(b.y1, v.yd())};
+      b = {std::min(b.x0, v.xd()), std::min(b.y0, v.yd()), std::max(b.x1, v.xd()),
+           std::max(b.y1, v.yd())};
   return b;
 }
 
@@ -50,7 +51,8 @@ ExactRegion snappedUnion(const Scene& scene, const Camera& camera, const RenderO
     if (w.transparent) continue;
     GridRing ring;
     for (const glm::dvec3& v : w.vertices) {
-      const GridPoint g{std::llrint(v.x * detail::kSubpixelOne), std::llrint(v.y * detail::kSubpixelOne)};
+      const GridPoint g{std::llrint(v.x * detail::kSubpixelOne),
+                        std::llrint(v.y * detail::kSubpixelOne)};
       if (ring.empty() || !(ring.back() == g)) ring.push_back(g);
     }
     while (ring.size() > 1 && ring.front() == ring.back()) ring.pop_back();
@@ -91,8 +93,8 @@ double squaresOnTheOutline(const ExactRegion& region) {
 // union's outline passes through (squaresOnTheOutline: sampling at pixel centres can be off by
 // no more). An earlier bound of 0.1% of the covered pixels was a figure seen on some scenes, not
 // a property: scene 12's centres fall 0.14% short of its area.
-void checkView(const Scene& scene, const Camera& camera, const RenderOptions& o, const std::string& what, Tally& t,
-               bool union_check) {
+void checkView(const Scene& scene, const Camera& camera, const RenderOptions& o,
+               const std::string& what, Tally& t, bool union_check) {
   const VisibleSet set = visibleSet(scene, camera, o);
   EXPECT_EQ(set.unresolved, 0u) << what;
   t.scenes++;
@@ -106,10 +108,11 @@ void checkView(const Scene& scene, const Camera& camera, const RenderOptions& o,
       const Box &a = boxes[i], &b = boxes[j];
       if (a.x0 >= b.x1 || b.x0 >= a.x1 || a.y0 >= b.y1 || b.y0 >= a.y1) continue;
       t.pairs++;
-      const std::string shared = exactArea(booleanOp(set.polygons[i].region, set.polygons[j].region, BooleanOp::Intersection));
+      const std::string shared = exactArea(
+          booleanOp(set.polygons[i].region, set.polygons[j].region, BooleanOp::Intersection));
       if (shared != "0" && t.overlapping++ < 5)
-        ADD_FAILURE() << what << ": visible polygons " << set.polygons[i].id << " and " << set.polygons[j].id << " overlap by "
-                      << shared << " square grid units";
+        ADD_FAILURE() << what << ": visible polygons " << set.polygons[i].id << " and "
+                      << set.polygons[j].id << " overlap by " << shared << " square grid units";
     }
   }
   const ExactRegion all = snappedUnion(scene, camera, o);
@@ -122,7 +125,8 @@ void checkView(const Scene& scene, const Camera& camera, const RenderOptions& o,
   std::uint64_t covered = 0;
   for (const PolygonId id : f.ids) covered += id != kNoPolygon;
   const double area = sum.get_d() / (double{detail::kSubpixelOne} * detail::kSubpixelOne);
-  const double off = std::abs(area - static_cast<double>(covered)), bound = squaresOnTheOutline(all);
+  const double off = std::abs(area - static_cast<double>(covered)),
+               bound = squaresOnTheOutline(all);
   EXPECT_LT(off, bound) << what << ": " << covered << " pixels covered, visible area " << area;
   t.worst_share = std::max(t.worst_share, off / bound);
 }
@@ -133,7 +137,8 @@ TEST(WeilerAtherton, VisibleRegionsNeverOverlapAndAddUp) {
     const std::uint64_t seed = 1 + static_cast<std::uint64_t>(i);
     RenderOptions o;
     o.cull = i % 3 == 0 ? CullMode::Back : CullMode::None;
-    checkView(testing::agreementScene(seed), testing::agreementCamera(seed), o, "scene " + std::to_string(seed), t, true);
+    checkView(testing::agreementScene(seed), testing::agreementCamera(seed), o,
+              "scene " + std::to_string(seed), t, true);
   }
   for (const char* spec : {"demo", "cyclic", "penetrating"}) {
     const Scene scene = loadScene(spec);
@@ -144,9 +149,10 @@ TEST(WeilerAtherton, VisibleRegionsNeverOverlapAndAddUp) {
     checkView(scene, frameScene(scene, 640, 480), {}, "spheres:300", t, false);
   }
   EXPECT_EQ(t.overlapping, 0u);
-  testing::printFigures("weiler-atherton visible set: " + grouped(t.scenes) + " views, " + grouped(t.polygons) +
-                        " visible polygons, " + grouped(t.pairs) + " pairs with overlapping boxes, " +
-                        grouped(t.overlapping) + " overlapping (exact areas); covered pixels within " +
+  testing::printFigures("weiler-atherton visible set: " + grouped(t.scenes) + " views, " +
+                        grouped(t.polygons) + " visible polygons, " + grouped(t.pairs) +
+                        " pairs with overlapping boxes, " + grouped(t.overlapping) +
+                        " overlapping (exact areas); covered pixels within " +
                         std::to_string(static_cast<int>(std::lround(100 * t.worst_share))) +
                         "% of their bound from the area");
 }
@@ -165,8 +171,10 @@ TEST(WeilerAtherton, CyclicAndPenetratingScenesSplitAndAgree) {
     const testing::Comparison c = testing::compareWithZBuffer(scene, camera, "weiler-atherton");
     EXPECT_EQ(c.wrong, 0u) << spec << ": " << c.first_wrong;
     EXPECT_EQ(c.ids_differ, 0u) << spec;
-    testing::printFigures(std::string("weiler-atherton ") + spec + ": " + grouped(set.polygons.size()) + " visible polygons, " +
-                          grouped(set.clips) + " clips, " + grouped(set.splits) + " splits; " + testing::describe(c));
+    testing::printFigures(std::string("weiler-atherton ") + spec + ": " +
+                          grouped(set.polygons.size()) + " visible polygons, " +
+                          grouped(set.clips) + " clips, " + grouped(set.splits) + " splits; " +
+                          testing::describe(c));
   }
 }
 
@@ -227,9 +235,11 @@ TEST(WeilerAtherton, RealModelsAgreeWithTheZBuffer) {
       o.algorithm = "weiler-atherton";
       const auto t0 = std::chrono::steady_clock::now();
       const Frame f = render(scene, camera, o);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       const testing::Comparison c = testing::compareFrames(z, f, "weiler-atherton");
-      testing::printFigures(std::string(model) + (cull == CullMode::None ? " cull none" : " cull back") +
+      testing::printFigures(std::string(model) +
+                            (cull == CullMode::None ? " cull none" : " cull back") +
                             ": weiler-atherton: " + testing::describe(c) + " (" +
                             testing::percent(c.drawn - c.ids_differ, c.drawn) + " agree), " +
                             grouped(f.stats.counter("weiler-atherton: clips")) + " clips, " +
