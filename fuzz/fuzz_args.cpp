@@ -61,8 +61,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       scene = hsr::makeBuiltinScene("demo");
     }
     // Files named by --camera and --pose are not read either (fuzz_camera reads their text)
-    a.camera_file.clear();
-    a.pose_file.clear();
+    a.option_text.erase("camera");
+    a.option_text.erase("pose");
     hsr::Camera camera = hsr::cli::makeCamera(a, scene);
     hsr::RenderOptions options = hsr::cli::makeOptions(a);
     options.threads = std::min(options.threads, 2);

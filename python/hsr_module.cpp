@@ -22,6 +22,7 @@
 #include "hsr/algorithms.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
+#include "hsr/frontend.hpp"
 #include "hsr/gl.hpp"
 #include "hsr/io.hpp"
 #include "hsr/ray_scene.hpp"
@@ -151,25 +152,37 @@ py::dict frameArrays(hsr::Frame&& f, const hsr::Scene& scene, const hsr::Camera&
   return d;
 }
 
-hsr::RenderOptions optionsOf(const std::string& algorithm, const std::string& cull,
-                             const std::string& front_face, const std::string& polygon_mode,
-                             const std::string& depth_func, bool depth_test, bool depth_mask,
-                             bool outline, bool shade, int threads, int samples, float point_size) {
-  hsr::RenderOptions o;
-  o.algorithm = algorithm;
-  o.cull = hsr::parseCullMode(cull);
-  o.front_face = hsr::parseFrontFace(front_face);
-  o.polygon_mode = hsr::parsePolygonMode(polygon_mode);
-  o.depth_func = hsr::parseDepthFunc(depth_func);
-  o.depth_test = depth_test;
-  o.depth_mask = depth_mask;
-  o.outline = outline;
-  o.shade = shade;
-  if (threads < 0) throw hsr::Error("threads must be >= 0");
-  o.threads = threads;
-  o.samples = samples;
-  o.point_size = point_size;
-  return o;
+// A Python value as the option table takes it: a bool, a whole number, a number, a string or a
+// sequence of numbers (a NumPy array among them).
+hsr::OptionValue optionValueOf(const std::string& name, py::handle v) {
+  if (py::isinstance<py::bool_>(v)) return v.cast<bool>();
+  if (py::isinstance<py::int_>(v)) return v.cast<std::int64_t>();
+  if (py::isinstance<py::float_>(v)) return v.cast<double>();
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::hasattr(v, "__index__")) return py::int_(v.attr("__index__")()).cast<std::int64_t>();
+  if (py::hasattr(v, "__float__") && !py::hasattr(v, "__len__"))
+    return py::float_(v.attr("__float__")()).cast<double>();
+  try {
+    return v.cast<std::vector<double>>();
+  } catch (const py::cast_error&) {
+    throw hsr::Error(name + " must be a bool, a number, a string or numbers (got " +
+                     std::string(py::str(py::type::of(v).attr("__name__"))) + ")");
+  }
+}
+
+// The options given to render() or view(), checked by the library's table (hsr/frontend.hpp)
+// as the command line and the web page check them; `view` says which half the call takes.
+hsr::OptionRequest requestOf(const py::dict& options, bool view) {
+  hsr::OptionRequest r(hsr::FrontEnd::kPython);
+  for (const auto& [key, value] : options) {
+    const std::string name = py::str(key);
+    const hsr::OptionSpec* spec = hsr::findOptionSpec(name);
+    if (spec && spec->view != view && spec->offeredBy(hsr::FrontEnd::kPython))
+      throw hsr::Error(name + (view ? " is a render option: give it to hsr.render()"
+                                    : " sets the camera: give it to hsr.view()"));
+    r.set(name, optionValueOf(name, value));
+  }
+  return r;
 }
 
 }  // namespace
@@ -305,14 +318,9 @@ PYBIND11_MODULE(_hsr, m) {
 
   m.def(
       "render",
-      [](const hsr::Scene& scene, const hsr::Camera& camera, const std::string& algorithm,
-         const std::string& depth, const std::string& normals, const std::string& cull,
-         const std::string& front_face, const std::string& polygon_mode,
-         const std::string& depth_func, bool depth_test, bool depth_mask, bool outline, bool shade,
-         int threads, int samples, float point_size) {
-        const hsr::RenderOptions o =
-            optionsOf(algorithm, cull, front_face, polygon_mode, depth_func, depth_test, depth_mask,
-                      outline, shade, threads, samples, point_size);
+      [](const hsr::Scene& scene, const hsr::Camera& camera, const std::string& depth,
+         const std::string& normals, const py::dict& options) {
+        const hsr::RenderOptions o = requestOf(options, false).options();
         const hsr::DepthKind kind = hsr::depthKindNamed(depth);
         const hsr::NormalSpace space =
             normals.empty() ? hsr::NormalSpace::kNone : hsr::normalSpaceNamed(normals);
@@ -321,14 +329,42 @@ PYBIND11_MODULE(_hsr, m) {
           py::gil_scoped_release release;
           f = hsr::render(scene, camera, o);
         }
-        return frameArrays(std::move(f), scene, camera, kind, space, algorithm);
+        return frameArrays(std::move(f), scene, camera, kind, space, o.algorithm);
       },
-      py::arg("scene"), py::arg("camera"), py::arg("algorithm") = "zbuffer",
-      py::arg("depth") = "window", py::arg("normals") = "", py::arg("cull") = "none",
-      py::arg("front_face") = "ccw", py::arg("polygon_mode") = "fill",
-      py::arg("depth_func") = "less", py::arg("depth_test") = true, py::arg("depth_mask") = true,
-      py::arg("outline") = false, py::arg("shade") = true, py::arg("threads") = 0,
-      py::arg("samples") = 0, py::arg("point_size") = 1.0f);
+      py::arg("scene"), py::arg("camera"), py::arg("depth") = "window", py::arg("normals") = "",
+      py::arg("options") = py::dict(),
+      "renders with the options of hsr.options() whose view is False, by name");
+
+  m.def(
+      "view",
+      [](const hsr::Scene& scene, const py::dict& options) {
+        return requestOf(options, true)
+            .camera(scene, scene.name.empty() ? "the scene" : scene.name);
+      },
+      py::arg("scene"), py::arg("options") = py::dict(),
+      "the camera the view options of hsr.options() describe, fitted to scene where not given");
+
+  m.def(
+      "options",
+      [] {
+        static const char* kKinds[] = {"flag",   "integer", "number", "name",
+                                       "vector", "text",    "file"};
+        py::list out;
+        for (const hsr::OptionSpec& o : hsr::optionSpecs()) {
+          if (!o.offeredBy(hsr::FrontEnd::kPython)) continue;
+          out.append(py::dict(
+              py::arg("name") = std::string(o.name),
+              py::arg("kind") = kKinds[static_cast<int>(o.kind)], py::arg("view") = o.view,
+              py::arg("default") = std::string(o.default_text),
+              py::arg("help") = std::string(o.help), py::arg("choices") = std::string(o.choices),
+              py::arg("range") = py::make_tuple(o.lo, o.hi),
+              py::arg("needs") = hsr::capabilityList(o.needs),
+              py::arg("cli") = hsr::spelled(o.name, hsr::FrontEnd::kCli)));
+        }
+        return out;
+      },
+      "every option render() and view() take: name, kind, view, default, help, choices, range, "
+      "the capability an algorithm needs to take it, and its command-line spelling");
 
   m.def(
       "render_files",

@@ -62,7 +62,7 @@ int runBuild(BspVerb& v) {
                total ? 100.0 * double(done) / double(total) : 100.0);
     std::fflush(stderr);
   };
-  const hsr::BspOptions options{a.bsp_splitter, a.bsp_seed, a.bsp_candidates};
+  const hsr::BspOptions options = makeOptions(a).bsp;
   const hsr::Bsp bsp = hsr::buildBsp(scene, options, progress);
   if (drew) fmt::print(stderr, "\n");
   hsr::saveBsp(bsp, v.output);
@@ -81,9 +81,9 @@ int runRender(BspVerb& v) {
       throw hsr::Error(
           fmt::format("{} applies when a tree is built (hsr bsp build); {} holds a built one",
                       option, a.scene));
-  if (v.render->count("--algorithm") > 0 && a.algorithm != "bsp")
+  if (v.render->count("--algorithm") > 0 && a.text("algorithm") != "bsp")
     throw hsr::Error("hsr bsp render draws with the tree (--algorithm bsp); use hsr render for " +
-                     a.algorithm);
+                     a.text("algorithm"));
   OutputPlan plan(a.scene);
   const bool orbit = v.orbit > 0;
   if (v.render->count("--orbit") > 0 && v.orbit < 1) throw hsr::Error("--orbit must be at least 1");

@@ -3,6 +3,7 @@
 #include "common.hpp"
 
 #include "hsr/compare.hpp"
+#include "hsr/frontend.hpp"
 #include "hsr/io.hpp"
 
 #include <algorithm>
@@ -28,21 +29,6 @@ void allOptionNames(CLI::App* app, std::vector<std::string>& names) {
     for (const std::string& n : o->get_snames()) names.push_back("-" + n);
   }
   for (CLI::App* sub : app->get_subcommands({})) allOptionNames(sub, names);
-}
-
-std::size_t editDistance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
 }
 
 }  // namespace
@@ -93,7 +79,7 @@ std::string nearMissHint(CLI::App* app, int argc, const char* const* argv) {
     std::string best;
     std::size_t best_distance = 3;
     for (const std::string& n : names) {
-      const std::size_t d = editDistance(arg, n);
+      const std::size_t d = hsr::editDistance(arg, n);
       if (d < best_distance) best_distance = d, best = n;
     }
     if (!best.empty()) return fmt::format("{}: did you mean {}?", arg, best);
@@ -141,7 +127,7 @@ std::string verbMissHint(std::string_view first, const std::vector<std::string_v
   for (const hsr::BuiltinScene& b : hsr::builtinScenes())
     if (b.name.substr(0, b.name.find(':')) == base) return {};
   for (const std::string_view v : verbs)
-    if (editDistance(first, v) <= 2)
+    if (hsr::editDistance(first, v) <= 2)
       return fmt::format("{}: no such verb, file or built-in scene; did you mean {}?",
                          printable(first), v);
   return {};

@@ -71,21 +71,14 @@ ViewPlan planViews(const Args& a, const Given& given) {
   if (given.views_file && given.orbit)
     throw hsr::Error("--views and --orbit both give the views: give one");
   if (given.views_file) {
-    for (const auto& [set, name] : {std::pair{!a.eye.empty(), "--eye"},
-                                    {!a.target.empty(), "--target"},
-                                    {!a.up.empty(), "--up"},
-                                    {!a.fov.empty(), "--fov"},
-                                    {a.ortho, "--ortho"},
-                                    {!a.camera_file.empty(), "--camera"},
-                                    {!a.intrinsics.empty(), "--intrinsics"},
-                                    {!a.pose_file.empty(), "--pose"},
-                                    {!a.near.empty(), "--near"},
-                                    {!a.far.empty(), "--far"}})
-      if (set)
-        throw hsr::Error(
-            fmt::format("{} and --views both set the view: the file gives each view", name));
+    for (const char* name :
+         {"eye", "target", "up", "fov", "ortho", "camera", "intrinsics", "pose", "near", "far"})
+      if (a.given(name))
+        throw hsr::Error(fmt::format("{} and --views both set the view: the file gives each view",
+                                     hsr::spelled(name, hsr::FrontEnd::kCli)));
     hsr::ViewDefaults defaults;  // --size: the size of every view that names none
-    if (!a.size.empty()) hsr::cli::parseImageSize(a.size, &defaults.width, &defaults.height);
+    if (a.given("size"))
+      hsr::cli::parseImageSize(a.text("size"), &defaults.width, &defaults.height);
     // names itself
     const std::string text = hsr::cli::readUserFile(a.views_file, "--views", 256u << 20);
     try {
@@ -298,7 +291,7 @@ int runExplainDoom(const Args& a, const std::string& map_name, const fs::path& d
   if (map_name.empty())
     throw hsr::Error("explain bsp2d draws a Doom map: give the WAD and --map MAP01");
   int width = 640, height = 400;
-  if (!a.size.empty()) hsr::cli::parseImageSize(a.size, &width, &height);
+  if (a.given("size")) hsr::cli::parseImageSize(a.text("size"), &width, &height);
   const doom::Map map = doom::readMap(doom::readWad(a.scene), map_name);
   const doom::Nodes nodes = doom::buildNodes(map);
   const doom::Level level = doom::levelScene(map, nodes);
@@ -320,11 +313,12 @@ int runExplain(const Args& a, const std::string& dir_arg, const std::string& map
   if (given.explain_dir && dir_arg.empty())
     throw hsr::Error("-o \"\": an empty path names no directory");
   const fs::path dir =
-      dir_arg.empty() ? fs::path("out") / ("explain-" + a.algorithm + "-" + sceneLabel(a.scene))
-                      : fs::path(dir_arg);
+      dir_arg.empty()
+          ? fs::path("out") / ("explain-" + a.text("algorithm") + "-" + sceneLabel(a.scene))
+          : fs::path(dir_arg);
   OutputPlan plan(a.scene);
   plan.directory("-o", dir.string());
-  if (a.algorithm == "bsp2d") return runExplainDoom(a, map_name, dir);
+  if (a.text("algorithm") == "bsp2d") return runExplainDoom(a, map_name, dir);
   if (!map_name.empty()) throw hsr::Error("--map names a Doom map, for explain bsp2d");
   const hsr::Scene scene = hsr::loadScene(a.scene, hsr::cli::importLimits(a));
   const hsr::Camera cam = makeCamera(a, scene);
@@ -424,7 +418,7 @@ int main(int argc, char** argv) {
   CLI::App* explain = app.add_subcommand(
       "explain", "explain ALGORITHM on SCENE step by step: numbered pictures and a contact sheet");
   explain
-      ->add_option("ALGORITHM", a.algorithm,
+      ->add_option("ALGORITHM", a.option_text["algorithm"],
                    "an algorithm that can explain itself, or bsp2d (a WAD and --map)")
       ->required();
   addViewOptions(explain, a);

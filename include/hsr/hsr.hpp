@@ -12,6 +12,7 @@
 #include "hsr/doom.hpp"        // Doom maps, their 2D BSP, the column view
 #include "hsr/error.hpp"       // hsr::Error, the one error type
 #include "hsr/explain.hpp"     // an algorithm's steps as pictures
+#include "hsr/frontend.hpp"    // every option of the CLI, Python and the web page, checked once
 #include "hsr/gl.hpp"          // the GL-style facade (depth test, mask, cull, polygon mode)
 #include "hsr/io.hpp"          // scene sources and writers (PNG, NPY, JSON)
 #include "hsr/line_drawing.hpp"  // hidden-line drawings as strokes, SVG and PDF

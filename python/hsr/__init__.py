@@ -24,7 +24,7 @@ from . import _hsr
 from ._hsr import Camera, Error, RayScene, Scene, algorithms, gl, render_files
 
 __all__ = ["Scene", "Camera", "Error", "RayScene", "Frame", "render", "render_files", "algorithms",
-           "gl", "camera_from_intrinsics", "scene_from_arrays", "NO_ID"]
+           "gl", "camera_from_intrinsics", "scene_from_arrays", "view", "options", "NO_ID"]
 
 NO_ID = 0xFFFFFFFF  # ids, objects, materials where nothing was drawn
 
@@ -44,22 +44,34 @@ class Frame:
     stats: dict = field(default_factory=dict)  # counts, stage times, the camera, the tables
 
 
-def render(scene, camera, algorithm="zbuffer", depth="window", normals=None, cull="none",
-           front_face="ccw", polygon_mode="fill", depth_func="less", depth_test=True,
-           depth_mask=True, outline=False, shade=True, threads=0, samples=0, point_size=1.0):
+def render(scene, camera, algorithm="zbuffer", depth="window", normals=None, **options):
     """Renders `scene` from `camera` with `algorithm` (any of hsr.algorithms()).
 
     depth: "window" (OpenGL window z in [0, 1], 1 where nothing was drawn), "linear" (along the
     view axis) or "distance" (along the pixel's ray), both in scene units, inf where nothing
-    was drawn. normals: None, "world" or "eye". The rest are the OpenGL-style controls
-    (point_size: glPointSize for polygon_mode="point").
+    was drawn. normals: None, "world" or "eye". The options are the render state of
+    hsr.options(), as the command line names them without the dashes: the OpenGL-style
+    controls (cull, front_face, polygon_mode, point_size, depth_func, depth_test, depth_mask,
+    clear_depth, outline, shade, facing), threads, samples, fragment_memory (MiB) and the BSP
+    tree's bsp_splitter, bsp_seed and bsp_candidates; each checked as `hsr render` checks it.
     """
-    arrays = _hsr.render(scene, camera, algorithm=algorithm, depth=depth, normals=normals or "",
-                         cull=cull, front_face=front_face, polygon_mode=polygon_mode,
-                         depth_func=depth_func, depth_test=depth_test, depth_mask=depth_mask,
-                         outline=outline, shade=shade, threads=threads, samples=samples,
-                         point_size=point_size)
+    arrays = _hsr.render(scene, camera, depth, normals or "", dict(options, algorithm=algorithm))
     return Frame(**arrays)
+
+
+def view(scene, **options):
+    """The camera the view options of hsr.options() describe, as `hsr render` makes it from
+    its flags: size=(width, height) (default 800 x 600), eye, target, up, fov, ortho, near,
+    far, intrinsics=(fx, fy, cx, cy) and camera_index (a scene file's camera, or "auto");
+    fitted to `scene` where not given."""
+    return _hsr.view(scene, options)
+
+
+def options():
+    """Every option render() and view() take, from the table the command line and the web page
+    share: name, kind, view, default, help, choices, range, needs (the capability an algorithm
+    needs to take a value other than the default) and cli (the command line's spelling)."""
+    return _hsr.options()
 
 
 def scene_from_arrays(vertices, faces, name="mesh", color=None):

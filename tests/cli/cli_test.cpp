@@ -314,7 +314,7 @@ TEST(Cli, CamerasInReproduceTheView) {
   expectCleanError("render solids --pose " + (d / "short.txt").string() + " -q", "6 numbers");
   expectCleanError("render solids --pose " + (d / "none.txt").string() + " -q", "no such file");
   expectCleanError("render solids --pose " + cv.string() + " --pose-convention colmap -q",
-                   "opencv or opengl");
+                   "must be one of opencv|opengl");
   spit(d / "bad.json", "{\"eye\": [0, 0, 5]}");
   expectCleanError("render solids --camera " + (d / "bad.json").string() + " -q",
                    "\"width\" is missing");
@@ -512,7 +512,7 @@ TEST(Cli, NewUserPapercuts) {
   EXPECT_EQ(
       runCli("render demo --size 32x24 -q --polygon-mode point --point-size 3 -o " + png).code, 0);
   expectCleanError("render demo --polygon-mode point --point-size 100",
-                   "point size must be from 1 to 64");
+                   "--point-size must be in [1, 64] pixels");
   const CliRun away =
       runCli("render demo --size 32x24 --eye 0,0,-1000 --target 0,0,-2000 -q -o " + png);
   EXPECT_NE(away.err.find("outside the view"), std::string::npos) << away.err;

@@ -15,6 +15,7 @@
 // A call that fails returns -1 (or null) and hsr_web_error() says why in one line, as the CLI
 // would. Nothing here reads or writes files.
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <exception>
@@ -28,6 +29,7 @@
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/explain.hpp"
+#include "hsr/frontend.hpp"
 #include "hsr/io.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
@@ -91,50 +93,62 @@ int guarded(F&& f) {
   return -1;
 }
 
-glm::vec3 vec3Of(const json& j, const char* what) {
-  if (!j.is_array() || j.size() != 3)
-    throw hsr::Error(std::string("camera.") + what + ": three numbers");
-  return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()};
+// A JSON value as the option table takes it: a bool, a whole number, a number, a string, or
+// an array of numbers.
+hsr::OptionValue valueOf(const std::string& name, const json& v) {
+  if (v.is_boolean()) return v.get<bool>();
+  if (v.is_number_integer()) return v.get<std::int64_t>();
+  if (v.is_number()) return v.get<double>();
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_array() && std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); }))
+    return v.get<std::vector<double>>();
+  throw hsr::Error(name + " must be a bool, a number, a string or numbers (got " + v.dump() + ")");
 }
 
-// The request's size and camera. With no "camera", the scene framed as `hsr render` frames it;
-// with one, that camera's eye, target, up and field of view (the page's orbit), near and far
-// fitted to the scene.
-hsr::Camera cameraOf(const json& r, const hsr::Scene& scene) {
-  const int width = r.value("width", 320), height = r.value("height", 240);
-  if (width < 1 || height < 1 || width > kMaxSide || height > kMaxSide)
-    throw hsr::Error("size " + std::to_string(width) + "x" + std::to_string(height) + ": 1 to " +
-                     std::to_string(kMaxSide) + " pixels a side");
-  hsr::Camera camera = hsr::frameScene(scene, width, height);
-  if (r.contains("camera")) {
-    const json& c = r["camera"];
-    camera.eye = vec3Of(c.at("eye"), "eye");
-    camera.target = vec3Of(c.at("target"), "target");
-    camera.up = vec3Of(c.value("up", json::array({0, 1, 0})), "up");
-    camera.fov_deg = c.value("fov_deg", camera.fov_deg);
-    camera.ortho = c.value("ortho", false);
-    if (camera.ortho) camera.ortho_half_height = hsr::orthoHalfHeightFor(camera, scene.bounds());
-    hsr::fitNearFar(camera, scene.bounds());
+// The request, read by the library's option table (hsr/frontend.hpp) and checked as `hsr
+// render` checks its flags, with the same messages: "width" and "height" (default 320x240) are
+// the size, the page's "camera" {eye, target, up, fov_deg, ortho} its view (fov_deg is the
+// table's fov), and every other key an option of the table by its name. With no camera, the
+// scene is framed as `hsr render` frames it; with one, near and far are fitted to the scene.
+hsr::OptionRequest optionsOf(const json& r) {
+  hsr::OptionRequest q(hsr::FrontEnd::kWeb);
+  std::vector<double> size{320, 240};
+  int w = 0, h = 0;
+  for (const auto& [key, value] : r.items()) {
+    if (key == "width" || key == "height") {
+      if (!value.is_number())
+        throw hsr::Error(key + " must be a number of pixels (got " + value.dump() + ")");
+      size[key == "width" ? 0 : 1] = value.get<double>();
+    } else if (key == "size") {
+      q.set("size", valueOf(key, value));  // checked, then read back for the page's limit
+      q.size(&w, &h);
+      size = {double(w), double(h)};
+    } else if (key == "camera") {
+      if (!value.is_object()) throw hsr::Error("camera must be an object");
+      for (const auto& [k, v] : value.items()) {
+        const std::string name = k == "fov_deg" ? "fov" : k;
+        q.set(name, valueOf(name, v));
+      }
+    } else {
+      q.set(key, valueOf(key, value));
+    }
   }
-  camera.validate();
-  return camera;
+  q.set("size", size);  // checked as the table checks a size; then the page's own limit
+  if (size[0] > kMaxSide || size[1] > kMaxSide)
+    throw hsr::Error("size " + std::to_string(int(size[0])) + "x" + std::to_string(int(size[1])) +
+                     ": 1 to " + std::to_string(kMaxSide) + " pixels a side");
+  if (!r.contains("threads")) q.set("threads", std::int64_t{1});  // the module runs one thread
+  return q;
 }
 
-// The GL-style controls, named as the CLI names them.
-hsr::RenderOptions optionsOf(const json& r) {
-  hsr::RenderOptions o;
-  o.algorithm = r.value("algorithm", std::string("zbuffer"));
-  (void)hsr::findAlgorithm(o.algorithm);  // an unknown name: the CLI's error line
-  o.cull = hsr::parseCullMode(r.value("cull", std::string("none")));
-  o.front_face = hsr::parseFrontFace(r.value("front_face", std::string("ccw")));
-  o.depth_test = r.value("depth_test", true);
-  o.depth_func = hsr::parseDepthFunc(r.value("depth_func", std::string("less")));
-  o.depth_mask = r.value("depth_mask", true);
-  o.clear_depth = r.value("clear_depth", 1.0f);
-  o.polygon_mode = hsr::parsePolygonMode(r.value("polygon_mode", std::string("fill")));
-  o.outline = r.value("outline", false);
-  o.samples = r.value("samples", 0);
-  o.threads = 1;
+hsr::Camera cameraOf(const hsr::OptionRequest& q, const hsr::Scene& scene) {
+  return q.camera(scene, scene.name.empty() ? "the scene" : scene.name);
+}
+
+// The render state; an unknown algorithm is refused as the CLI refuses it.
+hsr::RenderOptions renderOptionsOf(const hsr::OptionRequest& q) {
+  hsr::RenderOptions o = q.options();
+  (void)hsr::findAlgorithm(o.algorithm);
   return o;
 }
 
@@ -203,7 +217,7 @@ HSR_WEB_EXPORT const char* hsr_web_scene(const char* request) {
   const int ok = guarded([&] {
     requireScene();
     const hsr::Scene& s = state().scene;
-    const hsr::Camera c = cameraOf(requestOf(request), s);
+    const hsr::Camera c = cameraOf(optionsOf(requestOf(request)), s);
     const hsr::Bounds b = s.bounds();
     j = {{"name", s.name},
          {"polygons", s.polygonCount()},
@@ -223,17 +237,17 @@ HSR_WEB_EXPORT const char* hsr_web_scene(const char* request) {
   return ok == 0 ? answer(j) : nullptr;
 }
 
-// Renders the loaded scene as the request says; 0 or -1. The request: "algorithm", "width",
-// "height", "camera" {eye, target, up, fov_deg, ortho}, and the GL-style controls as the CLI
-// names them: "cull" (none, back, front, both), "front_face" (ccw, cw), "depth_test",
-// "depth_func" (never ... always), "depth_mask", "clear_depth", "polygon_mode" (fill, line,
-// point), "outline", "samples".
+// Renders the loaded scene as the request says; 0 or -1. The request: "width", "height",
+// "camera" {eye, target, up, fov_deg, ortho}, and every option of the library's table
+// (hsr/frontend.hpp) by its name: "algorithm", the GL-style controls ("cull", "front_face",
+// "depth_test", "depth_func", "depth_mask", "clear_depth", "polygon_mode", "point_size",
+// "outline"), "samples" and the rest, each checked as the CLI checks it.
 HSR_WEB_EXPORT int hsr_web_render(const char* request) {
   return guarded([&] {
     requireScene();
-    const json r = requestOf(request);
-    const hsr::RenderOptions options = optionsOf(r);
-    const hsr::Camera camera = cameraOf(r, state().scene);
+    const hsr::OptionRequest q = optionsOf(requestOf(request));
+    const hsr::RenderOptions options = renderOptionsOf(q);
+    const hsr::Camera camera = cameraOf(q, state().scene);
     const std::string why =
         hsr::unsupported(hsr::findAlgorithm(options.algorithm), camera, options);
     if (!why.empty()) throw hsr::Error(why);
@@ -278,9 +292,9 @@ HSR_WEB_EXPORT const char* hsr_web_stats() {
 HSR_WEB_EXPORT int hsr_web_explain(const char* request) {
   return guarded([&] {
     requireScene();
-    const json r = requestOf(request);
-    const hsr::RenderOptions options = optionsOf(r);
-    const hsr::Camera camera = cameraOf(r, state().scene);
+    const hsr::OptionRequest q = optionsOf(requestOf(request));
+    const hsr::RenderOptions options = renderOptionsOf(q);
+    const hsr::Camera camera = cameraOf(q, state().scene);
     State& s = state();
     hsr::Explanation e = hsr::explainSteps(s.scene, camera, options);
     s.frame = std::move(e.frame);

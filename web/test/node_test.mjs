@@ -115,6 +115,30 @@ for (const c of CONTROLS) {
                   ['--eye', eye.join(','), '--target', target.join(','), '--up', up.join(',')]);
   }
 }
+// The three front-ends accept and refuse the same values: the web module's half of
+// tests/frontend/cases.json (the command line's is tests/cli/frontends_test.cpp, Python's
+// tests/python/test_frontends.py). Options are the request's keys by the table's names; the
+// size is width and height.
+{
+  const cases = JSON.parse(fs.readFileSync(new URL('../../tests/frontend/cases.json', import.meta.url)))
+      .cases.filter((c) => (c.only || ['web']).includes('web'));
+  hsr.load('demo');
+  for (const c of cases) {
+    const {size, ...options} = c.options;
+    const [width, height] = size || [64, 48];
+    let error = null;
+    try {
+      hsr.render({algorithm: 'zbuffer', width, height, ...options});
+    } catch (e) {
+      if (!(e instanceof HsrError)) throw e;
+      error = e.message;
+    }
+    ++compared;
+    const says = c.says && c.says.replace(/\{([a-z_]+)\}/g, '$1');
+    if (says ? !(error || '').includes(says) : error !== null)
+      failures.push(`options ${JSON.stringify(c.options)}: the module says "${error}", the case "${says || 'renders'}"`);
+  }
+}
 // The explain steps: the same steps with the same captions as `hsr explain`
 for (const a of algorithms.filter((a) => a.explain)) {
   const dir = path.join(work, `explain-${a.name}`);
