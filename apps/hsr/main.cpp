@@ -518,8 +518,12 @@ int main(int argc, char** argv) {
     printError(e.what());
     return 2;
   } catch (const std::system_error& e) {
-    // fmt::print's failed write to stdout, among others: the system's reason
-    printError(e.what());
+    // fmt::print's failed write to stdout (a listing longer than stdio's buffer on a full
+    // device), whose message names no file, among others: the system's reason
+    if (std::ferror(stdout))
+      printError(fmt::format("cannot write to standard output: {}", e.code().message()));
+    else
+      printError(e.what());
     return 2;
   } catch (const std::exception& e) {
     printError(std::string("internal error: ") + e.what());
