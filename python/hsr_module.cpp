@@ -396,6 +396,7 @@ PYBIND11_MODULE(_hsr, m) {
           py::arg("name") = std::string(i.name), py::arg("summary") = std::string(i.summary),
           py::arg("precision") = std::string(hsr::toString(i.precision)),
           py::arg("reference") = i.reference, py::arg("demonstration") = i.demonstration,
+          py::arg("textbook") = i.textbook, py::arg("sibling") = std::string(i.sibling),
           py::arg("capabilities") = hsr::capabilityList(i.capabilities)));
     return out;
   });

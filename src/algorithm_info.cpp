@@ -46,6 +46,13 @@ const AlgorithmInfo& referenceAlgorithm() {
   return algorithms().front();
 }
 
+const AlgorithmInfo* explainedBy(const AlgorithmInfo& info) {
+  if (info.has(kExplain)) return &info;
+  if (info.textbook || info.sibling.empty()) return nullptr;
+  const AlgorithmInfo& textbook = findAlgorithm(info.sibling);
+  return textbook.has(kExplain) ? &textbook : nullptr;
+}
+
 std::string_view toString(Precision p) { return p == Precision::kImage ? "image" : "object"; }
 
 std::string_view toString(InputKind k) {

@@ -57,6 +57,14 @@ struct AlgorithmInfo {
   bool demonstration = false;    // wrong on purpose, to show a failure the notes describe
                                  // (painter-naive): in compare and explain, not held to the
                                  // visibility suites
+  // The textbook pair: an algorithm written as the notes teach it (one core, one polygon, ray
+  // or row at a time, to be read beside them) and its sibling reorganised for speed (tiles,
+  // bands, hierarchies, compression, SIMD, all cores), which draws the same frame bit for bit
+  // (tests/cross/textbook_test.cpp). `textbook` marks the first; `sibling` names the other of
+  // the pair in both ("" where an algorithm has none). `hsr explain` of a fast sibling that
+  // does not explain itself walks its textbook one.
+  bool textbook = false;
+  std::string_view sibling = {};
 
   bool has(Capability c) const { return (capabilities & c) != 0; }
 };
@@ -66,6 +74,9 @@ const std::vector<AlgorithmInfo>& algorithms();
 const AlgorithmInfo& findAlgorithm(std::string_view name);
 // The reference entry (exactly one has reference = true).
 const AlgorithmInfo& referenceAlgorithm();
+// The entry whose steps `hsr explain` shows for `info`: itself where it explains its own
+// (kExplain), its textbook sibling where a fast one leaves that to it, nullptr otherwise.
+const AlgorithmInfo* explainedBy(const AlgorithmInfo& info);
 
 std::string_view toString(Precision p);  // "image", "object"
 std::string_view toString(InputKind k);  // "screen triangles", ...

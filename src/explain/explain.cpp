@@ -212,8 +212,12 @@ Explanation explain(const Scene& scene, const Camera& camera, const RenderOption
   StepWriter writer(files);
   Explanation out;
   out.frame = forEachExplainedStep(scene, camera, options, std::ref(writer), explain_options);
-  finish(files, writer, out, std::string(info.name) + ": " + std::string(info.summary),
-         std::string(info.source));
+  // A fast sibling is explained by its textbook file (forEachExplainedStep): the title says so
+  std::string title = std::string(info.name) + ": " + std::string(info.summary);
+  if (const AlgorithmInfo* traced = explainedBy(info); traced && traced != &info)
+    title += ". Its steps are those of " + std::string(traced->name) +
+             ", which draws the same frame bit for bit";
+  finish(files, writer, out, title, std::string(info.source));
   return out;
 }
 

@@ -135,9 +135,14 @@ const Frame& StepMaker::seenFrom(const Camera* camera) {
 Frame forEachExplainedStep(const Scene& scene, const Camera& camera, const RenderOptions& options,
                            const StepSink& each, const ExplainOptions& explain_options) {
   const AlgorithmInfo& info = findAlgorithm(options.algorithm);
-  if (!info.has(kExplain))
-    throw Error("algorithm '" + std::string(info.name) + "' cannot explain its steps yet");
   if (const std::string why = unsupported(info, camera, options); !why.empty()) throw Error(why);
+  // A fast sibling that does not explain itself is explained by its textbook file, which draws
+  // the same frame bit for bit (hsr/algorithms.hpp)
+  const AlgorithmInfo* walked = explainedBy(info);
+  if (!walked)
+    throw Error("algorithm '" + std::string(info.name) + "' cannot explain its steps yet");
+  RenderOptions traced_options = options;
+  traced_options.algorithm = std::string(walked->name);
   // First the finished frame, whose depth range every step's depth picture uses; then the run
   // traced.
   Frame frame;
@@ -145,7 +150,7 @@ Frame forEachExplainedStep(const Scene& scene, const Camera& camera, const Rende
   detail::StepMaker maker(each, drawnDepthRange(frame), explain_options.pictures_per_step, &scene,
                           &options);
   Frame traced;
-  detail::renderInto(scene, camera, options, traced, detail::DrawMode::kClear, &maker);
+  detail::renderInto(scene, camera, traced_options, traced, detail::DrawMode::kClear, &maker);
   return frame;
 }
 

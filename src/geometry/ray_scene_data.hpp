@@ -1,6 +1,6 @@
 #pragma once
 // What a hsr::RayScene holds (geometry/ray_scene.cpp), open to the ray caster
-// (visibility/raycast.cpp), which draws with the same hierarchy.
+// (visibility/raycast_fast.cpp), which draws with the same hierarchy.
 
 #include <cstdint>
 #include <vector>

@@ -45,17 +45,20 @@ T& algorithmScratch(const AlgorithmInput& in, std::unique_ptr<T>& fallback) {
 }
 
 // The algorithms (one file each in src/visibility/).
-void drawZBufferTextbook(const AlgorithmInput& input, Frame& frame);  // zbuffer.cpp
-void drawZBufferTiled(const AlgorithmInput& input, Frame& frame);     // zbuffer_tiled.cpp
-void drawPainter(const AlgorithmInput& input, Frame& frame);          // painter.cpp
-void drawPainterNaive(const AlgorithmInput& input, Frame& frame);     // painter_naive.cpp
-void drawBsp(const AlgorithmInput& input, Frame& frame);              // bsp.cpp
-void drawScanline(const AlgorithmInput& input, Frame& frame);         // scanline.cpp
-void drawWarnock(const AlgorithmInput& input, Frame& frame);          // warnock.cpp
-void drawOctree(const AlgorithmInput& input, Frame& frame);           // octree.cpp
-void drawRaycast(const AlgorithmInput& input, Frame& frame);          // raycast.cpp
-void drawABuffer(const AlgorithmInput& input, Frame& frame);          // abuffer.cpp
-void drawWeilerAtherton(const AlgorithmInput& input, Frame& frame);   // weiler_atherton.cpp
-void drawRoberts(const AlgorithmInput& input, Frame& frame);          // roberts.cpp
+void drawZBufferTextbook(const AlgorithmInput& input, Frame& frame);   // zbuffer.cpp
+void drawZBufferTiled(const AlgorithmInput& input, Frame& frame);      // zbuffer_tiled.cpp
+void drawPainter(const AlgorithmInput& input, Frame& frame);           // painter.cpp
+void drawPainterNaive(const AlgorithmInput& input, Frame& frame);      // painter_naive.cpp
+void drawBsp(const AlgorithmInput& input, Frame& frame);               // bsp.cpp
+void drawScanlineTextbook(const AlgorithmInput& input, Frame& frame);  // scanline.cpp
+void drawScanline(const AlgorithmInput& input, Frame& frame);          // scanline_fast.cpp
+void drawWarnock(const AlgorithmInput& input, Frame& frame);           // warnock.cpp
+void drawOctree(const AlgorithmInput& input, Frame& frame);            // octree.cpp
+void drawRaycastTextbook(const AlgorithmInput& input, Frame& frame);   // raycast.cpp
+void drawRaycast(const AlgorithmInput& input, Frame& frame);           // raycast_fast.cpp
+void drawABufferTextbook(const AlgorithmInput& input, Frame& frame);   // abuffer.cpp
+void drawABuffer(const AlgorithmInput& input, Frame& frame);           // abuffer_fast.cpp
+void drawWeilerAtherton(const AlgorithmInput& input, Frame& frame);    // weiler_atherton.cpp
+void drawRoberts(const AlgorithmInput& input, Frame& frame);           // roberts.cpp
 
 }  // namespace hsr::detail

@@ -1,5 +1,5 @@
 #pragma once
-// The scan-line algorithm's inner workings (scanline.cpp), open to the tests: they watch its
+// The scan-line algorithm's inner workings (scanline_fast.cpp), open to the tests: they watch its
 // spans and its active edge list to check the invariants the notes state.
 
 #include <cstddef>

@@ -164,6 +164,24 @@ def test_every_algorithm_by_name_agrees_with_the_reference_on_ids():
             assert agree > 0.97, (a["name"], agree)
 
 
+
+def test_a_textbook_algorithm_and_its_fast_sibling_draw_the_same_frame():
+    scene = hsr.Scene.load("demo")
+    camera = hsr.Camera.frame(scene, 96, 72)
+    by_name = {a["name"]: a for a in hsr.algorithms()}
+    textbooks = [a for a in by_name.values() if a["textbook"]]
+    assert {a["name"] for a in textbooks} >= {"zbuffer-textbook", "scanline-textbook",
+                                              "raycast-textbook", "abuffer-textbook"}
+    for a in textbooks:
+        fast = by_name[a["sibling"]]
+        assert fast["sibling"] == a["name"] and not fast["textbook"]
+        want = hsr.render(scene, camera, algorithm=a["name"])
+        got = hsr.render(scene, camera, algorithm=fast["name"], threads=2)
+        assert (want.ids == got.ids).all(), a["name"]
+        assert (want.depth.view("u4") == got.depth.view("u4")).all(), a["name"]
+        assert (want.color == got.color).all(), a["name"]
+
+
 def test_a_calibrated_camera_puts_a_point_at_its_pixel():
     # A small square 4 units in front of an OpenCV camera, around the ray of pixel (37, 21)
     fx, fy, cx, cy = 90.0, 80.0, 40.5, 30.25

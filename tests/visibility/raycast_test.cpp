@@ -16,6 +16,7 @@
 
 #include "cross/compare_with_zbuffer.hpp"
 #include "cross/figures.hpp"
+#include "hsr/error.hpp"
 #include "hsr/io.hpp"
 #include "hsr/ray_scene.hpp"
 #include "hsr/render.hpp"
@@ -198,6 +199,28 @@ TEST(Raycast, ATieBetweenLeavesGoesToTheFirstSubmittedAsInTheZBuffer) {
                         grouped(kPerStack) + " triangles at one depth, " + grouped(tied) +
                         " pixels, " + grouped(differ) + " differ from the z-buffer (" +
                         grouped(on_edges) + " on an edge left out)");
+}
+
+// The textbook ray caster looks at every triangle whose screen extent holds a ray's row; a frame
+// that would take more than 4·10⁹ such looks is refused in one line that names the fast
+// sibling, before any ray is cast.
+TEST(Raycast, TheTextbookRefusesAFrameOfTooManyTestsAndNamesTheFastOne) {
+  const Scene scene = makeBuiltinScene("spheres:1000000");
+  RenderOptions o;
+  o.algorithm = "raycast-textbook";
+  try {
+    (void)render(scene, frameScene(scene, 1920, 1080), o);
+    ADD_FAILURE() << "1920x1080 rays x 1,000,000 triangles drawn";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("draw it with raycast"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  // The same frame smaller is drawn, and is the fast sibling's
+  const Camera small = frameScene(scene, 40, 30);
+  const Frame textbook = render(scene, small, o);
+  o.algorithm = "raycast";
+  EXPECT_EQ(textbook.ids, render(scene, small, o).ids);
 }
 
 }  // namespace

@@ -184,9 +184,11 @@ HSR_WEB_EXPORT const char* hsr_web_catalogue() {
                           {"source", a.source},
                           {"precision", a.precision == hsr::Precision::kImage ? "image" : "object"},
                           {"capabilities", hsr::capabilityList(a.capabilities)},
-                          {"explain", a.has(hsr::kExplain)},
+                          {"explain", hsr::explainedBy(a) != nullptr},
                           {"reference", a.reference},
                           {"demonstration", a.demonstration},
+                          {"textbook", a.textbook},
+                          {"sibling", a.sibling},
                           {"max_pixels", a.max_pixels}});
   return answer({{"scenes", scenes}, {"algorithms", algorithms}});
 }
