@@ -341,10 +341,19 @@ int runScenes() {
   for (const hsr::BuiltinScene& s : hsr::builtinScenes())
     fmt::print("  {:<16} {}\n", s.name, s.summary);
   fmt::print("algorithms:\n");
-  for (const hsr::AlgorithmInfo& i : hsr::algorithms())
+  for (const hsr::AlgorithmInfo& i : hsr::algorithms()) {
     fmt::print("  {:<18} {} precision{}: {}\n                     input: {}; can: {}\n", i.name,
                hsr::toString(i.precision), i.reference ? ", the reference" : "", i.summary,
                hsr::toString(i.input), hsr::capabilityList(i.capabilities));
+    if (i.sibling.empty()) continue;
+    const hsr::AlgorithmInfo* walked = hsr::explainedBy(i);
+    if (i.textbook)
+      fmt::print("                     the notes' loop of {}: the same frame, bit for bit\n",
+                 i.sibling);
+    else
+      fmt::print("                     its textbook sibling: {}, the same frame bit for bit{}\n",
+                 i.sibling, walked && walked->name == i.sibling ? "; `hsr explain` walks it" : "");
+  }
   return 0;
 }
 

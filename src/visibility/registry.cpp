@@ -98,7 +98,8 @@ const std::vector<AlgorithmEntry>& algorithmTable() {
        &drawRaycast},
       {{.name = "raycast-textbook",
         .summary = "ray casting as the notes teach it: a ray from the eye through each pixel "
-                   "centre against every polygon, nearest hit wins",
+                   "centre, tested against every triangle whose screen extent holds it, nearest "
+                   "hit wins",
         .source = "Appel 1968; the notes' \"ray casting\"; the ray/triangle test: Woop et al. "
                   "2013",
         .precision = Precision::kImage,

@@ -588,7 +588,10 @@ TEST(Cli, ScenesListsBuiltinsAndAlgorithms) {
   const CliRun r = runCli("scenes");
   EXPECT_EQ(r.code, 0);
   for (const char* s : {"demo", "cyclic", "penetrating", "spheres:N", "soup:N:SEED", "zbuffer",
-                        "zbuffer-textbook", "the reference", "exact-coverage"})
+                        "zbuffer-textbook", "the reference", "exact-coverage",
+                        "its textbook sibling: scanline-textbook, the same frame bit for bit; "
+                        "`hsr explain` walks it",
+                        "the notes' loop of abuffer: the same frame, bit for bit"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
 }
 
