@@ -160,11 +160,30 @@ inline std::vector<NotApplicable>& notApplicable() {
 }
 // A demonstration row (painter-naive: wrong on purpose) is held to none of these properties;
 // its own tests measure its failure.
+//
+// The sanitizer leg's tier for the textbook pairs (hsr/algorithms.hpp): a textbook entry draws
+// its fast sibling's frame bit for bit, which tests/cross/textbook_test.cpp checks in every leg,
+// the sanitizers' included, on every kind of scene the suites use. So under the sanitizers
+// (which look for memory errors and undefined behaviour, not for more cases) the property
+// suites run the fast sibling, whose tiles, bands and threads are where such errors hide, and
+// the textbook entry joins only the random-bit-pattern suite (Garbage); Release runs every
+// suite on both.
+inline const char* sanitizerLegLeavesOut([[maybe_unused]] const AlgorithmInfo& a,
+                                         [[maybe_unused]] std::string_view suite) {
+#ifdef HSR_SANITIZER_BUILD
+  if (a.textbook && suite != "Garbage")
+    return "(the sanitizer leg: pinned to its fast sibling by TextbookPair, which runs here; "
+           "Release runs this suite on it)";
+#endif
+  return nullptr;
+}
+
 inline std::vector<const AlgorithmInfo*> algorithmsWith(std::string_view suite,
                                                         std::uint32_t caps) {
   std::vector<const AlgorithmInfo*> out;
   for (const AlgorithmInfo& a : algorithms()) {
-    if ((a.capabilities & caps) == caps && !a.demonstration) {
+    const char* left_out = sanitizerLegLeavesOut(a, suite);
+    if ((a.capabilities & caps) == caps && !a.demonstration && !left_out) {
       out.push_back(&a);
       continue;
     }
@@ -174,6 +193,7 @@ inline std::vector<const AlgorithmInfo*> algorithmsWith(std::string_view suite,
     if (!known)
       notApplicable().push_back({std::string(suite), std::string(a.name),
                                  a.demonstration ? std::string("(a demonstration)")
+                                 : left_out      ? std::string(left_out)
                                                  : capabilityList(caps & ~a.capabilities)});
   }
   return out;
