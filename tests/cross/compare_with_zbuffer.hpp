@@ -70,13 +70,26 @@ inline Comparison compareFrames(const Frame& z, const Frame& p, const std::strin
   return c;
 }
 
+// Renders into one of two frames kept by the calling thread and returns it: the suites that
+// draw hundreds of scenes render into the same buffers again (the contract of render() into a
+// Frame, which tests/cross/determinism_test.cpp holds to a fresh frame's), instead of a fresh
+// frame each time, whose buffers the sanitizers' allocator maps and faults in afresh when over
+// 128 KiB. The frame stays valid until the next call with the same slot.
+inline const Frame& renderKept(const Scene& scene, const Camera& camera, const RenderOptions& o,
+                               int slot) {
+  thread_local Frame frames[2];
+  Frame& f = frames[slot];
+  render(scene, camera, o, f);
+  return f;
+}
+
 // The frame `algorithm` renders with options `o` against the z-buffer's with the same options.
 inline Comparison compareWithZBuffer(const Scene& scene, const Camera& camera,
                                      const std::string& algorithm, RenderOptions o = {}) {
   o.algorithm = "zbuffer";
-  const Frame z = render(scene, camera, o);
+  const Frame& z = renderKept(scene, camera, o, 0);
   o.algorithm = algorithm;
-  return compareFrames(z, render(scene, camera, o), algorithm);
+  return compareFrames(z, renderKept(scene, camera, o, 1), algorithm);
 }
 
 inline std::string describe(const Comparison& c) {
@@ -232,11 +245,11 @@ inline Identity expectBitForBitWithZBuffer(const std::string& algorithm, int sam
     o.cull = CullMode::None;
     o.threads = 1 + static_cast<int>(seed % 2);
     o.algorithm = "zbuffer";
-    const Frame z = render(scene, camera, o);
+    const Frame& z = renderKept(scene, camera, o, 0);
     o.algorithm = algorithm;
     o.samples = samples;
     const Identity c =
-        compareBitForBit(z, render(scene, camera, o), ref.valid ? &ref.ambiguous : nullptr,
+        compareBitForBit(z, renderKept(scene, camera, o, 1), ref.valid ? &ref.ambiguous : nullptr,
                          algorithm + ", seed " + std::to_string(seed));
     EXPECT_EQ(c.unambiguous_differ, 0u) << c.first;
     total.add(c);
