@@ -484,17 +484,23 @@ void printBspTable(const MedianCollector& reporter,
 
 }  // namespace
 
-// Issue 22's bars: the z-buffer against llvmpipe on every scene, measured in back-to-back
-// pairs (a hsr frame, then an llvmpipe frame, nine times; the median of the nine ratios and
-// their range). This machine's speed drifts over minutes, so a pair's two frames see the same
-// machine where the repetitions above may not. HSR_BENCH_NO_PAIRS skips it.
+// The z-buffer's bars (issue 46: 3.0x llvmpipe on every scene, at 1 and 2 threads; spheres:1M
+// at 1 thread at least 25 million triangles a second), measured in back-to-back pairs (a hsr
+// frame, then an llvmpipe frame, nine times; the median of the nine ratios and their range).
+// This machine's speed drifts over minutes, so a pair's two frames see the same machine where
+// the repetitions above may not. Mtri/s per core: the scene's triangles (after triangulating
+// its polygons) over the median frame time, divided by the thread count; MiB: the z-buffer's
+// memory for the frame (its buffers, bins and screen triangles). HSR_BENCH_NO_PAIRS skips it.
 void printPairedZBufferTable() {
   constexpr int kPairs = 9;
+  constexpr double kBar = 3.0;
   std::printf(
-      "\nz-buffer vs llvmpipe in %d back-to-back pairs, %d thread(s) (bar: 2.0x on every scene)\n",
-      kPairs, g_threads);
-  std::printf("threads=%d  %-22s %10s %12s %8s %16s %6s\n", g_threads, "scene", "zbuffer ms",
-              "llvmpipe ms", "ratio", "ratio range", "bar");
+      "\nz-buffer vs llvmpipe in %d back-to-back pairs, %d thread(s) (bar: %.1fx on every scene; "
+      "spheres/1000000 at 1 thread: 25 Mtri/s)\n",
+      kPairs, g_threads, kBar);
+  std::printf("threads=%d  %-22s %10s %12s %8s %16s %6s %11s %13s %9s\n", g_threads, "scene",
+              "zbuffer ms", "llvmpipe ms", "ratio", "ratio range", "bar", "Mtri/s/core",
+              "llvmpipe Mtri", "MiB");
   for (BenchScene& b : benchScenes()) {
     ensureScene(b);
     if (!b.mesa) {
@@ -522,8 +528,13 @@ void printPairedZBufferTable() {
     char range[32];
     std::snprintf(range, sizeof range, "%.2f-%.2f", *std::min_element(ratio.begin(), ratio.end()),
                   *std::max_element(ratio.begin(), ratio.end()));
-    std::printf("threads=%d  %-22s %10.2f %12.2f %8.2f %16s %6s\n", g_threads, b.label.c_str(),
-                median(ours), median(mesa), r, range, r >= 2.0 ? "met" : "not");
+    // Million triangles a second per core, from a frame time in ms
+    const double triangles = static_cast<double>(frame.stats.triangles_in);
+    const auto mtri = [&](double ms) { return triangles / (ms * 1e3) / g_threads; };
+    std::printf("threads=%d  %-22s %10.2f %12.2f %8.2f %16s %6s %11.1f %13.1f %9.1f\n", g_threads,
+                b.label.c_str(), median(ours), median(mesa), r, range, r >= kBar ? "met" : "not",
+                mtri(median(ours)), mtri(median(mesa)),
+                static_cast<double>(frame.stats.state_bytes) / 1048576.0);
   }
 }
 
