@@ -366,6 +366,16 @@ extern "C" void onTerminatingSignal(int sig) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // SIGINT, SIGTERM, SIGHUP: no temporary file is left behind, then the default action.
+  // First of all, so that a signal at any moment of the run gets its one line.
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction action {};
+    action.sa_handler = onTerminatingSignal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;
+    ::sigaction(sig, &action, nullptr);
+  }
+
   CLI::App app{
       "hsr: hidden-surface removal with every classic algorithm.\n"
       "Examples:\n"
@@ -491,15 +501,6 @@ int main(int argc, char** argv) {
   given.orbit = render->count("--orbit") > 0;
   given.sheet = compare->count("--sheet") > 0;
   given.explain_dir = explain->count("-o") > 0;
-
-  // SIGINT, SIGTERM, SIGHUP: no temporary file is left behind, then the default action
-  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
-    struct sigaction action {};
-    action.sa_handler = onTerminatingSignal;
-    sigemptyset(&action.sa_mask);
-    action.sa_flags = SA_RESETHAND;
-    ::sigaction(sig, &action, nullptr);
-  }
 
   int status = 0;
   try {

@@ -15,11 +15,13 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <set>
 #include <string>
@@ -86,6 +88,25 @@ pid_t spawn(const Launch& l) {
   c.push_back(nullptr);
   ::execv(c[0], c.data());
   ::_exit(127);
+}
+
+// Whether process `pid` has a handler for each of `signals` (its SigCgt mask in /proc), waited
+// for up to 30 s; false if it never did or ended first.
+bool catchesSignals(pid_t pid, std::initializer_list<int> signals) {
+  std::uint64_t wanted = 0;
+  for (const int sig : signals) wanted |= std::uint64_t{1} << (sig - 1);
+  const auto deadline = Clock::now() + std::chrono::seconds(30);
+  while (Clock::now() < deadline) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    if (!in.is_open()) return false;
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.rfind("SigCgt:", 0) != 0) continue;
+      if ((std::stoull(line.substr(7), nullptr, 16) & wanted) == wanted) return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return false;
 }
 
 struct Result {
@@ -374,6 +395,9 @@ TEST(FaultOutputs, SignalsDuringWritesLeaveOldOrNewNeverPartial) {
   for (int i = 0; i < kRuns; ++i) {
     Launch l{args("4,1,5"), {}, s / "err.txt"};
     const pid_t pid = spawn(l);
+    // Timed from the moment hsr catches the signals (its first step), not from the exec: under
+    // ASan and a busy machine the loading alone can take a large share of the run
+    ASSERT_TRUE(catchesSignals(pid, {SIGINT, SIGTERM})) << "run " << i;
     // From a third of the run (rendering) to past its end (writing), evenly
     std::this_thread::sleep_for(
         std::chrono::duration<double>(run_s * (0.35 + 0.75 * i / (kRuns - 1))));
