@@ -26,9 +26,10 @@ struct Bins {
   PixelBox tileBox(std::size_t index, int width, int height) const;
 };
 
-// The pixels a primitive may touch (lines get a margin for rounding and the outline pen).
-PixelBox boxOf(const ScreenTriangle& t, int width, int height);
-PixelBox boxOf(const ScreenLine& l, int width, int height);
+// The pixels a primitive may touch (lines get a margin for rounding and the outline pen, as
+// binPrimitives below says; a triangle's box is its own).
+PixelBox boxOf(const ScreenTriangle& t, int width, int height, float margin);
+PixelBox boxOf(const ScreenLine& l, int width, int height, float margin);
 
 // Bins `prims` for a width x height viewport. `counts` is working memory kept by the caller.
 // Throws hsr::Error when the bins would exceed 2^31 entries.
