@@ -1,14 +1,13 @@
 // Tile binning (raster/bins.hpp): every primitive is listed in exactly the tiles its box
-// touches, in submission order, checked against listing them one tile at a time; also where
-// boxes span a hundred tiles and more, a viewport of more than 512 tiles a side, for empty
-// line boxes, and with working memory kept from a larger frame.
+// touches, in submission order, checked against listing them one tile at a time: small boxes
+// and boxes as wide as the viewport, very wide viewports, empty line boxes, and working memory
+// kept from a larger set.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <random>
-#include <tuple>
 #include <vector>
 
 #include "raster/bins.hpp"
@@ -63,8 +62,8 @@ std::vector<ScreenTriangle> randomBoxes(std::mt19937& rng, int w, int h, int n) 
 TEST(Bins, EveryTriangleInExactlyTheTilesOfItsBoxInOrder) {
   std::mt19937 rng(46);
   std::vector<std::size_t> scratch;
-  // 1080p; wide enough that boxes span 128 tiles and more; more than 512 tiles a side; then
-  // fewer triangles with the ranges kept from the larger set
+  // 1080p; wide viewports (boxes across every tile of a row); then fewer triangles, the
+  // working memory kept from the larger sets
   const int sizes[][3] = {{1920, 1080, 20000}, {9000, 300, 3000}, {33000, 70, 500}, {640, 480, 50}};
   for (const auto& [w, h, n] : sizes) {
     SCOPED_TRACE(::testing::Message() << w << "x" << h << ", " << n << " triangles");
@@ -87,7 +86,7 @@ TEST(Bins, LinesWithTheirMarginAndEmptyBoxes) {
   EXPECT_EQ(listed(bins), binsByDefinition(lines, 9000, 400, 2.5f));
   for (const auto& tile : listed(bins))
     for (std::uint32_t i : tile) EXPECT_NE(i, 7u);
-  // A viewport of 40,000 columns: lines start beyond the 512th tile
+  // A viewport of 40,000 columns, lines across all of it
   for (ScreenLine& l : lines) l.x0 *= 4.4f, l.x1 *= 4.4f;
   binPrimitives(lines, 40000, 400, bins, scratch, 1.0f);
   EXPECT_EQ(listed(bins), binsByDefinition(lines, 40000, 400, 1.0f));
