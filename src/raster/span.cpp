@@ -22,6 +22,10 @@ std::atomic<SpanPath>& currentPath() {
 
 }  // namespace
 
+RasterPath rasterPath(DepthFunc f) {
+  return {spanFunction(f), activeSpanPath() == SpanPath::kSse41};
+}
+
 SpanPath activeSpanPath() { return currentPath().load(std::memory_order_relaxed); }
 
 bool spanPathAvailable(SpanPath path) {

@@ -36,4 +36,13 @@ SpanPath setSpanPath(SpanPath path);
 // The span function of the active path for depth func f.
 SpanFn spanFunction(DepthFunc f);
 
+// What fills a triangle's pixels on the active path (raster/triangle.hpp): its span function,
+// and whether triangles narrower than 8 columns walk their box four columns at a time
+// (raster/narrow_sse41.hpp) instead of one.
+struct RasterPath {
+  SpanFn span;
+  bool narrow_sse41;
+};
+RasterPath rasterPath(DepthFunc f);
+
 }  // namespace hsr::detail

@@ -6,22 +6,10 @@
 #include "raster/span.hpp"
 
 #if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
-#include <smmintrin.h>
+#include "raster/narrow_sse41.hpp"  // depthPasses4
 
 namespace hsr::detail {
 namespace {
-
-template <DepthFunc F>
-inline __m128 depthPasses4(__m128 z, __m128 stored) {
-  if constexpr (F == DepthFunc::Never) return _mm_setzero_ps();
-  if constexpr (F == DepthFunc::Less) return _mm_cmplt_ps(z, stored);
-  if constexpr (F == DepthFunc::Equal) return _mm_cmpeq_ps(z, stored);
-  if constexpr (F == DepthFunc::LEqual) return _mm_cmple_ps(z, stored);
-  if constexpr (F == DepthFunc::Greater) return _mm_cmpgt_ps(z, stored);
-  if constexpr (F == DepthFunc::NotEqual) return _mm_cmpneq_ps(z, stored);
-  if constexpr (F == DepthFunc::GEqual) return _mm_cmpge_ps(z, stored);
-  return _mm_castsi128_ps(_mm_set1_epi32(-1));  // Always
-}
 
 template <DepthFunc F>
 void fillSpanSse41(const ScreenTriangle& t, const FrameView& fb, int y, int x0, int x1,

@@ -6,8 +6,8 @@ namespace hsr::detail {
 
 void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameView& fb,
                     DepthFunc func, bool depth_mask, FragmentCounts& c) {
-  const SpanFn span = spanFunction(func);
-  withDepthFunc(func, [&]<DepthFunc F>() { rasterTriangle<F>(t, clip, fb, depth_mask, span, c); });
+  const RasterPath path = rasterPath(func);
+  withDepthFunc(func, [&]<DepthFunc F>() { rasterTriangle<F>(t, clip, fb, depth_mask, path, c); });
 }
 
 }  // namespace hsr::detail

@@ -18,7 +18,7 @@ inline constexpr int kRowSpansFrom = 3;
 
 template <DepthFunc F>
 void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameView& fb,
-                    bool depth_mask, SpanFn span, FragmentCounts& c);
+                    bool depth_mask, const RasterPath& path, FragmentCounts& c);
 
 // The same with the depth func and span path looked up (for callers outside a hot loop).
 void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameView& fb,

@@ -4,12 +4,13 @@
 #include <algorithm>
 
 #include "raster/edge.hpp"
+#include "raster/narrow_sse41.hpp"
 
 namespace hsr::detail {
 
 template <DepthFunc F>
 void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameView& fb,
-                    bool depth_mask, SpanFn span, FragmentCounts& c) {
+                    bool depth_mask, const RasterPath& path, FragmentCounts& c) {
   const int y0 = std::max(clip.y0, static_cast<int>(t.y0));
   const int y1 = std::min(clip.y1, static_cast<int>(t.y1));
   const int x0 = std::max(clip.x0, static_cast<int>(t.x0));
@@ -17,6 +18,11 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameVi
   if (y0 > y1 || x0 > x1) return;
   TriangleSetup s = setupTriangle(t, y0);
   if (x1 - x0 < kNarrowTriangleColumns) {
+#if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
+    if (path.narrow_sse41 && !t.transparent() &&
+        rasterNarrowSse41<F>(t, clip, s, x0, x1, y0, y1, fb, depth_mask, c))
+      return;
+#endif
     // Few columns (most triangles of a dense mesh): walk the box, stepping the three edge
     // functions by additions; a pixel is inside when none of them is negative.
     for (int y = y0; y <= y1; ++y, nextRow(s)) {
@@ -36,14 +42,14 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameVi
   if (y1 - y0 < kRowSpansFrom) {
     for (int y = y0; y <= y1; ++y, nextRow(s)) {
       int lo = x0, hi = x1;
-      if (spanOfRow(s, &lo, &hi)) span(t, fb, y, lo, hi, depth_mask, c);
+      if (spanOfRow(s, &lo, &hi)) path.span(t, fb, y, lo, hi, depth_mask, c);
     }
     return;
   }
   RowSpans spans(s);
   for (int y = y0; y <= y1; ++y, spans.next()) {
     int lo = x0, hi = x1;
-    if (spans.span(&lo, &hi)) span(t, fb, y, lo, hi, depth_mask, c);
+    if (spans.span(&lo, &hi)) path.span(t, fb, y, lo, hi, depth_mask, c);
   }
 }
 

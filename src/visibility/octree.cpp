@@ -611,9 +611,9 @@ void drawOctree(const AlgorithmInput& in, Frame& frame) {
   // See-through polygons over the finished picture, in submission order, as the z-buffer.
   const FrameView fb(frame);
   const PixelBox viewport{0, 0, frame.width - 1, frame.height - 1};
-  const SpanFn span = spanFunction(DepthFunc::Less);
+  const RasterPath path = rasterPath(DepthFunc::Less);
   for (const ScreenTriangle& t : in.prepared.triangles)
-    if (t.transparent()) rasterTriangle<DepthFunc::Less>(t, viewport, fb, true, span, c.fragments);
+    if (t.transparent()) rasterTriangle<DepthFunc::Less>(t, viewport, fb, true, path, c.fragments);
   for (const ScreenLine& o : in.prepared.outline) drawOutlinePen(o, viewport, fb);
 
   if (in.trace && in.trace->wants(kStepDone, 0, 1))

@@ -92,9 +92,9 @@ bool PolygonLooks::settle(const AlgorithmInput& in, const FrameView& fb, int x, 
 
 void rayFinishFrame(const AlgorithmInput& in, const FrameView& fb, FragmentCounts& counts) {
   const PixelBox viewport{0, 0, fb.width - 1, fb.height - 1};
-  const SpanFn span = spanFunction(DepthFunc::Less);
+  const RasterPath path = rasterPath(DepthFunc::Less);
   for (const ScreenTriangle& t : in.prepared.triangles)
-    if (t.transparent()) rasterTriangle<DepthFunc::Less>(t, viewport, fb, true, span, counts);
+    if (t.transparent()) rasterTriangle<DepthFunc::Less>(t, viewport, fb, true, path, counts);
   for (const ScreenLine& o : in.prepared.outline) drawOutlinePen(o, viewport, fb);
 }
 

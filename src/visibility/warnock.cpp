@@ -135,7 +135,7 @@ struct Shared {
   const ScreenTriangles& tris;
   const std::vector<std::uint32_t>& polygon_of;
   const FrameView& fb;
-  SpanFn span;
+  RasterPath path;
   WarnockObserver* observer;
   std::vector<Leaf>* leaves;  // non-null when explaining
   int deepest_allowed;
@@ -241,7 +241,7 @@ class Subdivision {
   // Triangle `tri`'s fragments within the area, each tested only against the cleared depth
   // (one at the far plane or beyond is not drawn, as under the z-buffer's LESS).
   void draw(std::uint32_t tri, const PixelBox& area) {
-    rasterTriangle<DepthFunc::Less>(sh_.tris[tri], area, sh_.fb, true, sh_.span, counts.fragments);
+    rasterTriangle<DepthFunc::Less>(sh_.tris[tri], area, sh_.fb, true, sh_.path, counts.fragments);
   }
 
   // The surrounding triangle whose plane is nearest at the area's first corner, if it is in
@@ -375,7 +375,7 @@ void drawWarnockObserved(const AlgorithmInput& in, Frame& frame, WarnockObserver
   const Shared sh{tris,
                   polygon_of,
                   fb,
-                  spanFunction(DepthFunc::Less),
+                  rasterPath(DepthFunc::Less),
                   observer,
                   in.trace ? &leaves : nullptr,
                   warnockDeepestLevel(frame.width, frame.height)};
@@ -393,9 +393,9 @@ void drawWarnockObserved(const AlgorithmInput& in, Frame& frame, WarnockObserver
   c.list_bytes += all.capacity() * sizeof(Item);
 
   // See-through polygons over the finished picture, in submission order, as the z-buffer.
-  const SpanFn span = spanFunction(DepthFunc::Less);
+  const RasterPath path = rasterPath(DepthFunc::Less);
   for (const ScreenTriangle& t : tris)
-    if (t.transparent()) rasterTriangle<DepthFunc::Less>(t, viewport, fb, true, span, c.fragments);
+    if (t.transparent()) rasterTriangle<DepthFunc::Less>(t, viewport, fb, true, path, c.fragments);
   for (const ScreenLine& o : in.prepared.outline) drawOutlinePen(o, viewport, fb);
 
   if (in.trace) {

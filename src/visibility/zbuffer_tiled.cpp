@@ -45,7 +45,7 @@ struct TileJob {
   const FrameView& fb;
   DepthFunc func;
   bool depth_mask;
-  SpanFn span;
+  RasterPath path;
   float point_size;
 };
 
@@ -79,12 +79,12 @@ FragmentCounts fillTile(const TileJob& job, std::size_t tile) {
     if (t.transparent())
       any_transparent = true;
     else
-      rasterTriangle<F>(t, box, job.fb, job.depth_mask, job.span, c);
+      rasterTriangle<F>(t, box, job.fb, job.depth_mask, job.path, c);
   });
   if (any_transparent) {
     forEachInTile(job.bins.tri_bins, tile, [&](std::uint32_t i) {
       const ScreenTriangle& t = ps.triangles[i];
-      if (t.transparent()) rasterTriangle<F>(t, box, job.fb, job.depth_mask, job.span, c);
+      if (t.transparent()) rasterTriangle<F>(t, box, job.fb, job.depth_mask, job.path, c);
     });
   }
   forEachInTile(job.bins.line_bins, tile, [&](std::uint32_t i) {
@@ -137,7 +137,7 @@ void drawZBufferTiled(const AlgorithmInput& in, Frame& frame) {
   const FrameView fb(frame);
   const DepthFunc func = effectiveDepthFunc(in.options);
   const TileJob job{
-      ps, z, fb, func, depthWrites(in.options), spanFunction(func), in.options.point_size};
+      ps, z, fb, func, depthWrites(in.options), rasterPath(func), in.options.point_size};
   using TileFn = FragmentCounts (*)(const TileJob&, std::size_t);
   const TileFn fill = withDepthFunc(func, []<DepthFunc F>() -> TileFn { return &fillTile<F>; });
   z.per_tile.assign(tiles, FragmentCounts{});

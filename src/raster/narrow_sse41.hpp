@@ -1,0 +1,105 @@
+#pragma once
+// The narrow-triangle walk (triangle_impl.hpp) four columns at a time with SSE4.1: the same
+// pixels, the same depth bits, the same counts. The three edge functions are stepped in 32-bit
+// lanes, exact because the caller's bound (narrowFitsInt32) holds every value the walk can
+// meet below 2^31; the depth is depthInRow's sum in double, converted and clamped in its order.
+
+#if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
+#include <smmintrin.h>
+
+#include <cstdlib>
+
+#include "raster/edge.hpp"
+#include "raster/fragment.hpp"
+
+namespace hsr::detail {
+
+template <DepthFunc F>
+inline __m128 depthPasses4(__m128 z, __m128 stored) {
+  if constexpr (F == DepthFunc::Never) return _mm_setzero_ps();
+  if constexpr (F == DepthFunc::Less) return _mm_cmplt_ps(z, stored);
+  if constexpr (F == DepthFunc::Equal) return _mm_cmpeq_ps(z, stored);
+  if constexpr (F == DepthFunc::LEqual) return _mm_cmple_ps(z, stored);
+  if constexpr (F == DepthFunc::Greater) return _mm_cmpgt_ps(z, stored);
+  if constexpr (F == DepthFunc::NotEqual) return _mm_cmpneq_ps(z, stored);
+  if constexpr (F == DepthFunc::GEqual) return _mm_cmpge_ps(z, stored);
+  return _mm_castsi128_ps(_mm_set1_epi32(-1));  // Always
+}
+
+// Walks the opaque triangle's box x0..x1 (at most 8 columns), y0..y1 in windows of four
+// columns that lie inside the clip box; returns false, having drawn nothing, when the clip box
+// is narrower than four columns or an edge value could leave 32 bits.
+template <DepthFunc F>
+inline bool rasterNarrowSse41(const ScreenTriangle& t, const PixelBox& clip, const TriangleSetup& s,
+                              int x0, int x1, int y0, int y1, const FrameView& fb, bool depth_mask,
+                              FragmentCounts& c) {
+  if (clip.x1 - clip.x0 < 3) return false;
+  // Window c starts at column x0 + 4c, moved left when it would cross the clip box's right
+  // side; `valid` keeps the lanes of columns the window owns (its own four, within x1).
+  const int windows = (x1 - x0) / 4 + 1;
+  int xs[2];
+  __m128i valid[2];
+  const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
+  for (int w = 0; w < windows; ++w) {
+    const int first = x0 + 4 * w;
+    xs[w] = first + 3 <= clip.x1 ? first : clip.x1 - 3;
+    const __m128i col = _mm_add_epi32(_mm_set1_epi32(xs[w]), lane);
+    const __m128i lo = _mm_set1_epi32(first - 1), hi = _mm_set1_epi32(std::min(first + 3, x1) + 1);
+    valid[w] = _mm_and_si128(_mm_cmpgt_epi32(col, lo), _mm_cmplt_epi32(col, hi));
+  }
+  // Every value met is row + step_x * x + step_y * (y - y0) for x within 11 columns of xs[0]:
+  // bounded by the sum of the absolute values.
+  __m128i e[2][3], step_y[3];
+  for (int k = 0; k < 3; ++k) {
+    const EdgeSetup& g = s.edge[k];
+    const std::int64_t base = g.row + g.step_x * xs[0];
+    const std::int64_t bound =
+        std::llabs(base) + std::llabs(g.step_x) * 11 + std::llabs(g.step_y) * (y1 - y0);
+    if (bound >= (std::int64_t{1} << 31)) return false;
+    const __m128i steps = _mm_mullo_epi32(_mm_set1_epi32(static_cast<int>(g.step_x)), lane);
+    for (int w = 0; w < windows; ++w)
+      e[w][k] = _mm_add_epi32(_mm_set1_epi32(static_cast<int>(g.row + g.step_x * xs[w])), steps);
+    step_y[k] = _mm_set1_epi32(static_cast<int>(g.step_y));
+  }
+  const __m128d dzdx2 = _mm_set1_pd(t.depth.dzdx);
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  const __m128i id = _mm_set1_epi32(static_cast<int>(t.id));
+  const __m128i rgba = _mm_set1_epi32(static_cast<int>(t.rgba));
+  for (int y = y0; y <= y1; ++y) {
+    const __m128d row2 = _mm_set1_pd(depthRowStart(t.depth, y));
+    for (int w = 0; w < windows; ++w) {
+      // Inside: no edge value negative (the sign bits of their OR clear), in a valid lane.
+      const __m128i out = _mm_or_si128(_mm_or_si128(e[w][0], e[w][1]), e[w][2]);
+      const __m128i in = _mm_srai_epi32(_mm_andnot_si128(out, valid[w]), 31);
+      for (int k = 0; k < 3; ++k) e[w][k] = _mm_add_epi32(e[w][k], step_y[k]);
+      const int in_bits = _mm_movemask_ps(_mm_castsi128_ps(in));
+      if (in_bits == 0) continue;
+      c.tested += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(in_bits)));
+      const __m128d x01 = _mm_setr_pd(xs[w], xs[w] + 1.0),
+                    x23 = _mm_setr_pd(xs[w] + 2.0, xs[w] + 3.0);
+      const __m128 lo = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, x01)));
+      const __m128 hi = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, x23)));
+      const __m128 z = _mm_min_ps(one, _mm_max_ps(zero, _mm_movelh_ps(lo, hi)));
+      const std::size_t idx = fb.index(xs[w], y);
+      const __m128 stored = _mm_loadu_ps(fb.depth + idx);
+      const __m128 pass = _mm_and_ps(depthPasses4<F>(z, stored), _mm_castsi128_ps(in));
+      const int bits = _mm_movemask_ps(pass);
+      if (bits == 0) continue;
+      c.written += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(bits)));
+      const __m128i m = _mm_castps_si128(pass);
+      if (depth_mask) _mm_storeu_ps(fb.depth + idx, _mm_blendv_ps(stored, z, pass));
+      auto blendStore = [&](void* p, __m128i value) {
+        const __m128i old = _mm_loadu_si128(static_cast<const __m128i*>(p));
+        _mm_storeu_si128(static_cast<__m128i*>(p), _mm_blendv_epi8(old, value, m));
+      };
+      blendStore(fb.ids + idx, id);
+      blendStore(fb.rgba + idx, rgba);
+      const __m128i od = _mm_loadu_si128(reinterpret_cast<const __m128i*>(fb.overdraw + idx));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(fb.overdraw + idx), _mm_sub_epi32(od, m));
+    }
+  }
+  return true;
+}
+
+}  // namespace hsr::detail
+#endif
