@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -163,9 +164,10 @@ void processPolygon(const Context& ctx, PolygonId id, const PrepareRequest& requ
 
 namespace {
 
-// Closes up the chunks' slots in `triangles` (each chunk's made() lies in its own slot, at or
-// after where it belongs), or, where clipping made some chunk overflow its slot into a vector
-// of its own, joins them all into a new array.
+// Closes up the chunks' slots in `triangles` (each chunk's made() lies at or after where it
+// belongs: right after the chunk before it when it could follow on, else in its own slot), or,
+// where clipping made some chunk overflow its slot into a vector of its own, joins them all into a
+// new array.
 void joinTriangles(const std::vector<ChunkOut>& parts, ScreenTriangles& triangles) {
   const bool overflowed = std::any_of(parts.begin(), parts.end(), [&](const ChunkOut& p) {
     const std::span<const ScreenTriangle> made = p.triangles.made();
@@ -210,7 +212,13 @@ struct PipelineScratch {
   VertexOuts verts;
   std::vector<ChunkOut> parts;
   std::vector<std::size_t> first;  // per chunk: where its slot starts in the output
+  // Per chunk, once it is done: where its triangles end in the output, or kNoEnd when they
+  // went to a vector of their own.
+  std::unique_ptr<std::atomic<std::size_t>[]> end;
+  std::size_t end_size = 0;
 };
+
+constexpr std::size_t kNoEnd = SIZE_MAX;
 
 void prepare(const Scene& scene, const Camera& camera, const RenderOptions& options,
              const PrepareRequest& request, PreparedScene& out) {
@@ -283,16 +291,31 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
     for (std::size_t c = 0; c < chunks; ++c) first[c + 1] += first[c];
   }
   out.triangles.resize(first[chunks]);  // no fill: every triangle kept is written
+  // A chunk whose predecessor is done when it starts writes its triangles right after that
+  // one's (the room from there to its own slot's end holds at least as many as its own slot,
+  // and no other chunk writes there), so that closing up moves nothing: at one thread the
+  // chunks run in order and none moves; at more, each thread's run of chunks follows on.
+  if (scratch.end_size < chunks) {
+    scratch.end = std::make_unique<std::atomic<std::size_t>[]>(chunks);
+    scratch.end_size = chunks;
+  }
+  std::atomic<std::size_t>* end_of = scratch.end.get();
+  for (std::size_t c = 0; c < chunks; ++c) end_of[c].store(kNoEnd, std::memory_order_relaxed);
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
     ChunkOut& part = parts[c];
     part.reset();
-    part.triangles.reset(out.triangles.data() + first[c], first[c + 1] - first[c]);
+    const std::size_t after = c > 0 ? end_of[c - 1].load(std::memory_order_acquire) : kNoEnd;
+    const std::size_t start = after != kNoEnd ? after : first[c];
+    part.triangles.reset(out.triangles.data() + start, first[c + 1] - start);
     std::vector<Triangle> tris;
     const std::size_t end = std::min(n, (c + 1) * kChunk);
     if (request.window_polygons) part.polygons.reserve(end - c * kChunk);
     for (std::size_t id = c * kChunk; id < end; ++id)
       processPolygon(ctx, static_cast<PolygonId>(id), request, part, tris);
     finishStreaming();
+    const std::span<const ScreenTriangle> made = part.triangles.made();
+    const bool in_place = made.empty() || made.data() == out.triangles.data() + start;
+    end_of[c].store(in_place ? start + made.size() : kNoEnd, std::memory_order_release);
   });
   joinTriangles(parts, out.triangles);
   std::size_t polygons = 0;

@@ -123,9 +123,10 @@ TEST(Pipeline, TriangleThroughNearPlaneIsClippedNotInverted) {
   for (float v : f.depth) ASSERT_TRUE(std::isfinite(v));
 }
 
-// The pipeline works in chunks of polygons, each writing into its own slot of the output,
-// closed up afterwards, or joined from vectors of their own where clipping made a chunk
-// overflow its slot. Either way the output must be what each polygon makes alone, in order.
+// The pipeline works in chunks of polygons, each writing right after the chunk before it when
+// that one is done, else into its own slot of the output, closed up afterwards; or joined from
+// vectors of their own where clipping made a chunk overflow the room it had. Either way the
+// output must be what each polygon makes alone, in order.
 void expectSameAsPolygonByPolygon(const Scene& scene, const Camera& cam, const RenderOptions& o) {
   const detail::PreparedScene whole = detail::prepare(scene, cam, o);
   std::vector<detail::ScreenTriangle> alone;
@@ -182,6 +183,46 @@ TEST(Pipeline, ChunksJoinAsPolygonByPolygon) {
   ASSERT_GT(q.stats.culled_backface, 1000u);
   ASSERT_LT(q.triangles.size(), clipped.polygonCount());
   expectSameAsPolygonByPolygon(clipped, outside, cull);
+}
+
+TEST(Pipeline, ChunksThatFollowOnUseTheRoomLeftBeforeThem) {
+  // Chunks of 2048 polygons in turn wholly behind the eye (they make nothing) and clipped
+  // around it (they make more triangles than they have polygons): a chunk that follows on
+  // writes into the room its predecessor left; at any thread count the output is the same.
+  Camera inside;
+  inside.eye = {0, 0, 0};
+  inside.target = {0, 0, -1};
+  inside.near = 0.5f;
+  inside.far = 20.0f;
+  inside.width = 96;
+  inside.height = 64;
+  Scene s;
+  Rng rng(5);
+  const std::uint32_t m = s.addMaterial({});
+  for (int chunk = 0; chunk < 6; ++chunk)
+    for (int i = 0; i < 2048; ++i) {
+      const bool behind = chunk % 2 == 0;
+      const glm::vec3 c(rng.uniform(-1, 1), rng.uniform(-1, 1),
+                        behind ? rng.uniform(3, 6) : rng.uniform(-6, -2));
+      const float r = behind ? 0.5f : 8.0f;
+      glm::vec3 v[3];
+      for (glm::vec3& q : v)
+        q = c + glm::vec3(rng.uniform(-r, r), rng.uniform(-r, r), rng.uniform(-1, 1));
+      s.addPolygonVertices({v[0], v[1], v[2]}, m);
+    }
+  const detail::PreparedScene p = detail::prepare(s, inside, {});
+  ASSERT_GT(p.stats.clipped_away, 5000u);
+  ASSERT_GT(p.triangles.size(), s.polygonCount() / 2 + 1000);
+  expectSameAsPolygonByPolygon(s, inside, {});
+  for (const int threads : {1, 2, 5}) {
+    RenderOptions o;
+    o.threads = threads;
+    Frame a = render(s, inside, o);
+    o.threads = 1;
+    Frame b = render(s, inside, o);
+    EXPECT_EQ(a.ids, b.ids) << threads << " threads";
+    EXPECT_EQ(a.stats.triangles_rasterized, p.stats.triangles_rasterized);
+  }
 }
 
 TEST(Pipeline, DegeneratePolygonsAreDroppedAndCounted) {
