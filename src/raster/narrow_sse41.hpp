@@ -26,6 +26,22 @@ inline __m128 depthPasses4(__m128 z, __m128 stored) {
   return _mm_castsi128_ps(_mm_set1_epi32(-1));  // Always
 }
 
+// Writes the four fragments at fb index idx whose lanes of `pass` are set: depth z (if the
+// mask allows), the id and colour, one more on the overdraw count.
+inline void writeFragments4(const FrameView& fb, std::size_t idx, __m128 z, __m128 stored,
+                            __m128 pass, __m128i id, __m128i rgba, bool depth_mask) {
+  const __m128i m = _mm_castps_si128(pass);
+  if (depth_mask) _mm_storeu_ps(fb.depth + idx, _mm_blendv_ps(stored, z, pass));
+  auto blendStore = [&](void* p, __m128i value) {
+    const __m128i old = _mm_loadu_si128(static_cast<const __m128i*>(p));
+    _mm_storeu_si128(static_cast<__m128i*>(p), _mm_blendv_epi8(old, value, m));
+  };
+  blendStore(fb.ids + idx, id);
+  blendStore(fb.rgba + idx, rgba);
+  const __m128i od = _mm_loadu_si128(reinterpret_cast<const __m128i*>(fb.overdraw + idx));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(fb.overdraw + idx), _mm_sub_epi32(od, m));
+}
+
 // Walks the opaque triangle's box x0..x1 (at most 8 columns), y0..y1 in windows of four
 // columns that lie inside the clip box; returns false, having drawn nothing, when the clip box
 // is narrower than four columns or an edge value could leave 32 bits.
@@ -86,16 +102,7 @@ inline bool rasterNarrowSse41(const ScreenTriangle& t, const PixelBox& clip, con
       const int bits = _mm_movemask_ps(pass);
       if (bits == 0) continue;
       c.written += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(bits)));
-      const __m128i m = _mm_castps_si128(pass);
-      if (depth_mask) _mm_storeu_ps(fb.depth + idx, _mm_blendv_ps(stored, z, pass));
-      auto blendStore = [&](void* p, __m128i value) {
-        const __m128i old = _mm_loadu_si128(static_cast<const __m128i*>(p));
-        _mm_storeu_si128(static_cast<__m128i*>(p), _mm_blendv_epi8(old, value, m));
-      };
-      blendStore(fb.ids + idx, id);
-      blendStore(fb.rgba + idx, rgba);
-      const __m128i od = _mm_loadu_si128(reinterpret_cast<const __m128i*>(fb.overdraw + idx));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(fb.overdraw + idx), _mm_sub_epi32(od, m));
+      writeFragments4(fb, idx, z, stored, pass, id, rgba, depth_mask);
     }
   }
   return true;

@@ -6,7 +6,7 @@
 #include "raster/span.hpp"
 
 #if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
-#include "raster/narrow_sse41.hpp"  // depthPasses4
+#include "raster/narrow_sse41.hpp"  // depthPasses4, writeFragments4
 
 namespace hsr::detail {
 namespace {
@@ -39,16 +39,7 @@ void fillSpanSse41(const ScreenTriangle& t, const FrameView& fb, int y, int x0, 
     const int bits = _mm_movemask_ps(pass);
     if (bits == 0) continue;
     c.written += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(bits)));
-    const __m128i m = _mm_castps_si128(pass);
-    if (depth_mask) _mm_storeu_ps(fb.depth + idx, _mm_blendv_ps(stored, z, pass));
-    auto blendStore = [&](void* p, __m128i value) {
-      const __m128i old = _mm_loadu_si128(static_cast<const __m128i*>(p));
-      _mm_storeu_si128(static_cast<__m128i*>(p), _mm_blendv_epi8(old, value, m));
-    };
-    blendStore(fb.ids + idx, id);
-    blendStore(fb.rgba + idx, rgba);
-    const __m128i od = _mm_loadu_si128(reinterpret_cast<const __m128i*>(fb.overdraw + idx));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(fb.overdraw + idx), _mm_sub_epi32(od, m));
+    writeFragments4(fb, idx, z, stored, pass, id, rgba, depth_mask);
   }
   if (x <= x1) fillSpanScalar<F>(t, fb, y, x, x1, depth_mask, c);
 }
