@@ -90,7 +90,7 @@ void drawBoth(const std::vector<ScreenTriangle>& tris, const PixelBox& clip, boo
 }
 
 TEST(NarrowWalk, FourColumnsAtATimeIsTheScalarWalk) {
-  if (!spanPathAvailable(SpanPath::kSse41)) GTEST_SKIP() << "SSE4.1 is not built or not present";
+  ASSERT_TRUE(spanPathAvailable(SpanPath::kSse41));  // built with SSE4.1, so present
   std::mt19937_64 rng(46);
   constexpr int kW = 150, kH = 90;
   const PixelBox clips[] = {
@@ -123,25 +123,25 @@ TEST(NarrowWalk, FourColumnsAtATimeIsTheScalarWalk) {
 }
 
 TEST(NarrowWalk, EdgeValuesBeyond32BitsFallBackToTheScalarWalk) {
-  if (!spanPathAvailable(SpanPath::kSse41)) GTEST_SKIP() << "SSE4.1 is not built or not present";
+  ASSERT_TRUE(spanPathAvailable(SpanPath::kSse41));  // built with SSE4.1, so present
   // A sliver 6 columns wide and 8000 rows tall: its edges' steps per column are about 2^29.
   constexpr int kW = 16, kH = 8192;
   std::mt19937_64 rng(1);
-  const std::int64_t fx[3] = {2 * 256 + 10, 8 * 256 - 3, 5 * 256}, fy[3] = {5, 8000 * 256, 300};
-  ScreenTriangle tall;
-  ASSERT_EQ(
-      makeScreenTriangle(fx, fy, windowOrientation(fx, fy), kW, kH, DepthPlane{0, 0, 0.5}, &tall),
-      TriangleFate::kMade);
-  tall.id = 1;
-  tall.rgba = 0xFFFFFFFFu;
+  auto made = [&](const std::int64_t(&fx)[3], const std::int64_t(&fy)[3], double z, PolygonId id,
+                  std::uint32_t rgba) {
+    ScreenTriangle t{};
+    EXPECT_EQ(
+        makeScreenTriangle(fx, fy, windowOrientation(fx, fy), kW, kH, DepthPlane{0, 0, z}, &t),
+        TriangleFate::kMade);
+    t.id = id;
+    t.rgba = rgba;
+    return t;
+  };
+  const ScreenTriangle tall =
+      made({2 * 256 + 10, 8 * 256 - 3, 5 * 256}, {5, 8000 * 256, 300}, 0.5, 1, 0xFFFFFFFFu);
   // A small one, for contrast: the four-column walk takes it.
-  const std::int64_t sx[3] = {2 * 256, 6 * 256, 4 * 256}, sy[3] = {2 * 256, 2 * 256, 6 * 256};
-  ScreenTriangle small;
-  ASSERT_EQ(
-      makeScreenTriangle(sx, sy, windowOrientation(sx, sy), kW, kH, DepthPlane{0, 0, 0.25}, &small),
-      TriangleFate::kMade);
-  small.id = 2;
-  small.rgba = 0xFF00FF00u;
+  const ScreenTriangle small =
+      made({2 * 256, 6 * 256, 4 * 256}, {2 * 256, 2 * 256, 6 * 256}, 0.25, 2, 0xFF00FF00u);
   const PixelBox clip{0, 0, kW - 1, kH - 1};
   Buffers scalar(kW, kH, rng);
   Buffers simd = scalar;
