@@ -74,13 +74,8 @@ CC=clang-14 CXX=clang++-14 stage "ASan+UBSan build (clang: the tests and the fuz
   scripts/build.sh build-san -DHSR_BUILD_TESTS=ON -DHSR_SANITIZE=ON -DHSR_BUILD_FUZZ=ON \
   -DHSR_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
 # Leak checking stays off for the tests (the fuzz targets keep it, scripts/fuzz.sh).
-# clang 14's ASan does not hold its allocator's lock across fork(): a model import forked
-# while a oneTBB worker of the previous render is freeing memory can leave the child waiting
-# on that lock forever (seen once: an import refused after its 120 s limit, the same test
-# then passing 40 times in a row). A test that fails is run once more; one that fails twice
-# fails the run.
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  stage "ASan+UBSan tests" ctest_run build-san --repeat until-pass:2
+  stage "ASan+UBSan tests" ctest_run build-san
 stage "libFuzzer: ${fuzz_seconds} s per target" scripts/fuzz.sh "$fuzz_seconds"
 
 mkdir -p build

@@ -53,6 +53,20 @@ int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile
                                                                   std::size_t),
                                               void (*free_hook)(const volatile void*));
 }
+// The runtime's own locks, which clang 14's ASan does not hold across fork() (later
+// compiler-rt releases take these same ones, in this order, in a fork handler). Weak: a
+// runtime linked as a shared library (GCC's libasan) does not export them, and then they
+// are null and the fork goes as before.
+namespace __lsan {
+void LockThreadRegistry() __attribute__((weak));
+void UnlockThreadRegistry() __attribute__((weak));
+void LockAllocator() __attribute__((weak));
+void UnlockAllocator() __attribute__((weak));
+}  // namespace __lsan
+namespace __sanitizer {
+void StackDepotLockAll() __attribute__((weak));
+void StackDepotUnlockAll() __attribute__((weak));
+}  // namespace __sanitizer
 #endif
 #ifndef HSR_FUZZING
 #define HSR_FUZZING 0
@@ -262,6 +276,37 @@ class SharedCoverage {
   std::uint8_t* shared_ = nullptr;
 };
 #endif
+
+// ---- fork() with other threads running ---------------------------------------------------
+// Only the forking thread lives on in the child; a lock another thread held at that moment
+// stays held there for good. glibc's malloc takes its locks across fork() for that reason;
+// the sanitizer runtime's allocator does not, so under ASan a child forked while a oneTBB
+// worker of the previous render was inside malloc or free waited for ever on the allocator's
+// region lock (seen in CI, an import refused at its 120 s limit; reproduced by running the
+// real-model pair test in a loop twice at a time: the child's stack ended in
+// SizeClassAllocator64::GetFromAllocator). The parent takes those locks, forks, and both
+// sides let go.
+pid_t forkWithRuntimeLocks() {
+#if HSR_ASAN
+  const bool lock = __lsan::LockThreadRegistry && __lsan::UnlockThreadRegistry &&
+                    __lsan::LockAllocator && __lsan::UnlockAllocator &&
+                    __sanitizer::StackDepotLockAll && __sanitizer::StackDepotUnlockAll;
+  if (lock) {
+    __lsan::LockThreadRegistry();
+    __lsan::LockAllocator();
+    __sanitizer::StackDepotLockAll();
+  }
+  const pid_t pid = ::fork();
+  if (lock) {
+    __sanitizer::StackDepotUnlockAll();
+    __lsan::UnlockAllocator();
+    __lsan::UnlockThreadRegistry();
+  }
+  return pid;
+#else
+  return ::fork();
+#endif
+}
 
 // ---- Memory -------------------------------------------------------------------------------
 // Some headers claim counts that assimp allocates before it reads any data (fuzzing found OFF
@@ -482,7 +527,7 @@ Scene importInSandbox(const SandboxJob& job) {
   };
   std::fflush(nullptr);
   const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
+  const pid_t pid = forkWithRuntimeLocks();
   if (pid < 0) {
     closeAll();
     return inProcess();  // no fork: in process
