@@ -67,6 +67,19 @@ void cullObjects(const Scene& scene, const glm::mat4& mvp, const ClipSetup& cs, 
 void transformVertices(const Scene& scene, const glm::mat4& mvp, const ClipSetup& cs,
                        const Viewport& vp, const std::vector<std::uint8_t>& object_state,
                        ClipVertices& clip, VertexOuts& verts);
+// The vertices [first, end) of one object, one at a time (the readable sibling), and four at a
+// time with SSE2 (what transformVertices runs where it is built): the same IEEE operations in
+// the same order, so the same clip positions, outcodes and window positions, bit for bit
+// (tests/pipeline/transform_test.cpp). A vertex's window fields are written, and equal, where
+// its code has neither kMustClip nor kNonFinite.
+void transformVertexRange(const Scene& scene, const glm::mat4& mvp, const ClipSetup& cs,
+                          const Viewport& vp, std::uint32_t first, std::uint32_t end,
+                          glm::vec4* clip, VertexOut* verts);
+#if defined(__SSE2__) && !defined(HSR_NO_SIMD)
+void transformVertexRangeSse2(const Scene& scene, const glm::mat4& mvp, const ClipSetup& cs,
+                              const Viewport& vp, std::uint32_t first, std::uint32_t end,
+                              glm::vec4* clip, VertexOut* verts);
+#endif
 
 // ---- everything a stage may read
 
