@@ -7,6 +7,7 @@
 #if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
 #include <smmintrin.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "raster/edge.hpp"
@@ -42,13 +43,38 @@ inline void writeFragments4(const FrameView& fb, std::size_t idx, __m128 z, __m1
   _mm_storeu_si128(reinterpret_cast<__m128i*>(fb.overdraw + idx), _mm_sub_epi32(od, m));
 }
 
+// The three edge functions of setupTriangle at pixel (x, y), and their steps per column and
+// per row, in 32 bits. Straight from the vertices when the triangle spans less than 16 pixels
+// each way: then every value within 16 pixels of its box is below 2^27 in magnitude, and these
+// are setupTriangle's values exactly (the same integer sums, none of which overflows).
+struct NarrowEdges {
+  std::int32_t value[3], step_x[3], step_y[3];
+};
+inline bool smallTriangleEdges(const ScreenTriangle& t, int x, int y, NarrowEdges* e) {
+  constexpr std::int32_t kSpan = 16 * kSubpixelOne;
+  const std::int32_t lo_x = std::min({t.x[0], t.x[1], t.x[2]});
+  const std::int32_t hi_x = std::max({t.x[0], t.x[1], t.x[2]});
+  const std::int32_t lo_y = std::min({t.y[0], t.y[1], t.y[2]});
+  const std::int32_t hi_y = std::max({t.y[0], t.y[1], t.y[2]});
+  if (hi_x - lo_x >= kSpan || hi_y - lo_y >= kSpan) return false;
+  const std::int32_t px = x * kSubpixelOne, py = y * kSubpixelOne;
+  for (int k = 0; k < 3; ++k) {
+    const int next = k == 2 ? 0 : k + 1;
+    const std::int32_t dx = t.x[next] - t.x[k], dy = t.y[next] - t.y[k];
+    const bool top_left = (dy < 0) || (dy == 0 && dx < 0);  // setupTriangle's fill rule
+    e->step_x[k] = -dy * kSubpixelOne;
+    e->step_y[k] = dx * kSubpixelOne;
+    e->value[k] = dx * (py - t.y[k]) - dy * (px - t.x[k]) + (top_left ? 0 : -1);
+  }
+  return true;
+}
+
 // Walks the opaque triangle's box x0..x1 (at most 8 columns), y0..y1 in windows of four
 // columns that lie inside the clip box; returns false, having drawn nothing, when the clip box
 // is narrower than four columns or an edge value could leave 32 bits.
 template <DepthFunc F>
-inline bool rasterNarrowSse41(const ScreenTriangle& t, const PixelBox& clip, const TriangleSetup& s,
-                              int x0, int x1, int y0, int y1, const FrameView& fb, bool depth_mask,
-                              FragmentCounts& c) {
+inline bool rasterNarrowSse41(const ScreenTriangle& t, const PixelBox& clip, int x0, int x1, int y0,
+                              int y1, const FrameView& fb, bool depth_mask, FragmentCounts& c) {
   if (clip.x1 - clip.x0 < 3) return false;
   // Window c starts at column x0 + 4c, moved left when it would cross the clip box's right
   // side; `valid` keeps the lanes of columns the window owns (its own four, within x1).
@@ -63,19 +89,30 @@ inline bool rasterNarrowSse41(const ScreenTriangle& t, const PixelBox& clip, con
     const __m128i lo = _mm_set1_epi32(first - 1), hi = _mm_set1_epi32(std::min(first + 3, x1) + 1);
     valid[w] = _mm_and_si128(_mm_cmpgt_epi32(col, lo), _mm_cmplt_epi32(col, hi));
   }
-  // Every value met is row + step_x * x + step_y * (y - y0) for x within 11 columns of xs[0]:
-  // bounded by the sum of the absolute values.
+  // The edge values at (xs[0], y0): from the vertices in 32 bits for a small triangle (the
+  // windows lie within 11 columns of its box), else from setupTriangle when every value met,
+  // row + step_x * x + step_y * (y - y0) for x within 11 columns of xs[0], is bounded below
+  // 2^31 by the sum of the absolute values.
+  NarrowEdges g;
+  if (!smallTriangleEdges(t, xs[0], y0, &g)) {
+    const TriangleSetup s = setupTriangle(t, y0);
+    for (int k = 0; k < 3; ++k) {
+      const EdgeSetup& f = s.edge[k];
+      const std::int64_t base = f.row + f.step_x * xs[0];
+      const std::int64_t bound =
+          std::llabs(base) + std::llabs(f.step_x) * 11 + std::llabs(f.step_y) * (y1 - y0);
+      if (bound >= (std::int64_t{1} << 31)) return false;
+      g.value[k] = static_cast<std::int32_t>(base);
+      g.step_x[k] = static_cast<std::int32_t>(f.step_x);
+      g.step_y[k] = static_cast<std::int32_t>(f.step_y);
+    }
+  }
   __m128i e[2][3], step_y[3];
   for (int k = 0; k < 3; ++k) {
-    const EdgeSetup& g = s.edge[k];
-    const std::int64_t base = g.row + g.step_x * xs[0];
-    const std::int64_t bound =
-        std::llabs(base) + std::llabs(g.step_x) * 11 + std::llabs(g.step_y) * (y1 - y0);
-    if (bound >= (std::int64_t{1} << 31)) return false;
-    const __m128i steps = _mm_mullo_epi32(_mm_set1_epi32(static_cast<int>(g.step_x)), lane);
+    const __m128i steps = _mm_mullo_epi32(_mm_set1_epi32(g.step_x[k]), lane);
     for (int w = 0; w < windows; ++w)
-      e[w][k] = _mm_add_epi32(_mm_set1_epi32(static_cast<int>(g.row + g.step_x * xs[w])), steps);
-    step_y[k] = _mm_set1_epi32(static_cast<int>(g.step_y));
+      e[w][k] = _mm_add_epi32(_mm_set1_epi32(g.value[k] + g.step_x[k] * (xs[w] - xs[0])), steps);
+    step_y[k] = _mm_set1_epi32(g.step_y[k]);
   }
   const __m128d dzdx2 = _mm_set1_pd(t.depth.dzdx);
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);

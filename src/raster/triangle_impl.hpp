@@ -16,13 +16,13 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameVi
   const int x0 = std::max(clip.x0, static_cast<int>(t.x0));
   const int x1 = std::min(clip.x1, static_cast<int>(t.x1));
   if (y0 > y1 || x0 > x1) return;
-  TriangleSetup s = setupTriangle(t, y0);
   if (x1 - x0 < kNarrowTriangleColumns) {
 #if defined(__SSE4_1__) && !defined(HSR_NO_SIMD)
     if (path.narrow_sse41 && !t.transparent() &&
-        rasterNarrowSse41<F>(t, clip, s, x0, x1, y0, y1, fb, depth_mask, c))
+        rasterNarrowSse41<F>(t, clip, x0, x1, y0, y1, fb, depth_mask, c))
       return;
 #endif
+    TriangleSetup s = setupTriangle(t, y0);
     // Few columns (most triangles of a dense mesh): walk the box, stepping the three edge
     // functions by additions; a pixel is inside when none of them is negative.
     for (int y = y0; y <= y1; ++y, nextRow(s)) {
@@ -39,6 +39,7 @@ void rasterTriangle(const ScreenTriangle& t, const PixelBox& clip, const FrameVi
     }
     return;
   }
+  TriangleSetup s = setupTriangle(t, y0);
   if (y1 - y0 < kRowSpansFrom) {
     for (int y = y0; y <= y1; ++y, nextRow(s)) {
       int lo = x0, hi = x1;

@@ -7,11 +7,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <random>
 #include <vector>
 
+#include "core/random.hpp"
 #include "raster/narrow_sse41.hpp"
 #include "raster/triangle.hpp"
 
@@ -147,10 +149,9 @@ TEST(NarrowWalk, EdgeValuesBeyond32BitsFallBackToTheScalarWalk) {
   Buffers simd = scalar;
   FragmentCounts cs, cv;
   for (const ScreenTriangle* t : {&tall, &small}) {
-    const TriangleSetup s = setupTriangle(*t, t->y0);
     Buffers probe = simd;
     FragmentCounts unused;
-    const bool took = rasterNarrowSse41<DepthFunc::Less>(*t, clip, s, t->x0, t->x1, t->y0, t->y1,
+    const bool took = rasterNarrowSse41<DepthFunc::Less>(*t, clip, t->x0, t->x1, t->y0, t->y1,
                                                          probe.view(), true, unused);
     EXPECT_EQ(took, t == &small) << "triangle " << t->id;
   }
@@ -158,6 +159,50 @@ TEST(NarrowWalk, EdgeValuesBeyond32BitsFallBackToTheScalarWalk) {
   EXPECT_TRUE(scalar == simd);
   EXPECT_EQ(cs.tested, cv.tested);
   EXPECT_GT(cs.tested, 10000u);  // the sliver drew its rows
+}
+
+// A triangle under 16 pixels each way gets its edge values straight from its vertices in 32
+// bits: they are setupTriangle's, value and steps, at any pixel near it, wherever it lies
+// (vertices up to 2^30 sub-pixel units, as ScreenTriangle allows); one 16 pixels across or more
+// is refused.
+TEST(NarrowWalk, SmallTriangleEdgesAreSetupTrianglesIn32Bits) {
+  SplitMix64 rng(46);
+  int compared = 0, refused = 0;
+  for (int round = 0; round < 20000; ++round) {
+    const std::int32_t reach = (round % 4 == 0) ? (1 << 29) : (1 << 21);
+    const std::int32_t cx = static_cast<std::int32_t>(rng.next() % (2u * reach)) - reach;
+    const std::int32_t cy = static_cast<std::int32_t>(rng.next() % (2u * reach)) - reach;
+    const int spread = round % 8 == 7 ? 6000 : 2100;  // the last kind often spans 16 pixels or more
+    ScreenTriangle t{};
+    for (int k = 0; k < 3; ++k) {
+      t.x[k] = cx + static_cast<std::int32_t>(rng.next() % spread);
+      t.y[k] = cy + static_cast<std::int32_t>(rng.next() % spread);
+    }
+    // A pixel within a few of the triangle's corner, as the walk's windows are
+    const int x = static_cast<int>((cx >> kSubpixelBits) - 3 + static_cast<int>(rng.next() % 12));
+    const int y = static_cast<int>((cy >> kSubpixelBits) + static_cast<int>(rng.next() % 10));
+    NarrowEdges e;
+    const std::int32_t span_x =
+        std::max({t.x[0], t.x[1], t.x[2]}) - std::min({t.x[0], t.x[1], t.x[2]});
+    const std::int32_t span_y =
+        std::max({t.y[0], t.y[1], t.y[2]}) - std::min({t.y[0], t.y[1], t.y[2]});
+    const bool small = span_x < 16 * kSubpixelOne && span_y < 16 * kSubpixelOne;
+    ASSERT_EQ(smallTriangleEdges(t, x, y, &e), small) << "round " << round;
+    if (!small) {
+      ++refused;
+      continue;
+    }
+    const TriangleSetup s = setupTriangle(t, y);
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(e.value[k], s.edge[k].row + s.edge[k].step_x * x)
+          << "round " << round << " edge " << k;
+      ASSERT_EQ(e.step_x[k], s.edge[k].step_x) << "round " << round;
+      ASSERT_EQ(e.step_y[k], s.edge[k].step_y) << "round " << round;
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 15000);
+  EXPECT_GT(refused, 500);
 }
 
 }  // namespace
