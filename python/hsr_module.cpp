@@ -36,10 +36,11 @@ namespace {
 static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "glm::vec3 must be three packed floats");
 
 // A NumPy array that owns `v` (moved into the array's base object): no copy.
-template <class T, class Elem = T>
-py::array adopt(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
-  auto* heap = new std::vector<T>(std::move(v));
-  py::capsule owner(heap, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+template <class T, class Elem = T, class Alloc = std::allocator<T>>
+py::array adopt(std::vector<T, Alloc>&& v, std::vector<py::ssize_t> shape) {
+  using Vector = std::vector<T, Alloc>;
+  auto* heap = new Vector(std::move(v));
+  py::capsule owner(heap, [](void* p) { delete static_cast<Vector*>(p); });
   return py::array_t<Elem>(shape, reinterpret_cast<Elem*>(heap->data()), owner);
 }
 
@@ -125,7 +126,8 @@ py::dict frameArrays(hsr::Frame&& f, const hsr::Scene& scene, const hsr::Camera&
                      hsr::DepthKind depth, hsr::NormalSpace normals, const std::string& algorithm) {
   const py::ssize_t h = f.height, w = f.width;
   std::vector<std::uint32_t> objects, materials;
-  std::vector<float> normal, converted;
+  std::vector<float> normal;
+  hsr::FrameBuffer<float> converted;
   std::string stats;
   {
     py::gil_scoped_release release;

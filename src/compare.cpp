@@ -49,7 +49,7 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
     return r.algorithm == reference && r.not_run.empty();
   });
   if (ref_row == rows.end()) return rows;  // nothing to agree with: the reference was not run
-  const std::vector<PolygonId>& ref = ref_row->frame.ids;
+  const FrameBuffer<PolygonId>& ref = ref_row->frame.ids;
   for (ComparisonRow& r : rows) {
     if (!r.not_run.empty()) continue;
     std::uint64_t diff = 0;
@@ -82,7 +82,7 @@ std::vector<ComparisonRow> compareAlgorithms(const Scene& scene, const Camera& c
       render(scene, view, o, frames[i]);
       run[i]->view_ms += t0.ms();
     }
-    const std::vector<PolygonId>& view_ref = frames[ref_index].ids;
+    const FrameBuffer<PolygonId>& view_ref = frames[ref_index].ids;
     for (std::size_t i = 0; i < run.size(); ++i)
       for (std::size_t p = 0; p < view_ref.size(); ++p)
         run[i]->differing_pixels += frames[i].ids[p] != view_ref[p];

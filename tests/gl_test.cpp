@@ -119,7 +119,7 @@ TEST(GlFacade, DepthMaskMasksClear) {
   gl::Context ctx(cubeCamera());
   ctx.enable(gl::DEPTH_TEST);
   ctx.draw(s);
-  const std::vector<float> depth = ctx.frame().depth;
+  const FrameBuffer<float> depth = ctx.frame().depth;
   ctx.depthMask(false);
   ctx.clear(gl::DEPTH_BUFFER_BIT);
   EXPECT_EQ(ctx.frame().depth, depth);

@@ -323,7 +323,7 @@ void addLegend(const hsr::Frame& f, std::string_view kind, std::vector<std::uint
       // The ends in the units --depth asks for (the ramp is the picture's: window z)
       title =
           depth == hsr::DepthKind::kLinear ? "DEPTH ALONG THE VIEW AXIS" : "DISTANCE FROM THE EYE";
-      const std::vector<float> d = hsr::depthAs(f, camera, depth);
+      const hsr::FrameBuffer<float> d = hsr::depthAs(f, camera, depth);
       float lo = INFINITY, hi = -INFINITY;
       for (const float v : d)
         if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);

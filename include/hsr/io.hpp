@@ -92,7 +92,7 @@ void writeRawFrame(const std::filesystem::path& dir, const Frame& frame, const s
 // z bounds the precision (relative error about 2^-24 times far / near at the far plane).
 enum class DepthKind { kWindow, kLinear, kDistance };
 DepthKind depthKindNamed(std::string_view name);  // "window", "linear", "distance"; else Error
-std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind kind);
+FrameBuffer<float> depthAs(const Frame& frame, const Camera& camera, DepthKind kind);
 
 // Per pixel, the object (index into scene.objects) and the material (index into
 // scene.materials) of the polygon shown; 4294967295 where nothing was drawn.

@@ -4,9 +4,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdlib>
 
 #include "core/large_pages.hpp"
 #include "core/parallel.hpp"
+
+namespace hsr {
+
+void* allocateFrameBuffer(std::size_t bytes) {
+  return detail::allocateLargePages(bytes, alignof(std::max_align_t));
+}
+void freeFrameBuffer(void* p) noexcept { std::free(p); }
+
+}  // namespace hsr
 
 namespace hsr::detail {
 
@@ -27,17 +38,6 @@ void clearFrame(Frame& f, int width, int height, const RenderOptions& options) {
   const std::uint32_t clear = clearColorRgba(options);
   const float clear_depth =
       std::isfinite(options.clear_depth) ? std::clamp(options.clear_depth, 0.0f, 1.0f) : 1.0f;
-  // A fresh buffer is asked for huge pages before anything touches it (core/large_pages.hpp):
-  // the first frame into it then faults in 2 MiB pages, not 4 KiB ones.
-  const auto allocate = [n](auto& buffer) {
-    if (buffer.capacity() >= n) return;
-    buffer.reserve(n);
-    adviseLargePages(buffer.data(), n * sizeof(buffer[0]));
-  };
-  allocate(f.color);
-  allocate(f.depth);
-  allocate(f.ids);
-  allocate(f.overdraw);
   f.coverage.clear();  // made by the algorithms that antialias
   const bool sized =
       f.color.size() == n && f.depth.size() == n && f.ids.size() == n && f.overdraw.size() == n;

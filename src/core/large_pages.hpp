@@ -7,7 +7,8 @@
 //     translation cache. Embree allocates its trees the same way;
 //   - those written once per frame (the pipeline's screen triangles, the frame's buffers): a
 //     fresh array of 64 MiB first touched in 4 KiB pages takes 16,384 page faults, in 2 MiB
-//     pages 32, which is most of what a one-shot render pays over a warm one.
+//     pages 32, which is most of what a one-shot render pays over a warm one (the frame's
+//     buffers take the same allocation through hsr::FrameBufferAllocator, hsr/render.hpp).
 // Elsewhere, or when the kernel declines, it is an ordinary aligned allocation: the contents
 // and every result are the same either way.
 
@@ -38,17 +39,6 @@ inline void* allocateLargePages(std::size_t bytes, std::size_t align) {
   const std::size_t a = align < alignof(std::max_align_t) ? alignof(std::max_align_t) : align;
   if (void* p = std::aligned_alloc(a, (bytes + a - 1) / a * a)) return p;
   throw std::bad_alloc();
-}
-
-// Asks for huge pages under the 2 MiB-aligned part of [p, p + bytes), memory allocated but not
-// yet touched (a std::vector's after reserve()). A hint with no effect on the contents.
-inline void adviseLargePages([[maybe_unused]] void* p, [[maybe_unused]] std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  const auto begin = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t lo = (begin + kLargePage - 1) / kLargePage * kLargePage;
-  const std::uintptr_t hi = (begin + bytes) / kLargePage * kLargePage;
-  if (hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);
-#endif
 }
 
 template <class T>

@@ -218,7 +218,7 @@ void writeRaw(const std::filesystem::path& dir, const Frame& frame, const std::s
   const std::size_t n = pixelCount(w, h, dir);
   if (frame.depth.size() != n || frame.ids.size() != n || frame.overdraw.size() != n)
     throw Error(dir.string() + ": the frame has no depth, id or overdraw buffer to write");
-  std::vector<float> converted;
+  FrameBuffer<float> converted;
   if (camera && kind != DepthKind::kWindow) converted = depthAs(frame, *camera, kind);
   const float* depth = converted.empty() ? frame.depth.data() : converted.data();
   std::vector<std::uint32_t> objects, materials;
@@ -277,13 +277,13 @@ DepthKind depthKindNamed(std::string_view name) {
   throw Error("depth '" + std::string(name) + "': window, linear or distance");
 }
 
-std::vector<float> depthAs(const Frame& frame, const Camera& camera, DepthKind kind) {
+FrameBuffer<float> depthAs(const Frame& frame, const Camera& camera, DepthKind kind) {
   const std::size_t n = framePixels(frame);
   if (frame.depth.size() != n || frame.ids.size() != n)
     throw Error("the frame has no depth or id buffer to convert");
   if (frame.width != camera.width || frame.height != camera.height)
     throw Error("the frame's size differs from the camera's");
-  std::vector<float> out(frame.depth);
+  FrameBuffer<float> out(frame.depth);
   if (kind == DepthKind::kWindow) return out;
   const glm::dmat4 p(camera.projection());
   const double w = frame.width, h = frame.height;

@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "core/default_init.hpp"
+#include "core/large_pages.hpp"
 #include "raster/primitives.hpp"
 
 namespace hsr::detail {
@@ -19,7 +21,11 @@ inline constexpr int kTile = 1 << kTileShift;
 struct Bins {
   int tiles_x = 0, tiles_y = 0;
   std::vector<std::size_t> start;  // tiles + 1 offsets into items
-  std::vector<std::uint32_t> items;
+  // Sized without a fill (the second pass writes every entry) and on huge pages when large: a
+  // one-shot render's first touch of a million entries took 4 KiB faults (bin 15.6 ms against
+  // 4.3 warm).
+  std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t, LargePageAllocator<std::uint32_t>>>
+      items;
   std::size_t tiles() const { return static_cast<std::size_t>(tiles_x) * tiles_y; }
   std::size_t bytes() const { return start.size() * sizeof(std::size_t) + items.size() * 4; }
   // The pixels of tile `index`, within a width x height viewport.

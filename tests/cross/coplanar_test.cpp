@@ -93,7 +93,7 @@ void checkFamily(const Family& fam, const AlgorithmInfo& algo, Tally& t) {
   base.cull = CullMode::None;
   // Each polygon alone: its own coverage, independent of what else is drawn.
   std::vector<std::vector<std::uint8_t>> cover(n);
-  std::vector<std::vector<float>> solo_depth(n);
+  std::vector<FrameBuffer<float>> solo_depth(n);
   for (std::size_t j = 0; j < n; ++j) {
     const Frame f = render(sceneOf({&fam.polygons[j]}), fam.camera, base);
     solo_depth[j] = f.depth;

@@ -38,8 +38,8 @@ inline void printFigures(const std::string& line) {
 }
 
 // FNV-1a, 64 bits, over the bytes of a buffer (floats by their bit patterns).
-template <class T>
-std::uint64_t fnv1a64(const std::vector<T>& v) {
+template <class T, class Alloc>
+std::uint64_t fnv1a64(const std::vector<T, Alloc>& v) {
   std::uint64_t h = 0xCBF29CE484222325ull;
   const unsigned char* p = reinterpret_cast<const unsigned char*>(v.data());
   for (std::size_t i = 0; i < v.size() * sizeof(T); ++i) {

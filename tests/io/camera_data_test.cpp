@@ -71,8 +71,8 @@ TEST(CameraData, DepthInSceneUnitsIsTheSceneLength) {
     c.near = 0.5f, c.far = 50.0f, c.width = 160, c.height = 120, c.ortho = ortho;
     c.ortho_half_height = 1.5f;
     const Frame f = render(s, c);
-    const std::vector<float> linear = depthAs(f, c, DepthKind::kLinear);
-    const std::vector<float> distance = depthAs(f, c, DepthKind::kDistance);
+    const FrameBuffer<float> linear = depthAs(f, c, DepthKind::kLinear);
+    const FrameBuffer<float> distance = depthAs(f, c, DepthKind::kDistance);
     EXPECT_EQ(depthAs(f, c, DepthKind::kWindow), f.depth);
     const glm::dmat4 p(c.projection());
     int drawn = 0;
