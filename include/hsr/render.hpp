@@ -74,7 +74,7 @@ class FrameScratch {
   std::shared_ptr<void> ptr;
 };
 
-// Where a frame's buffers live: a buffer of 2 MiB or more starts on a 2 MiB boundary and the
+// Where a frame's buffers live: a buffer of 1 MiB or more starts on a 2 MiB boundary and the
 // kernel is asked for huge pages under all of it (elsewhere, an ordinary allocation). A fresh
 // 1080p frame (33 MB) is then first touched in 2 MiB pages; from std::allocator, whose large
 // blocks start just past a 4 KiB page, each buffer's unaligned ends took 4 KiB faults, which

@@ -1,4 +1,4 @@
-// A frame's buffers (hsr::FrameBuffer): on Linux a buffer of 2 MiB or more starts on a 2 MiB
+// A frame's buffers (hsr::FrameBuffer): on Linux a buffer of 1 MiB or more starts on a 2 MiB
 // boundary, so that its first touch takes huge pages from its first byte to its last; they hold
 // what any vector holds, are reused by the next render into the same frame, and a copied frame
 // is the same frame.
@@ -66,6 +66,14 @@ TEST(FrameBuffers, HoldWhatAVectorHoldsAtEverySize) {
     EXPECT_EQ(b.back(), 99u);
     EXPECT_EQ(reinterpret_cast<std::uintptr_t>(b.data()) % alignof(std::max_align_t), 0u);
   }
+#if defined(__linux__)
+  // From 1 MiB (an 800x600 frame's buffers: 1.8 MiB each) a buffer takes whole huge pages.
+  for (const std::size_t n :
+       {detail::kLargePage / 8, std::size_t{800} * 600, detail::kLargePage / 4 + 3}) {
+    const FrameBuffer<std::uint32_t> b(n);
+    EXPECT_TRUE(onLargePageBoundary(b)) << n;
+  }
+#endif
 }
 
 }  // namespace
