@@ -69,6 +69,45 @@ inline bool smallTriangleEdges(const ScreenTriangle& t, int x, int y, NarrowEdge
   return true;
 }
 
+// The rows y0..y1 of W windows of four columns (at xs[w], lanes `valid[w]`) whose edge values
+// on row y0 are e[w][k]: the fragments inside all three edges are depth tested and written.
+// Without a branch on whether a row holds a fragment or one passes: for triangles of a few
+// pixels those branches went either way at random, and mispredicting them cost a third of the
+// raster stage (spheres:1M, 1 thread: 35.2 -> 24.7 ms). A window with no lane passing writes
+// back what it read, inside the clip box, which only this tile's thread touches.
+template <DepthFunc F, int W>
+inline void walkNarrowWindows(const ScreenTriangle& t, const int (&xs)[2],
+                              const __m128i (&valid)[2], __m128i (&e)[2][3],
+                              const __m128i (&step_y)[3], int y0, int y1, const FrameView& fb,
+                              bool depth_mask, FragmentCounts& c) {
+  const __m128d dzdx2 = _mm_set1_pd(t.depth.dzdx);
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  const __m128i id = _mm_set1_epi32(static_cast<int>(t.id));
+  const __m128i rgba = _mm_set1_epi32(static_cast<int>(t.rgba));
+  for (int y = y0; y <= y1; ++y) {
+    const __m128d row2 = _mm_set1_pd(depthRowStart(t.depth, y));
+    for (int w = 0; w < W; ++w) {
+      // Inside: no edge value negative (the sign bits of their OR clear), in a valid lane.
+      const __m128i out = _mm_or_si128(_mm_or_si128(e[w][0], e[w][1]), e[w][2]);
+      const __m128i in = _mm_srai_epi32(_mm_andnot_si128(out, valid[w]), 31);
+      for (int k = 0; k < 3; ++k) e[w][k] = _mm_add_epi32(e[w][k], step_y[k]);
+      const int in_bits = _mm_movemask_ps(_mm_castsi128_ps(in));
+      c.tested += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(in_bits)));
+      const __m128d x01 = _mm_setr_pd(xs[w], xs[w] + 1.0),
+                    x23 = _mm_setr_pd(xs[w] + 2.0, xs[w] + 3.0);
+      const __m128 lo = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, x01)));
+      const __m128 hi = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, x23)));
+      const __m128 z = _mm_min_ps(one, _mm_max_ps(zero, _mm_movelh_ps(lo, hi)));
+      const std::size_t idx = fb.index(xs[w], y);
+      const __m128 stored = _mm_loadu_ps(fb.depth + idx);
+      const __m128 pass = _mm_and_ps(depthPasses4<F>(z, stored), _mm_castsi128_ps(in));
+      const int bits = _mm_movemask_ps(pass);
+      c.written += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(bits)));
+      writeFragments4(fb, idx, z, stored, pass, id, rgba, depth_mask);
+    }
+  }
+}
+
 // Walks the opaque triangle's box x0..x1 (at most 8 columns), y0..y1 in windows of four
 // columns that lie inside the clip box; returns false, having drawn nothing, when the clip box
 // is narrower than four columns or an edge value could leave 32 bits.
@@ -79,7 +118,7 @@ inline bool rasterNarrowSse41(const ScreenTriangle& t, const PixelBox& clip, int
   // Window c starts at column x0 + 4c, moved left when it would cross the clip box's right
   // side; `valid` keeps the lanes of columns the window owns (its own four, within x1).
   const int windows = (x1 - x0) / 4 + 1;
-  int xs[2];
+  int xs[2] = {0, 0};
   __m128i valid[2];
   const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
   for (int w = 0; w < windows; ++w) {
@@ -107,41 +146,20 @@ inline bool rasterNarrowSse41(const ScreenTriangle& t, const PixelBox& clip, int
       g.step_y[k] = static_cast<std::int32_t>(f.step_y);
     }
   }
+  // Each lane's value: the window's first column's, plus step_x times the lane (by additions:
+  // every value is below 2^31, as above).
   __m128i e[2][3], step_y[3];
   for (int k = 0; k < 3; ++k) {
-    const __m128i steps = _mm_mullo_epi32(_mm_set1_epi32(g.step_x[k]), lane);
+    const std::int32_t sx = g.step_x[k];
+    const __m128i steps = _mm_setr_epi32(0, sx, sx + sx, sx + sx + sx);
     for (int w = 0; w < windows; ++w)
-      e[w][k] = _mm_add_epi32(_mm_set1_epi32(g.value[k] + g.step_x[k] * (xs[w] - xs[0])), steps);
+      e[w][k] = _mm_add_epi32(_mm_set1_epi32(g.value[k] + sx * (xs[w] - xs[0])), steps);
     step_y[k] = _mm_set1_epi32(g.step_y[k]);
   }
-  const __m128d dzdx2 = _mm_set1_pd(t.depth.dzdx);
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-  const __m128i id = _mm_set1_epi32(static_cast<int>(t.id));
-  const __m128i rgba = _mm_set1_epi32(static_cast<int>(t.rgba));
-  for (int y = y0; y <= y1; ++y) {
-    const __m128d row2 = _mm_set1_pd(depthRowStart(t.depth, y));
-    for (int w = 0; w < windows; ++w) {
-      // Inside: no edge value negative (the sign bits of their OR clear), in a valid lane.
-      const __m128i out = _mm_or_si128(_mm_or_si128(e[w][0], e[w][1]), e[w][2]);
-      const __m128i in = _mm_srai_epi32(_mm_andnot_si128(out, valid[w]), 31);
-      for (int k = 0; k < 3; ++k) e[w][k] = _mm_add_epi32(e[w][k], step_y[k]);
-      const int in_bits = _mm_movemask_ps(_mm_castsi128_ps(in));
-      if (in_bits == 0) continue;
-      c.tested += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(in_bits)));
-      const __m128d x01 = _mm_setr_pd(xs[w], xs[w] + 1.0),
-                    x23 = _mm_setr_pd(xs[w] + 2.0, xs[w] + 3.0);
-      const __m128 lo = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, x01)));
-      const __m128 hi = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, x23)));
-      const __m128 z = _mm_min_ps(one, _mm_max_ps(zero, _mm_movelh_ps(lo, hi)));
-      const std::size_t idx = fb.index(xs[w], y);
-      const __m128 stored = _mm_loadu_ps(fb.depth + idx);
-      const __m128 pass = _mm_and_ps(depthPasses4<F>(z, stored), _mm_castsi128_ps(in));
-      const int bits = _mm_movemask_ps(pass);
-      if (bits == 0) continue;
-      c.written += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(bits)));
-      writeFragments4(fb, idx, z, stored, pass, id, rgba, depth_mask);
-    }
-  }
+  if (windows == 1)
+    walkNarrowWindows<F, 1>(t, xs, valid, e, step_y, y0, y1, fb, depth_mask, c);
+  else
+    walkNarrowWindows<F, 2>(t, xs, valid, e, step_y, y0, y1, fb, depth_mask, c);
   return true;
 }
 
