@@ -41,7 +41,24 @@ void fillSpanSse41(const ScreenTriangle& t, const FrameView& fb, int y, int x0, 
     c.written += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(bits)));
     writeFragments4(fb, idx, z, stored, pass, id, rgba, depth_mask);
   }
-  if (x <= x1) fillSpanScalar<F>(t, fb, y, x, x1, depth_mask, c);
+  if (x > x1) return;
+  // The last one to three pixels: the four columns ending at x1 (the span has at least four),
+  // the lanes before x, written above, left out.
+  const int last = x1 - 3;
+  const __m128i col = _mm_add_epi32(_mm_set1_epi32(last), _mm_setr_epi32(0, 1, 2, 3));
+  const __m128 mine = _mm_castsi128_ps(_mm_cmpgt_epi32(col, _mm_set1_epi32(x - 1)));
+  const double fl = static_cast<double>(last);
+  const __m128 lo = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, _mm_setr_pd(fl, fl + 1.0))));
+  const __m128 hi =
+      _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, _mm_setr_pd(fl + 2.0, fl + 3.0))));
+  const __m128 z = _mm_min_ps(one, _mm_max_ps(zero, _mm_movelh_ps(lo, hi)));
+  const std::size_t tail = fb.index(last, y);
+  c.tested += static_cast<std::uint64_t>(x1 - x + 1);
+  const __m128 stored = _mm_loadu_ps(fb.depth + tail);
+  const __m128 pass = _mm_and_ps(depthPasses4<F>(z, stored), mine);
+  c.written +=
+      static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(_mm_movemask_ps(pass))));
+  writeFragments4(fb, tail, z, stored, pass, id, rgba, depth_mask);
 }
 
 }  // namespace
