@@ -57,7 +57,7 @@ void forEachInTile(const Bins& b, std::size_t tile, Fn fn) {
 // The same over the tile's triangles, asking for each one's cache line a few entries ahead: a
 // tile's triangles lie anywhere in the array when the scene's order is not the screen's (a soup
 // of a million random triangles, where this halves the time spent waiting on memory).
-constexpr std::size_t kPrefetchAhead = 8;
+constexpr std::size_t kPrefetchAhead = 16;
 template <class Fn>
 void forEachTriangleInTile(const Bins& b, std::size_t tile, const ScreenTriangles& tris, Fn fn) {
   const std::size_t begin = b.start[tile], end = b.start[tile + 1];
