@@ -27,6 +27,15 @@ inline __m128 depthPasses4(__m128 z, __m128 stored) {
   return _mm_castsi128_ps(_mm_set1_epi32(-1));  // Always
 }
 
+// depthInRow (raster/depth.hpp) at columns x .. x + 3 of a row whose depthRowStart is in both
+// lanes of row2 (dzdx in both of dzdx2): the sum in double, converted, clamped in its order.
+inline __m128 depthInRow4(__m128d row2, __m128d dzdx2, double x) {
+  const __m128 lo = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, _mm_setr_pd(x, x + 1.0))));
+  const __m128 hi =
+      _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, _mm_setr_pd(x + 2.0, x + 3.0))));
+  return _mm_min_ps(_mm_set1_ps(1.0f), _mm_max_ps(_mm_setzero_ps(), _mm_movelh_ps(lo, hi)));
+}
+
 // Writes the four fragments at fb index idx whose lanes of `pass` are set: depth z (if the
 // mask allows), the id and colour, one more on the overdraw count.
 inline void writeFragments4(const FrameView& fb, std::size_t idx, __m128 z, __m128 stored,
@@ -81,7 +90,6 @@ inline void walkNarrowWindows(const ScreenTriangle& t, const int (&xs)[2],
                               const __m128i (&step_y)[3], int y0, int y1, const FrameView& fb,
                               bool depth_mask, FragmentCounts& c) {
   const __m128d dzdx2 = _mm_set1_pd(t.depth.dzdx);
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128i id = _mm_set1_epi32(static_cast<int>(t.id));
   const __m128i rgba = _mm_set1_epi32(static_cast<int>(t.rgba));
   for (int y = y0; y <= y1; ++y) {
@@ -93,11 +101,7 @@ inline void walkNarrowWindows(const ScreenTriangle& t, const int (&xs)[2],
       for (int k = 0; k < 3; ++k) e[w][k] = _mm_add_epi32(e[w][k], step_y[k]);
       const int in_bits = _mm_movemask_ps(_mm_castsi128_ps(in));
       c.tested += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(in_bits)));
-      const __m128d x01 = _mm_setr_pd(xs[w], xs[w] + 1.0),
-                    x23 = _mm_setr_pd(xs[w] + 2.0, xs[w] + 3.0);
-      const __m128 lo = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, x01)));
-      const __m128 hi = _mm_cvtpd_ps(_mm_add_pd(row2, _mm_mul_pd(dzdx2, x23)));
-      const __m128 z = _mm_min_ps(one, _mm_max_ps(zero, _mm_movelh_ps(lo, hi)));
+      const __m128 z = depthInRow4(row2, dzdx2, xs[w]);
       const std::size_t idx = fb.index(xs[w], y);
       const __m128 stored = _mm_loadu_ps(fb.depth + idx);
       const __m128 pass = _mm_and_ps(depthPasses4<F>(z, stored), _mm_castsi128_ps(in));
