@@ -24,7 +24,7 @@ constexpr std::size_t kChunk = 2048;  // polygons per work item (fixed: determin
 // clipping. Its vertices were projected and snapped once each in the transform stage. The
 // same decisions in the same order as the general path (describePolygon, then cullAndEmit),
 // from the same inline pieces; its colour (a square root and a division) and depth plane are
-// computed only for a triangle that is kept.
+// computed only for a triangle that is kept, four such triangles at a time (ShadeBatch).
 // Returns false when the triangle needs the general path (clipping, or a non-finite vertex).
 bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_t> vi,
                   ChunkOut& out) {
@@ -47,8 +47,8 @@ bool fastTriangle(const Context& ctx, PolygonId id, std::span<const std::uint32_
   const std::int64_t fx[3] = {a.fx, b.fx, c.fx};
   const std::int64_t fy[3] = {a.fy, b.fy, c.fy};
   cullAndEmitWith(
-      ctx, fx, fy, id, eye_orientation, [&] { return polygonRgba(ctx, id, n, len2); },
-      [&] { return insideTrianglePlane(a, b, c); }, out);
+      ctx, fx, fy, id, eye_orientation, [&]() -> ScreenTriangle& { return out.batch.slot(); },
+      [&](const ScreenTriangle&) { out.batch.add(a, b, c, n, len2, out.triangles); }, out);
   return true;
 }
 
@@ -270,6 +270,8 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
     ctx.material_rgb.push_back(materialRgb(m));
     ctx.material_alpha.push_back(materialAlphaBits(m));
   }
+  ctx.material_rgb.push_back(Material{}.color);  // for a polygon naming no material
+  ctx.material_alpha.push_back(0xFF000000u);
   const std::size_t n = scene.polygonCount();
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   std::vector<ChunkOut>& parts = scratch.parts;
@@ -307,11 +309,13 @@ void prepare(const Scene& scene, const Camera& camera, const RenderOptions& opti
     const std::size_t after = c > 0 ? end_of[c - 1].load(std::memory_order_acquire) : kNoEnd;
     const std::size_t start = after != kNoEnd ? after : first[c];
     part.triangles.reset(out.triangles.data() + start, first[c + 1] - start);
+    part.batch.begin(ctx);
     std::vector<Triangle> tris;
     const std::size_t end = std::min(n, (c + 1) * kChunk);
     if (request.window_polygons) part.polygons.reserve(end - c * kChunk);
     for (std::size_t id = c * kChunk; id < end; ++id)
       processPolygon(ctx, static_cast<PolygonId>(id), request, part, tris);
+    part.batch.flush(part.triangles);
     finishStreaming();
     const std::span<const ScreenTriangle> made = part.triangles.made();
     const bool in_place = made.empty() || made.data() == out.triangles.data() + start;

@@ -37,9 +37,16 @@ void cullAndEmit(const Context& ctx, const WindowVertex (&w)[3], PolygonId id, P
                  ChunkOut& out) {
   const std::int64_t fx[3] = {w[0].fx, w[1].fx, w[2].fx};
   const std::int64_t fy[3] = {w[0].fy, w[1].fy, w[2].fy};
+  ScreenTriangle made;
   cullAndEmitWith(
-      ctx, fx, fy, id, info.eye_orientation, [&] { return info.rgba; },
-      [&] { return depthPlaneOf(ctx, info); }, out);
+      ctx, fx, fy, id, info.eye_orientation, [&]() -> ScreenTriangle& { return made; },
+      [&](ScreenTriangle& t) {
+        t.depth = depthPlaneOf(ctx, info);
+        t.rgba = info.rgba;
+        out.batch.flush(out.triangles);  // the fast path's triangles before it came first
+        out.triangles.push(t);
+      },
+      out);
 }
 
 }  // namespace hsr::detail

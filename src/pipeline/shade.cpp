@@ -13,6 +13,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__SSE2__) && !defined(HSR_NO_SIMD)
+#include <emmintrin.h>
+#endif
+
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
@@ -90,6 +94,92 @@ const DepthPlane& depthPlaneOf(const Context& ctx, PolygonInfo& info) {
     info.depth = flatDepthPlane(h.w > 0.0 ? h.z / h.w : 1.0);
   }
   return info.depth;
+}
+
+void shadeLanesScalar(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out) {
+  for (int i = 0; i < ShadeLanes::kLanes; ++i) {
+    // The lanes hold floats widened to double: narrowing them back is exact.
+    auto vertex = [](double x, double y, double z) {
+      return WindowVertex{
+          static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), 0, 0, true};
+    };
+    const WindowVertex w[3] = {vertex(in.ax[i], in.ay[i], in.az[i]),
+                               vertex(in.bx[i], in.by[i], in.bz[i]),
+                               vertex(in.cx[i], in.cy[i], in.cz[i])};
+    const WindowVertex* pw[3] = {&w[0], &w[1], &w[2]};
+    DepthPlane plane{};
+    out.ok[i] = windowPlane(pw, &plane);
+    out.dzdx[i] = plane.dzdx;
+    out.dzdy[i] = plane.dzdy;
+    out.z0[i] = plane.z0;
+    const glm::dvec3 n(in.nx[i], in.ny[i], in.nz[i]);
+    out.cosine[i] = std::abs(glm::dot(n, light)) / std::sqrt(in.len2[i]);
+  }
+}
+
+#if defined(__SSE2__) && !defined(HSR_NO_SIMD)
+void shadeLanesSse2(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out) {
+  const __m128d sign = _mm_set1_pd(-0.0), limit = _mm_set1_pd(1e30);
+  const __m128d lx = _mm_set1_pd(light.x), ly = _mm_set1_pd(light.y), lz = _mm_set1_pd(light.z);
+  auto add = [](__m128d a, __m128d b) { return _mm_add_pd(a, b); };
+  auto sub = [](__m128d a, __m128d b) { return _mm_sub_pd(a, b); };
+  auto mul = [](__m128d a, __m128d b) { return _mm_mul_pd(a, b); };
+  auto inLimit = [&](__m128d v) { return _mm_cmple_pd(_mm_andnot_pd(sign, v), limit); };
+  for (int i = 0; i < ShadeLanes::kLanes; i += 2) {
+    // Each lane's own 8-byte load: the lanes were stored one double at a time just before, and a
+    // 16-byte load of two such stores would wait for them to reach the cache.
+    auto ld = [i](const double* lane) { return _mm_loadh_pd(_mm_load_sd(lane + i), lane + i + 1); };
+    const __m128d ax = ld(in.ax), ay = ld(in.ay), az = ld(in.az);
+    // windowPlane: (b - a) x (c - a), then depthPlaneFromDevicePlane's quotients.
+    const __m128d dx1 = sub(ld(in.bx), ax), dy1 = sub(ld(in.by), ay), dz1 = sub(ld(in.bz), az);
+    const __m128d dx2 = sub(ld(in.cx), ax), dy2 = sub(ld(in.cy), ay), dz2 = sub(ld(in.cz), az);
+    const __m128d nx = sub(mul(dy1, dz2), mul(dz1, dy2));
+    const __m128d ny = sub(mul(dz1, dx2), mul(dx1, dz2));
+    const __m128d nz = sub(mul(dx1, dy2), mul(dy1, dx2));
+    // D = -(nx ax + ny ay + nz az), so -D / C is the sum over C.
+    const __m128d minus_d = add(add(mul(nx, ax), mul(ny, ay)), mul(nz, az));
+    const __m128d dzdx = _mm_div_pd(_mm_xor_pd(nx, sign), nz);
+    const __m128d dzdy = _mm_div_pd(_mm_xor_pd(ny, sign), nz);
+    const __m128d z0 = _mm_div_pd(minus_d, nz);
+    const __m128d ok = _mm_and_pd(_mm_and_pd(_mm_cmpneq_pd(nz, _mm_setzero_pd()), inLimit(dzdx)),
+                                  _mm_and_pd(inLimit(dzdy), inLimit(z0)));
+    _mm_store_pd(out.dzdx + i, dzdx);
+    _mm_store_pd(out.dzdy + i, dzdy);
+    _mm_store_pd(out.z0 + i, z0);
+    const int mask = _mm_movemask_pd(ok);
+    out.ok[i] = (mask & 1) != 0;
+    out.ok[i + 1] = (mask & 2) != 0;
+    // lambertOf's cosine: |N . L| / sqrt(N . N).
+    const __m128d dot = add(add(mul(ld(in.nx), lx), mul(ld(in.ny), ly)), mul(ld(in.nz), lz));
+    _mm_store_pd(out.cosine + i, _mm_div_pd(_mm_andnot_pd(sign, dot), _mm_sqrt_pd(ld(in.len2))));
+  }
+}
+#endif
+
+void ShadeBatch::flush(TriangleSink& sink) {
+  if (count_ == 0) return;
+  for (int i = count_; i < ShadeLanes::kLanes; ++i) {  // unused lanes: copies of the first
+    lanes_.ax[i] = lanes_.ax[0], lanes_.ay[i] = lanes_.ay[0], lanes_.az[i] = lanes_.az[0];
+    lanes_.bx[i] = lanes_.bx[0], lanes_.by[i] = lanes_.by[0], lanes_.bz[i] = lanes_.bz[0];
+    lanes_.cx[i] = lanes_.cx[0], lanes_.cy[i] = lanes_.cy[0], lanes_.cz[i] = lanes_.cz[0];
+    lanes_.nx[i] = lanes_.nx[0], lanes_.ny[i] = lanes_.ny[0], lanes_.nz[i] = lanes_.nz[0];
+    lanes_.len2[i] = lanes_.len2[0];
+  }
+  ShadedLanes shaded;
+#if defined(__SSE2__) && !defined(HSR_NO_SIMD)
+  shadeLanesSse2(lanes_, ctx_->view_dir, shaded);
+#else
+  shadeLanesScalar(lanes_, ctx_->view_dir, shaded);
+#endif
+  for (int i = 0; i < count_; ++i) {
+    Waiting& w = waiting_[i];
+    w.t.depth = shaded.ok[i] ? DepthPlane{shaded.dzdx[i], shaded.dzdy[i], shaded.z0[i]}
+                             : flatDepthPlane(w.min_z);
+    const float lambert = ctx_->options.shade ? lambertOfCosine(shaded.cosine[i]) : 1.0f;
+    w.t.rgba = polygonRgbaLit(*ctx_, w.t.id, lambert);
+    sink.push(w.t);
+  }
+  count_ = 0;
 }
 
 PolygonInfo forTriangle(const PolygonInfo& polygon, const std::uint32_t (&triangle)[3]) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -99,6 +100,7 @@ struct Context {
   const std::vector<std::uint8_t>& object_state;  // ObjectState per object
   std::vector<glm::vec3> material_rgb;            // per material: rgb clamped to [0,1], NaN 0
   std::vector<std::uint32_t> material_alpha;      // per material: alpha byte << 24
+                                                  // (both: the default material's last)
   int box_margin = 0;  // makeScreenTriangle's margin (PrepareRequest::samples)
 };
 
@@ -178,22 +180,31 @@ inline std::uint32_t shadeRgba(const glm::vec3& rgb, std::uint32_t alpha_bits, f
 }
 
 // Headlight Lambert, two-sided: light along the view axis, 20% ambient (1 when not shading).
-inline float lambertOf(const RenderOptions& options, const glm::dvec3& n, double len2,
-                       const glm::dvec3& view_dir) {
-  if (!options.shade) return 1.0f;
-  const double cosine = std::abs(glm::dot(n, view_dir)) / std::sqrt(len2);
+// The factor from the cosine |N . L| / |N| (computed lane-wise by ShadeBatch, or here).
+inline float lambertOfCosine(double cosine) {
   // Any overflow (inf/inf) or 0/0 reads as facing the light.
   const float lambert = cosine >= 0.0 && cosine <= 1.0 ? static_cast<float>(cosine) : 1.0f;
   return 0.2f + 0.8f * lambert;
+}
+inline float lambertOf(const RenderOptions& options, const glm::dvec3& n, double len2,
+                       const glm::dvec3& view_dir) {
+  if (!options.shade) return 1.0f;
+  return lambertOfCosine(std::abs(glm::dot(n, view_dir)) / std::sqrt(len2));
 }
 
 // The plane through three projected vertices, from the topmost (then leftmost) one in the
 // given winding. Reversing the winding negates the determinant and both numerators exactly,
 // so the quotients are the same bits.
-inline bool windowPlane(const WindowVertex* w[3], DepthPlane* out) {
+// Which of three vertices (with float x, y members) is the topmost, then leftmost one.
+template <class Vertex>
+inline int topmostVertex(const Vertex* const w[3]) {
   int first = 0;
   for (int k = 1; k < 3; ++k)
     if (w[k]->y < w[first]->y || (w[k]->y == w[first]->y && w[k]->x < w[first]->x)) first = k;
+  return first;
+}
+inline bool windowPlane(const WindowVertex* w[3], DepthPlane* out) {
+  const int first = topmostVertex(w);
   const WindowVertex& a = *w[first];
   const WindowVertex& b = *w[(first + 1) % 3];
   const WindowVertex& c = *w[(first + 2) % 3];
@@ -219,14 +230,16 @@ inline bool usableNormal(double len2) { return len2 > 0.0 && std::isfinite(len2)
 
 // Polygon id's shaded colour from its normal n (squared length len2), as describePolygon and the
 // fast triangle path both give it.
+// Polygon id's shaded colour with the given Lambert factor: its material's rgb and alpha (the
+// last entries, the default material's, for a polygon that names none).
+inline std::uint32_t polygonRgbaLit(const Context& ctx, PolygonId id, float lambert) {
+  const std::size_t m = std::min<std::size_t>(ctx.scene.material(id), ctx.material_rgb.size() - 1);
+  return shadeRgba(ctx.material_rgb[m], ctx.material_alpha[m], lambert);
+}
+// ... and with the Lambert factor of its normal n (squared length len2).
 inline std::uint32_t polygonRgba(const Context& ctx, PolygonId id, const glm::dvec3& n,
                                  double len2) {
-  const float lambert = lambertOf(ctx.options, n, len2, ctx.view_dir);
-  const std::uint32_t m = ctx.scene.material(id);
-  const bool known = m < ctx.material_rgb.size();
-  const glm::vec3 rgb = known ? ctx.material_rgb[m] : Material{}.color;
-  const std::uint32_t alpha = known ? ctx.material_alpha[m] : 0xFF000000u;
-  return shadeRgba(rgb, alpha, lambert);
+  return polygonRgbaLit(ctx, id, lambertOf(ctx.options, n, len2, ctx.view_dir));
 }
 
 // ---- the output of one chunk of polygons
@@ -234,12 +247,25 @@ inline std::uint32_t polygonRgba(const Context& ctx, PolygonId id, const glm::dv
 // Stores a triangle with streaming stores where the processor has them (a whole cache line,
 // not read first and kept out of the cache): a million triangles are 64 MiB, read again only
 // after the whole stage. The caller ends its writes with finishStreaming().
+// The four 16-byte stores are built from the fields (in registers where the triangle was just
+// made), not loaded back from a copy in memory: that copy's narrower stores cannot be
+// forwarded to a 16-byte load, which then waits for them to reach the cache.
 inline void streamTriangle(ScreenTriangle* dst, const ScreenTriangle& t) {
 #if defined(__SSE2__)
+  static_assert(offsetof(ScreenTriangle, x0) == 24 && offsetof(ScreenTriangle, depth) == 32 &&
+                offsetof(ScreenTriangle, id) == 56 && offsetof(ScreenTriangle, rgba) == 60);
   if ((reinterpret_cast<std::uintptr_t>(dst) & 15) == 0) {
-    const auto* from = reinterpret_cast<const __m128i*>(&t);
+    auto pair = [](std::int16_t lo, std::int16_t hi) {
+      return static_cast<int>(static_cast<std::uint16_t>(lo) |
+                              (static_cast<std::uint32_t>(static_cast<std::uint16_t>(hi)) << 16));
+    };
     auto* to = reinterpret_cast<__m128i*>(dst);
-    for (int k = 0; k < 4; ++k) _mm_stream_si128(to + k, _mm_loadu_si128(from + k));
+    _mm_stream_si128(to, _mm_setr_epi32(t.x[0], t.x[1], t.x[2], t.y[0]));
+    _mm_stream_si128(to + 1, _mm_setr_epi32(t.y[1], t.y[2], pair(t.x0, t.y0), pair(t.x1, t.y1)));
+    _mm_stream_si128(to + 2, _mm_castpd_si128(_mm_setr_pd(t.depth.dzdx, t.depth.dzdy)));
+    _mm_stream_si128(to + 3, _mm_unpacklo_epi64(_mm_castpd_si128(_mm_set_sd(t.depth.z0)),
+                                                _mm_setr_epi32(static_cast<int>(t.id),
+                                                               static_cast<int>(t.rgba), 0, 0)));
     return;
   }
 #endif
@@ -264,16 +290,12 @@ class TriangleSink {
     spilled_ = false;
     spill_.clear();
   }
-  void push(const ScreenTriangle& t) {
-    if (!spilled_ && count_ < capacity_) {
+  [[gnu::always_inline]] void push(const ScreenTriangle& t) {
+    if (!spilled_ && count_ < capacity_) [[likely]] {
       streamTriangle(slot_ + count_++, t);
       return;
     }
-    if (!spilled_) {
-      spill_.assign(slot_, slot_ + count_);
-      spilled_ = true;
-    }
-    spill_.push_back(t);
+    spill(t);
   }
   std::span<const ScreenTriangle> made() const {
     return spilled_ ? std::span<const ScreenTriangle>(spill_)
@@ -281,14 +303,91 @@ class TriangleSink {
   }
 
  private:
+  [[gnu::noinline]] void spill(const ScreenTriangle& t) {
+    if (!spilled_) {
+      spill_.assign(slot_, slot_ + count_);
+      spilled_ = true;
+    }
+    spill_.push_back(t);
+  }
   ScreenTriangle* slot_ = nullptr;
   std::size_t capacity_ = 0, count_ = 0;
   bool spilled_ = false;
   ScreenTriangles spill_;
 };
 
+// ---- shade, four triangles at a time
+
+// The lane-wise part of finishing four triangles: for each lane, the plane through its window
+// vertices a, b, c (a the topmost, as windowPlane orders them) and the cosine |N . L| / |N| of
+// its normal with the light. The same IEEE double operations in the same order as windowPlane
+// and lambertOf, so the same bits (tests/pipeline/shade_batch_test.cpp). `ok` is false where
+// windowPlane would fail (a triangle seen edge-on, or too steep).
+struct ShadeLanes {
+  static constexpr int kLanes = 4;
+  alignas(16) double ax[kLanes], ay[kLanes], az[kLanes];
+  alignas(16) double bx[kLanes], by[kLanes], bz[kLanes];
+  alignas(16) double cx[kLanes], cy[kLanes], cz[kLanes];
+  alignas(16) double nx[kLanes], ny[kLanes], nz[kLanes], len2[kLanes];
+};
+struct ShadedLanes {
+  alignas(16) double dzdx[ShadeLanes::kLanes], dzdy[ShadeLanes::kLanes], z0[ShadeLanes::kLanes];
+  alignas(16) double cosine[ShadeLanes::kLanes];
+  bool ok[ShadeLanes::kLanes];
+};
+// One lane at a time through windowPlane (the readable reference) ...
+void shadeLanesScalar(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out);
+#if defined(__SSE2__) && !defined(HSR_NO_SIMD)
+// ... and two lanes per SSE2 operation.
+void shadeLanesSse2(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out);
+#endif
+
+// Triangles of the fast path that were kept wait here, four at a time, for their depth planes
+// and colours (ShadeLanes: three divisions, a square root and one more division per triangle,
+// whose long latencies one triangle at a time leave the processor waiting on), and then go to
+// the sink in the order they came. Whatever else writes to the sink flushes the batch first.
+class ShadeBatch {
+ public:
+  void begin(const Context& ctx) {
+    ctx_ = &ctx;
+    count_ = 0;
+  }
+  // Where the next triangle is made (in place: copying a triangle just written field by
+  // field would wait for those stores to reach the cache).
+  ScreenTriangle& slot() { return waiting_[count_].t; }
+  // Adds the triangle made in slot(), with its vertices, box and id set; a, b, c are its window
+  // vertices in any rotation.
+  void add(const VertexOut& a, const VertexOut& b, const VertexOut& c, const glm::dvec3& n,
+           double len2, TriangleSink& sink) {
+    const VertexOut* w[3] = {&a, &b, &c};
+    const int first = topmostVertex(w);
+    const VertexOut& p = *w[first];
+    const VertexOut& q = *w[(first + 1) % 3];
+    const VertexOut& r = *w[(first + 2) % 3];
+    const int i = count_;
+    lanes_.ax[i] = p.x, lanes_.ay[i] = p.y, lanes_.az[i] = p.z;
+    lanes_.bx[i] = q.x, lanes_.by[i] = q.y, lanes_.bz[i] = q.z;
+    lanes_.cx[i] = r.x, lanes_.cy[i] = r.y, lanes_.cz[i] = r.z;
+    lanes_.nx[i] = n.x, lanes_.ny[i] = n.y, lanes_.nz[i] = n.z, lanes_.len2[i] = len2;
+    waiting_[i].min_z = std::min({a.z, b.z, c.z});
+    if (++count_ == ShadeLanes::kLanes) flush(sink);
+  }
+  void flush(TriangleSink& sink);
+
+ private:
+  struct Waiting {
+    ScreenTriangle t;
+    float min_z;  // the flat plane's depth, for a triangle seen edge-on
+  };
+  const Context* ctx_ = nullptr;
+  int count_ = 0;
+  ShadeLanes lanes_;
+  Waiting waiting_[ShadeLanes::kLanes];
+};
+
 struct ChunkOut {
   TriangleSink triangles;
+  ShadeBatch batch;  // the fast path's kept triangles on their way to `triangles`
   std::vector<ScreenLine> lines, points;
   std::vector<WindowPolygon> polygons;
   std::vector<WindowVertex> window_scratch;  // a clipped polygon's projected vertices
@@ -300,11 +399,13 @@ struct ChunkOut {
 // ---- project (continued): a snapped triangle through facing and culling into the output
 
 // Facing, culling and the screen triangle of one snapped triangle, in that order (each drop
-// counted where it happens); its colour and depth plane are asked for only when it is kept.
-template <class Colour, class Depth>
+// counted where it happens); its colour and depth plane are made only when it is kept.
+// The triangle is made in place in `slot()`, and `emit(t)` gives it (vertices, box and id set)
+// its depth plane and colour and stores it.
+template <class Slot, class Emit>
 inline void cullAndEmitWith(const Context& ctx, const std::int64_t (&fx)[3],
                             const std::int64_t (&fy)[3], PolygonId id, int eye_orientation,
-                            Colour colour, Depth depth, ChunkOut& out) {
+                            Slot slot, Emit emit, ChunkOut& out) {
   const int orientation = windowOrientation(fx, fy);
   if (orientation == 0) {  // zero area after snapping: draws nothing, as in GL
     out.counts.zero_area++;
@@ -314,17 +415,15 @@ inline void cullAndEmitWith(const Context& ctx, const std::int64_t (&fx)[3],
     out.counts.culled_backface++;
     return;
   }
-  ScreenTriangle t;
+  ScreenTriangle& t = slot();
   const TriangleFate fate = makeScreenTriangle(fx, fy, orientation, ctx.camera.width,
                                                ctx.camera.height, DepthPlane{}, &t, ctx.box_margin);
   if (fate == TriangleFate::kMissesPixelCentres) {
     out.counts.missed_pixel_centres++;
     return;
   }
-  t.depth = depth();
   t.id = id;
-  t.rgba = colour();
-  out.triangles.push(t);
+  emit(t);
   out.counts.triangles_rasterized++;
 }
 // The same for a triangle of the polygon `info` describes (the depth plane computed once per

@@ -105,10 +105,11 @@ enum class TriangleFate {
 // distance of the triangle's bounds along x and y: kSampleMargin, half a pixel, reaches every
 // sub-pixel sample (raster/samples.hpp), and a triangle between pixel centres is then made too.
 inline constexpr int kSampleMargin = kSubpixelOne / 2;
-inline TriangleFate makeScreenTriangle(const std::int64_t fx[3], const std::int64_t fy[3],
-                                       int orientation, int width, int height,
-                                       const DepthPlane& depth, ScreenTriangle* out,
-                                       int margin = 0) {
+[[gnu::always_inline]] inline TriangleFate makeScreenTriangle(const std::int64_t fx[3],
+                                                              const std::int64_t fy[3],
+                                                              int orientation, int width,
+                                                              int height, const DepthPlane& depth,
+                                                              ScreenTriangle* out, int margin = 0) {
   if (orientation == 0) return TriangleFate::kZeroArea;
   // Order the vertices so the y-down area is positive (every edge function > 0 inside):
   // counter-clockwise in y-up is negative area in y-down.
