@@ -34,6 +34,8 @@
 #include "hsr/bsp.hpp"
 #include "hsr/render.hpp"
 #include "hsr/scene.hpp"
+#include "core/random.hpp"
+#include "pipeline/stages.hpp"
 
 namespace {
 
@@ -537,6 +539,44 @@ void printPairedZBufferTable() {
                 static_cast<double>(frame.stats.state_bytes) / 1048576.0);
   }
 }
+
+// The fast path's triangles finished lane-wise (pipeline/shade.cpp: depth plane and Lambert
+// cosine of four triangles), per level: 0 the scalar lanes (windowPlane and lambertOf, one
+// triangle at a time), 1 SSE2, 2 AVX2; items are triangles.
+#if defined(__x86_64__) && !defined(HSR_NO_SIMD)
+void BM_shade_lanes(benchmark::State& state) {
+  using hsr::detail::ShadeLanes;
+  std::vector<ShadeLanes> in(1024);
+  hsr::detail::SplitMix64 rng(7);
+  for (ShadeLanes& l : in)
+    for (int i = 0; i < ShadeLanes::kLanes; ++i) {
+      double* fields[] = {l.ax, l.ay, l.bx, l.by, l.cx, l.cy};
+      for (double* f : fields) f[i] = rng.uniform(0.0f, 1000.0f);
+      l.az[i] = rng.uniform(), l.bz[i] = rng.uniform(), l.cz[i] = rng.uniform();
+      l.nx[i] = rng.uniform() - 0.5, l.ny[i] = rng.uniform() - 0.5, l.nz[i] = rng.uniform() - 0.5;
+      l.len2[i] = l.nx[i] * l.nx[i] + l.ny[i] * l.ny[i] + l.nz[i] * l.nz[i];
+    }
+  const glm::dvec3 light(0.0, 0.0, -1.0);
+  auto fn = &hsr::detail::shadeLanesScalar;
+  if (state.range(0) == 1) fn = &hsr::detail::shadeLanesSse2;
+  if (state.range(0) == 2) {
+    if (!hsr::detail::shadeLanesAvx2Available()) {
+      state.SkipWithError("no AVX2 on this processor");
+      return;
+    }
+    fn = &hsr::detail::shadeLanesAvx2;
+  }
+  hsr::detail::ShadedLanes out;
+  for (auto _ : state)
+    for (const ShadeLanes& l : in) {
+      fn(l, light, out);
+      benchmark::DoNotOptimize(out);
+    }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(in.size()) *
+                          ShadeLanes::kLanes);
+}
+BENCHMARK(BM_shade_lanes)->Arg(0)->Arg(1)->Arg(2);
+#endif
 
 int main(int argc, char** argv) {
   // Thread count for both renderers; llvmpipe reads LP_NUM_THREADS once, at its first context.

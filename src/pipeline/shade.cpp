@@ -13,7 +13,9 @@
 #include <algorithm>
 #include <cmath>
 
-#if defined(__SSE2__) && !defined(HSR_NO_SIMD)
+#if defined(__x86_64__) && !defined(HSR_NO_SIMD)
+#include <immintrin.h>
+#elif defined(__SSE2__) && !defined(HSR_NO_SIMD)
 #include <emmintrin.h>
 #endif
 
@@ -156,6 +158,66 @@ void shadeLanesSse2(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& 
 }
 #endif
 
+#if defined(__x86_64__) && !defined(HSR_NO_SIMD)
+// Four lanes per AVX operation (compiled for AVX2 alone, chosen at run time).
+namespace {
+#define HSR_AVX2 __attribute__((target("avx2"), always_inline)) inline
+// Each lane's own 8-byte load, as in shadeLanesSse2.
+HSR_AVX2 __m256d lanes4(const double* l) { return _mm256_setr_pd(l[0], l[1], l[2], l[3]); }
+HSR_AVX2 __m256d inLimit4(__m256d v) {
+  return _mm256_cmp_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), v), _mm256_set1_pd(1e30), _CMP_LE_OQ);
+}
+#undef HSR_AVX2
+}  // namespace
+
+__attribute__((target("avx2"))) void shadeLanesAvx2(const ShadeLanes& in, const glm::dvec3& light,
+                                                    ShadedLanes& out) {
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  const __m256d ax = lanes4(in.ax), ay = lanes4(in.ay), az = lanes4(in.az);
+  const __m256d dx1 = _mm256_sub_pd(lanes4(in.bx), ax), dy1 = _mm256_sub_pd(lanes4(in.by), ay),
+                dz1 = _mm256_sub_pd(lanes4(in.bz), az);
+  const __m256d dx2 = _mm256_sub_pd(lanes4(in.cx), ax), dy2 = _mm256_sub_pd(lanes4(in.cy), ay),
+                dz2 = _mm256_sub_pd(lanes4(in.cz), az);
+  const __m256d nx = _mm256_sub_pd(_mm256_mul_pd(dy1, dz2), _mm256_mul_pd(dz1, dy2));
+  const __m256d ny = _mm256_sub_pd(_mm256_mul_pd(dz1, dx2), _mm256_mul_pd(dx1, dz2));
+  const __m256d nz = _mm256_sub_pd(_mm256_mul_pd(dx1, dy2), _mm256_mul_pd(dy1, dx2));
+  const __m256d minus_d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(nx, ax), _mm256_mul_pd(ny, ay)),
+                                        _mm256_mul_pd(nz, az));
+  const __m256d dzdx = _mm256_div_pd(_mm256_xor_pd(nx, sign), nz);
+  const __m256d dzdy = _mm256_div_pd(_mm256_xor_pd(ny, sign), nz);
+  const __m256d z0 = _mm256_div_pd(minus_d, nz);
+  // C != 0 as C++ compares it: true for NaN (unordered), as _mm_cmpneq_pd.
+  const __m256d nonzero = _mm256_cmp_pd(nz, _mm256_setzero_pd(), _CMP_NEQ_UQ);
+  const __m256d ok = _mm256_and_pd(_mm256_and_pd(nonzero, inLimit4(dzdx)),
+                                   _mm256_and_pd(inLimit4(dzdy), inLimit4(z0)));
+  _mm256_storeu_pd(out.dzdx, dzdx);
+  _mm256_storeu_pd(out.dzdy, dzdy);
+  _mm256_storeu_pd(out.z0, z0);
+  const int mask = _mm256_movemask_pd(ok);
+  for (int i = 0; i < ShadeLanes::kLanes; ++i) out.ok[i] = ((mask >> i) & 1) != 0;
+  const __m256d dot =
+      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(lanes4(in.nx), _mm256_set1_pd(light.x)),
+                                  _mm256_mul_pd(lanes4(in.ny), _mm256_set1_pd(light.y))),
+                    _mm256_mul_pd(lanes4(in.nz), _mm256_set1_pd(light.z)));
+  _mm256_storeu_pd(out.cosine,
+                   _mm256_div_pd(_mm256_andnot_pd(sign, dot), _mm256_sqrt_pd(lanes4(in.len2))));
+}
+
+bool shadeLanesAvx2Available() { return __builtin_cpu_supports("avx2"); }
+#endif
+
+void shadeLanes(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out) {
+#if defined(__x86_64__) && !defined(HSR_NO_SIMD)
+  static const bool avx2 = shadeLanesAvx2Available();
+  if (avx2) return shadeLanesAvx2(in, light, out);
+#endif
+#if defined(__SSE2__) && !defined(HSR_NO_SIMD)
+  shadeLanesSse2(in, light, out);
+#else
+  shadeLanesScalar(in, light, out);
+#endif
+}
+
 void ShadeBatch::flush(TriangleSink& sink) {
   if (count_ == 0) return;
   for (int i = count_; i < ShadeLanes::kLanes; ++i) {  // unused lanes: copies of the first
@@ -166,11 +228,7 @@ void ShadeBatch::flush(TriangleSink& sink) {
     lanes_.len2[i] = lanes_.len2[0];
   }
   ShadedLanes shaded;
-#if defined(__SSE2__) && !defined(HSR_NO_SIMD)
-  shadeLanesSse2(lanes_, ctx_->view_dir, shaded);
-#else
-  shadeLanesScalar(lanes_, ctx_->view_dir, shaded);
-#endif
+  shadeLanes(lanes_, ctx_->view_dir, shaded);
   for (int i = 0; i < count_; ++i) {
     Waiting& w = waiting_[i];
     w.t.depth = shaded.ok[i] ? DepthPlane{shaded.dzdx[i], shaded.dzdy[i], shaded.z0[i]}

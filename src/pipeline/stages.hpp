@@ -338,9 +338,16 @@ struct ShadedLanes {
 // One lane at a time through windowPlane (the readable reference) ...
 void shadeLanesScalar(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out);
 #if defined(__SSE2__) && !defined(HSR_NO_SIMD)
-// ... and two lanes per SSE2 operation.
+// ... two lanes per SSE2 operation ...
 void shadeLanesSse2(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out);
 #endif
+#if defined(__x86_64__) && !defined(HSR_NO_SIMD)
+// ... and four per AVX operation, where the processor has AVX2 (shadeLanesAvx2Available).
+void shadeLanesAvx2(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out);
+bool shadeLanesAvx2Available();
+#endif
+// The widest of them this processor runs (what ShadeBatch uses).
+void shadeLanes(const ShadeLanes& in, const glm::dvec3& light, ShadedLanes& out);
 
 // Triangles of the fast path that were kept wait here, four at a time, for their depth planes
 // and colours (ShadeLanes: three divisions, a square root and one more division per triangle,

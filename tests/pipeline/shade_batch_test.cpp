@@ -1,11 +1,11 @@
 // The fast path's triangles are finished four at a time (ShadeBatch): their depth planes and
-// Lambert cosines lane-wise. Pinned twice: the SSE2 lanes against the scalar lanes (windowPlane
-// and lambertOf themselves) bit for bit, on lanes chosen to reach every branch (edge-on, too
-// steep, duplicate and far-off vertices, huge and tiny normals); and the whole pipeline's
-// screen triangles with the batch against the general path (which finishes each triangle on its
-// own), byte for byte and in the same order, on scenes where clipped triangles of the general
-// path fall between batched ones, with several materials, one named by no polygon's material,
-// shading on and off, and every cull mode.
+// Lambert cosines lane-wise. Pinned twice: the SSE2 lanes, and the AVX2 lanes where the
+// processor has AVX2, against the scalar lanes (windowPlane and lambertOf themselves) bit for bit,
+// on lanes chosen to reach every branch (edge-on, too steep, duplicate and far-off vertices, huge
+// and tiny normals); and the whole pipeline's screen triangles with the batch against the general
+// path (which finishes each triangle on its own), byte for byte and in the same order, on scenes
+// where clipped triangles of the general path fall between batched ones, with several materials,
+// one named by no polygon's material, shading on and off, and every cull mode.
 
 #include <gtest/gtest.h>
 
@@ -82,7 +82,7 @@ void randomLane(SplitMix64& rng, ShadeLanes& l, int i) {
 }
 
 #if defined(__SSE2__) && !defined(HSR_NO_SIMD)
-TEST(ShadeBatch, Sse2LanesAreTheScalarLanes) {
+TEST(ShadeBatch, SimdLanesAreTheScalarLanes) {
   SplitMix64 rng(2026);
   const glm::dvec3 lights[] = {glm::normalize(glm::dvec3(0.3, -0.2, -1.0)),
                                glm::dvec3(0.0, 0.0, 1.0)};
@@ -91,9 +91,20 @@ TEST(ShadeBatch, Sse2LanesAreTheScalarLanes) {
     ShadeLanes in;
     for (int i = 0; i < ShadeLanes::kLanes; ++i) randomLane(rng, in, i);
     const glm::dvec3& light = lights[round % 2];
-    ShadedLanes scalar, sse2;
+    ShadedLanes scalar, sse2, avx2;
     shadeLanesScalar(in, light, scalar);
     shadeLanesSse2(in, light, sse2);
+    if (shadeLanesAvx2Available()) {
+      shadeLanesAvx2(in, light, avx2);
+      for (int i = 0; i < ShadeLanes::kLanes; ++i) {
+        ASSERT_EQ(sse2.ok[i], avx2.ok[i]) << "round " << round << " lane " << i;
+        ASSERT_EQ(bits(sse2.cosine[i]), bits(avx2.cosine[i])) << "round " << round;
+        if (!sse2.ok[i]) continue;
+        ASSERT_EQ(bits(sse2.dzdx[i]), bits(avx2.dzdx[i])) << "round " << round << " lane " << i;
+        ASSERT_EQ(bits(sse2.dzdy[i]), bits(avx2.dzdy[i])) << "round " << round << " lane " << i;
+        ASSERT_EQ(bits(sse2.z0[i]), bits(avx2.z0[i])) << "round " << round << " lane " << i;
+      }
+    }
     for (int i = 0; i < ShadeLanes::kLanes; ++i) {
       ASSERT_EQ(scalar.ok[i], sse2.ok[i]) << "round " << round << " lane " << i;
       ASSERT_EQ(bits(scalar.cosine[i]), bits(sse2.cosine[i])) << "round " << round;
