@@ -126,6 +126,19 @@ template <class Print>
   return ::testing::AddGlobalTestEnvironment(new AtEnd(std::move(print)));
 }
 
+// A w x h perspective camera at the origin looking down -z (near 0.5, far 20): a scene around
+// it is clipped at the near plane.
+inline Camera cameraAtOrigin(int w, int h) {
+  Camera c;
+  c.eye = {0, 0, 0};
+  c.target = {0, 0, -1};
+  c.near = 0.5f;
+  c.far = 20.0f;
+  c.width = w;
+  c.height = h;
+  return c;
+}
+
 // An orthographic camera on which world x,y in [0,w]x[0,h] map to window pixels (y up),
 // looking down -z from z = 10 with near 1 and far 20 (window depth = (10 - z - 1) / 19 ... ).
 inline Camera pixelCamera(int w, int h) {

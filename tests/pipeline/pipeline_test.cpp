@@ -149,13 +149,7 @@ void expectSameAsPolygonByPolygon(const Scene& scene, const Camera& cam, const R
 TEST(Pipeline, ChunksJoinAsPolygonByPolygon) {
   // Large triangles around an eye inside the soup: most are clipped, many into several
   // triangles, so the output outgrows the input (some chunk overflowed its slot).
-  Camera inside;
-  inside.eye = {0, 0, 0};
-  inside.target = {0, 0, -1};
-  inside.near = 0.5f;
-  inside.far = 20.0f;
-  inside.width = 160;
-  inside.height = 120;
+  const Camera inside = testing::cameraAtOrigin(160, 120);
   Scene clipped;
   {
     Rng rng(11);
@@ -189,13 +183,7 @@ TEST(Pipeline, ChunksThatFollowOnUseTheRoomLeftBeforeThem) {
   // Chunks of 2048 polygons in turn wholly behind the eye (they make nothing) and clipped
   // around it (they make more triangles than they have polygons): a chunk that follows on
   // writes into the room its predecessor left; at any thread count the output is the same.
-  Camera inside;
-  inside.eye = {0, 0, 0};
-  inside.target = {0, 0, -1};
-  inside.near = 0.5f;
-  inside.far = 20.0f;
-  inside.width = 96;
-  inside.height = 64;
+  const Camera inside = testing::cameraAtOrigin(96, 64);
   Scene s;
   Rng rng(5);
   const std::uint32_t m = s.addMaterial({});

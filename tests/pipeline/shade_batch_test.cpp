@@ -20,6 +20,7 @@
 #include "hsr/render.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/stages.hpp"
+#include "test_util.hpp"
 
 namespace hsr::detail {
 namespace {
@@ -152,13 +153,7 @@ Scene mixedScene(std::uint64_t seed, int n) {
 }
 
 TEST(ShadeBatch, BatchedTrianglesAreTheGeneralPathsInOrder) {
-  Camera cam;
-  cam.eye = {0, 0, 0};
-  cam.target = {0, 0, -1};
-  cam.near = 0.5f;
-  cam.far = 20.0f;
-  cam.width = 320;
-  cam.height = 240;
+  const Camera cam = testing::cameraAtOrigin(320, 240);
   const Scene s = mixedScene(9, 20000);
   std::uint64_t batched = 0, clipped = 0;
   for (const CullMode cull : {CullMode::None, CullMode::Back, CullMode::Front}) {
