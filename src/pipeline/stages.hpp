@@ -180,7 +180,7 @@ inline std::uint32_t shadeRgba(const glm::vec3& rgb, std::uint32_t alpha_bits, f
 }
 
 // Headlight Lambert, two-sided: light along the view axis, 20% ambient (1 when not shading).
-// The factor from the cosine |N . L| / |N| (computed lane-wise by ShadeBatch, or here).
+// First the factor from the cosine |N . L| / |N| (computed lane-wise by ShadeBatch, or below).
 inline float lambertOfCosine(double cosine) {
   // Any overflow (inf/inf) or 0/0 reads as facing the light.
   const float lambert = cosine >= 0.0 && cosine <= 1.0 ? static_cast<float>(cosine) : 1.0f;
@@ -192,9 +192,6 @@ inline float lambertOf(const RenderOptions& options, const glm::dvec3& n, double
   return lambertOfCosine(std::abs(glm::dot(n, view_dir)) / std::sqrt(len2));
 }
 
-// The plane through three projected vertices, from the topmost (then leftmost) one in the
-// given winding. Reversing the winding negates the determinant and both numerators exactly,
-// so the quotients are the same bits.
 // Which of three vertices (with float x, y members) is the topmost, then leftmost one.
 template <class Vertex>
 inline int topmostVertex(const Vertex* const w[3]) {
@@ -203,6 +200,9 @@ inline int topmostVertex(const Vertex* const w[3]) {
     if (w[k]->y < w[first]->y || (w[k]->y == w[first]->y && w[k]->x < w[first]->x)) first = k;
   return first;
 }
+// The plane through three projected vertices, from the topmost (then leftmost) one in the
+// given winding. Reversing the winding negates the determinant and both numerators exactly,
+// so the quotients are the same bits.
 inline bool windowPlane(const WindowVertex* w[3], DepthPlane* out) {
   const int first = topmostVertex(w);
   const WindowVertex& a = *w[first];
@@ -228,15 +228,14 @@ inline DepthPlane insideTrianglePlane(const VertexOut& a, const VertexOut& b, co
 // A polygon's normal is usable (not zero, not overflowed) when its squared length is.
 inline bool usableNormal(double len2) { return len2 > 0.0 && std::isfinite(len2); }
 
-// Polygon id's shaded colour from its normal n (squared length len2), as describePolygon and the
-// fast triangle path both give it.
 // Polygon id's shaded colour with the given Lambert factor: its material's rgb and alpha (the
 // last entries, the default material's, for a polygon that names none).
 inline std::uint32_t polygonRgbaLit(const Context& ctx, PolygonId id, float lambert) {
   const std::size_t m = std::min<std::size_t>(ctx.scene.material(id), ctx.material_rgb.size() - 1);
   return shadeRgba(ctx.material_rgb[m], ctx.material_alpha[m], lambert);
 }
-// ... and with the Lambert factor of its normal n (squared length len2).
+// ... and with the Lambert factor of its normal n (squared length len2), as describePolygon
+// and the fast triangle path (through ShadeBatch) both give it.
 inline std::uint32_t polygonRgba(const Context& ctx, PolygonId id, const glm::dvec3& n,
                                  double len2) {
   return polygonRgbaLit(ctx, id, lambertOf(ctx.options, n, len2, ctx.view_dir));
