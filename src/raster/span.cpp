@@ -11,6 +11,8 @@ SpanPath detectPath() {
   if (sse41SpanFunction(DepthFunc::Less) == nullptr) return SpanPath::kScalar;
 #if defined(__x86_64__) || defined(__i386__)
   if (!__builtin_cpu_supports("sse4.1")) return SpanPath::kScalar;
+  if (avx2SpanFunction(DepthFunc::Less) != nullptr && __builtin_cpu_supports("avx2"))
+    return SpanPath::kAvx2;
 #endif
   return SpanPath::kSse41;
 }
@@ -23,13 +25,14 @@ std::atomic<SpanPath>& currentPath() {
 }  // namespace
 
 RasterPath rasterPath(DepthFunc f) {
-  return {spanFunction(f), activeSpanPath() == SpanPath::kSse41};
+  return {spanFunction(f), activeSpanPath() != SpanPath::kScalar};
 }
 
 SpanPath activeSpanPath() { return currentPath().load(std::memory_order_relaxed); }
 
 bool spanPathAvailable(SpanPath path) {
-  return path == SpanPath::kScalar || detectPath() == SpanPath::kSse41;
+  // Each path's processor also runs the narrower ones.
+  return static_cast<int>(path) <= static_cast<int>(detectPath());
 }
 
 SpanPath setSpanPath(SpanPath path) {
@@ -38,6 +41,7 @@ SpanPath setSpanPath(SpanPath path) {
 }
 
 SpanFn spanFunction(DepthFunc f) {
+  if (activeSpanPath() == SpanPath::kAvx2) return avx2SpanFunction(f);
   if (activeSpanPath() == SpanPath::kSse41) return sse41SpanFunction(f);
   return withDepthFunc(f, []<DepthFunc F>() -> SpanFn { return &fillSpanScalar<F>; });
 }

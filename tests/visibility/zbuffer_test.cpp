@@ -248,8 +248,9 @@ void expectTiledEqualsTextbook(const Scene& scene, const Camera& camera, RenderO
   thread_local Frame textbook, f;
   o.algorithm = "zbuffer-textbook";
   render(scene, camera, o, textbook);
-  for (const detail::SpanPath path : {detail::SpanPath::kScalar, detail::SpanPath::kSse41}) {
-    if (!detail::spanPathAvailable(path)) continue;
+  for (const detail::SpanPath path :
+       {detail::SpanPath::kScalar, detail::SpanPath::kSse41, detail::SpanPath::kAvx2}) {
+    if (!detail::spanPathAvailable(path)) continue;  // TheBuildHasThePathsItSays says which
     const detail::SpanPath before = detail::setSpanPath(path);
     for (const int threads : {1, 2, 7}) {
       RenderOptions tiled = o;
@@ -258,8 +259,10 @@ void expectTiledEqualsTextbook(const Scene& scene, const Camera& camera, RenderO
       render(scene, camera, tiled, f);
       const std::uint64_t d = differingPixels(textbook, f);
       EXPECT_EQ(d, 0u) << what << ": " << d << " pixels differ (span path "
-                       << (path == detail::SpanPath::kScalar ? "scalar" : "sse4.1") << ", "
-                       << threads << " threads)";
+                       << (path == detail::SpanPath::kScalar  ? "scalar"
+                           : path == detail::SpanPath::kSse41 ? "sse4.1"
+                                                              : "avx2")
+                       << ", " << threads << " threads)";
       EXPECT_EQ(f.stats.fragments_tested, textbook.stats.fragments_tested) << what;
       EXPECT_EQ(f.stats.fragments_written, textbook.stats.fragments_written) << what;
       t.renders++;
@@ -372,15 +375,19 @@ TEST(ZBuffer, EveryDepthIsThePolygonPlaneAtThePixel) {
 }
 
 // The build runs the span paths it says it has: HSR_NO_SIMD builds only the scalar one (as the
-// web build does), the default x86-64-v2 build also the SSE4.1 one and uses it.
+// web build does), the default x86-64-v2 build also the SSE4.1 one and the AVX2 one, and uses
+// AVX2 exactly where the processor has it.
 TEST(SpanPaths, TheBuildHasThePathsItSays) {
   EXPECT_TRUE(detail::spanPathAvailable(detail::SpanPath::kScalar));
 #if defined(HSR_NO_SIMD) || !defined(__SSE4_1__)
   EXPECT_FALSE(detail::spanPathAvailable(detail::SpanPath::kSse41));
+  EXPECT_FALSE(detail::spanPathAvailable(detail::SpanPath::kAvx2));
   EXPECT_EQ(detail::activeSpanPath(), detail::SpanPath::kScalar);
 #else
   EXPECT_TRUE(detail::spanPathAvailable(detail::SpanPath::kSse41));
-  EXPECT_EQ(detail::activeSpanPath(), detail::SpanPath::kSse41);
+  const bool avx2 = __builtin_cpu_supports("avx2");
+  EXPECT_EQ(detail::spanPathAvailable(detail::SpanPath::kAvx2), avx2);
+  EXPECT_EQ(detail::activeSpanPath(), avx2 ? detail::SpanPath::kAvx2 : detail::SpanPath::kSse41);
 #endif
 }
 
