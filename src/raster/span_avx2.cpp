@@ -1,10 +1,10 @@
 // The AVX2 sibling of fillSpanScalar (span.hpp): eight pixels per step, the same bits. Built
-// for every x86-64 build (the functions carry their own target, so the portable x86-64-v2
-// build has them) and chosen at run time where the processor has AVX2 (span.cpp). Depth is
-// depthInRow's sum in double (two groups of four lanes), converted to float and clamped with
-// the operands in depthInRow's order; the products and sums stay separate operations (no
-// fused multiply-add: the target is AVX2 alone), so every lane computes the scalar float.
-// Spans shorter than eight pixels, and transparent triangles, take the SSE4.1 span.
+// for x86-64 unless HSR_NO_SIMD (the functions carry their own target, so the portable
+// x86-64-v2 build has them) and chosen at run time where the processor has AVX2 (span.cpp). Depth
+// is depthInRow's sum in double (two groups of four lanes), converted to float and clamped with the
+// operands in depthInRow's order; the products and sums stay separate operations (no fused
+// multiply-add: the target is AVX2 alone), so every lane computes the scalar float. Spans shorter
+// than eight pixels, and transparent triangles, take the SSE4.1 span.
 
 #include "raster/span.hpp"
 
